@@ -1,0 +1,1 @@
+"""numba kernels. Plain-Python wrappers (restitution.api) validate input and call them."""

@@ -1,0 +1,34 @@
+"""Shared layout of kernel outputs: one float64 row per scene, one row per contact in a history.
+
+Every kernel returns ``out`` (length ``N_OUT``) and fills up to ``hist.shape[0]`` rows of ``hist``
+(shape ``(rows, N_HIST)``; pass a ``(0, N_HIST)`` array to record nothing). Units are the
+non-dimensional ones of DESIGN.md: m1 = 1, V0 = 1, omega = 1, so a kernel time *is* omega*t.
+"""
+
+# Columns of ``out``.
+OUT_COR = 0  # centre-of-mass velocity after the final separation / V0
+OUT_NCOL = 1  # number of separate contact intervals
+OUT_TCOL = 2  # omega * (final separation time - first contact time)
+OUT_ETRANS = 3  # final translational kinetic energy / initial kinetic energy (= cor**2)
+OUT_EVIB = 4  # final vibrational energy (relative kinetic + structural springs) / initial
+OUT_EDISS = 5  # energy dissipated (dashpot, plastic contact) / initial, integrated independently
+OUT_STATUS = 6  # one of the STATUS_* codes below
+OUT_NEVENTS = 7  # number of history rows the kernel wanted to write (may exceed hist rows)
+OUT_ERR = 8  # the method's own error estimate for cor (0 where exact up to round-off)
+N_OUT = 9
+
+# Columns of ``hist`` (one row per contact interval; for a rigid wall t_start == t_end).
+H_TSTART = 0  # omega * t at the start of the contact
+H_TEND = 1  # omega * t at separation
+H_VIN = 2  # m1 velocity / V0 at the start of contact (<= 0: towards the wall)
+H_VOUT = 3  # m1 velocity / V0 at separation (>= 0)
+H_XMAX = 4  # largest penetration x = -u1 during the contact, in V0/omega units (0 if rigid)
+H_IMPULSE = 5  # momentum given by the wall during the contact / (m1 V0)
+N_HIST = 6
+
+# Status codes (restitution.result.STATUS names them).
+STATUS_OK = 0
+STATUS_EVENT_BUDGET = 1  # more contacts than max_events: the sequence was NOT finished
+STATUS_ENERGY = 2  # the independent energy account does not close within tolerance
+STATUS_ILL_CONDITIONED = 3  # an eigenbasis too ill-conditioned for a trustworthy closed form
+STATUS_NONCONVERGED = 4  # an event root search did not converge
