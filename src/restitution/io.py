@@ -1,0 +1,153 @@
+"""Parquet (and CSV) tables of scenes and results: explicit schema, provenance, atomic writes."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import subprocess
+import tempfile
+from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
+
+import pandas as pd
+import pyarrow as pa
+import pyarrow.parquet as pq
+
+PROVENANCE_KEY = b"restitution"
+
+# The data contract of DESIGN.md; columns outside it keep the type pandas gives them.
+CONTRACT_TYPES = {
+    "alpha": pa.float64(),
+    "beta": pa.float64(),
+    "xi": pa.float64(),
+    "n_masses": pa.int64(),
+    "cor": pa.float64(),
+    "n_collisions": pa.int64(),
+    "omega_t_col": pa.float64(),
+    "e_translational": pa.float64(),
+    "e_vibrational": pa.float64(),
+    "e_dissipated": pa.float64(),
+    "method": pa.string(),
+    "status": pa.string(),
+}
+
+_LIBRARIES = ("numpy", "scipy", "numba", "pandas", "pyarrow", "matplotlib", "snakemake")
+
+
+class TableError(RuntimeError):
+    """A results table is missing, truncated, corrupt or lacks its provenance."""
+
+
+def config_hash(config) -> str:
+    """SHA-256 of the canonical JSON of ``config`` (key order does not matter)."""
+    text = json.dumps(config, sort_keys=True, separators=(",", ":"), default=str)
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def _git_commit() -> str:
+    here = Path(__file__).resolve().parent
+    try:
+        sha = subprocess.run(
+            ["git", "rev-parse", "HEAD"], cwd=here, capture_output=True, text=True, timeout=5
+        )
+        dirty = subprocess.run(
+            ["git", "status", "--porcelain", "--untracked-files=no"],
+            cwd=here,
+            capture_output=True,
+            text=True,
+            timeout=5,
+        )
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+    if sha.returncode != 0:
+        return "unknown"
+    return sha.stdout.strip() + ("-dirty" if dirty.stdout.strip() else "")
+
+
+def _version(name: str) -> str:
+    try:
+        return version(name)
+    except PackageNotFoundError:
+        return "not installed"
+
+
+def provenance(config=None) -> dict:
+    """Package version, git commit, config hash and library versions."""
+    return {
+        "package_version": _version("restitution"),
+        "git_commit": _git_commit(),
+        "config_hash": None if config is None else config_hash(config),
+        "config": config,
+        "libraries": {name: _version(name) for name in _LIBRARIES},
+    }
+
+
+def schema_for(frame: pd.DataFrame) -> pa.Schema:
+    """Explicit types for the contract columns; the others as pandas infers them."""
+    inferred = pa.Schema.from_pandas(frame, preserve_index=False)
+    fields = [
+        pa.field(f.name, CONTRACT_TYPES.get(f.name, f.type)) for f in inferred if f.name in frame
+    ]
+    return pa.schema(fields)
+
+
+def write_table(frame: pd.DataFrame, path, *, config=None, extra: dict | None = None) -> Path:
+    """Write ``frame`` to ``path`` (.parquet with provenance, or .csv), atomically.
+
+    The file appears under its final name only when complete (temporary file + rename), so an
+    interrupted run never leaves a complete-looking table.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(fd)
+    try:
+        if path.suffix == ".csv":
+            frame.to_csv(tmp, index=False)
+        elif path.suffix == ".parquet":
+            meta = provenance(config)
+            if extra:
+                meta.update(extra)
+            table = pa.Table.from_pandas(
+                frame.reset_index(drop=True), schema=schema_for(frame), preserve_index=False
+            )
+            merged = dict(table.schema.metadata or {})
+            merged[PROVENANCE_KEY] = json.dumps(meta, sort_keys=True, default=str).encode()
+            pq.write_table(table.replace_schema_metadata(merged), tmp)
+        else:
+            raise ValueError(f"{path}: unsupported table format {path.suffix!r} (.parquet or .csv)")
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+    return path
+
+
+def read_table(path, *, require_provenance: bool = False) -> pd.DataFrame:
+    """Read a .parquet or .csv table; raise TableError naming the file when it is unusable."""
+    path = Path(path)
+    if not path.is_file():
+        raise TableError(f"{path}: no such results file")
+    try:
+        if path.suffix == ".csv":
+            return pd.read_csv(path)
+        if path.suffix != ".parquet":
+            raise TableError(f"{path}: unsupported table format {path.suffix!r}")
+        table = pq.read_table(path)
+    except (pa.ArrowException, OSError, ValueError, pd.errors.ParserError) as e:
+        raise TableError(f"{path}: unreadable or truncated table ({e})") from e
+    if require_provenance and PROVENANCE_KEY not in (table.schema.metadata or {}):
+        raise TableError(f"{path}: no '{PROVENANCE_KEY.decode()}' provenance in its metadata")
+    return table.to_pandas()
+
+
+def read_provenance(path) -> dict:
+    """The provenance dictionary stored in a parquet file's schema metadata."""
+    try:
+        meta = pq.read_schema(path).metadata or {}
+    except (pa.ArrowException, OSError) as e:
+        raise TableError(f"{path}: unreadable or truncated table ({e})") from e
+    if PROVENANCE_KEY not in meta:
+        raise TableError(f"{path}: no '{PROVENANCE_KEY.decode()}' provenance in its metadata")
+    return json.loads(meta[PROVENANCE_KEY])

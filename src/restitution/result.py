@@ -1,0 +1,109 @@
+"""The result of one scene, and the names of the kernels' status codes."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from .kernels import layout as L
+
+STATUS = {
+    L.STATUS_OK: "ok",
+    L.STATUS_EVENT_BUDGET: "event_budget_exhausted",
+    L.STATUS_ENERGY: "energy_account_open",
+    L.STATUS_ILL_CONDITIONED: "ill_conditioned",
+    L.STATUS_NONCONVERGED: "event_not_converged",
+}
+
+MESSAGES = {
+    "ok": "The contact sequence finished: no further contact is possible.",
+    "event_budget_exhausted": "Stopped after max_events contacts; the sequence was NOT finished. "
+    "Raise max_events.",
+    "energy_account_open": "The independent energy account does not add up to 1: do not trust "
+    "this result.",
+    "ill_conditioned": "An eigenbasis was too ill-conditioned for a trustworthy closed form.",
+    "event_not_converged": "An event root search did not converge.",
+}
+
+RESULT_COLUMNS = (
+    "cor",
+    "n_collisions",
+    "omega_t_col",
+    "e_translational",
+    "e_vibrational",
+    "e_dissipated",
+    "method",
+    "status",
+)
+
+HISTORY_COLUMNS = ("omega_t_start", "omega_t_end", "v1_in", "v1_out", "x_max", "impulse")
+
+
+def status_name(code: float) -> str:
+    return STATUS.get(int(code), f"unknown_status_{int(code)}")
+
+
+@dataclass(frozen=True)
+class Result:
+    """COR and energy account of one scene (non-dimensional, see DESIGN.md).
+
+    ``success`` is True when ``status == "ok"``; ``history`` (when requested) has one row per
+    contact interval with the columns of ``HISTORY_COLUMNS``.
+    """
+
+    alpha: float
+    beta: float
+    xi: float
+    n_masses: int
+    cor: float
+    n_collisions: int
+    omega_t_col: float
+    e_translational: float
+    e_vibrational: float
+    e_dissipated: float
+    method: str
+    status: str
+    error_estimate: float = 0.0
+    history: pd.DataFrame | None = field(default=None, repr=False, compare=False)
+
+    @property
+    def success(self) -> bool:
+        return self.status == "ok"
+
+    @property
+    def message(self) -> str:
+        return MESSAGES.get(self.status, self.status)
+
+    def to_dict(self, history: bool = False) -> dict:
+        d = asdict(self)
+        d.pop("history")
+        d["success"] = self.success
+        d["message"] = self.message
+        if history and self.history is not None:
+            d["history"] = self.history.to_dict(orient="list")
+        return d
+
+    @classmethod
+    def from_row(cls, scene, out: np.ndarray, method: str, hist: np.ndarray | None = None):
+        history = None
+        if hist is not None:
+            n = min(int(out[L.OUT_NEVENTS]), hist.shape[0])
+            history = pd.DataFrame(hist[:n], columns=list(HISTORY_COLUMNS))
+        return cls(
+            alpha=scene.alpha,
+            beta=scene.beta,
+            xi=scene.xi,
+            n_masses=scene.n_masses,
+            cor=float(out[L.OUT_COR]),
+            n_collisions=int(out[L.OUT_NCOL]),
+            omega_t_col=float(out[L.OUT_TCOL]),
+            e_translational=float(out[L.OUT_ETRANS]),
+            e_vibrational=float(out[L.OUT_EVIB]),
+            e_dissipated=float(out[L.OUT_EDISS]),
+            method=method,
+            status=status_name(out[L.OUT_STATUS]),
+            error_estimate=float(out[L.OUT_ERR]),
+            history=history,
+        )
