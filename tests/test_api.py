@@ -1,0 +1,126 @@
+"""The public API: validation before work, method choice, solve_many contract and determinism."""
+
+import math
+
+import numba
+import numpy as np
+import pandas as pd
+import pytest
+
+import restitution
+from restitution import SceneError, solve, solve_many
+from restitution.result import RESULT_COLUMNS
+
+
+@pytest.mark.parametrize(
+    "kwargs, name, allowed",
+    [
+        ({"alpha": 0.0}, "alpha", "(0, 1e8]"),
+        ({"alpha": -1.0}, "alpha", "(0, 1e8]"),
+        ({"alpha": math.nan}, "alpha", "(0, 1e8]"),
+        ({"alpha": "heavy"}, "alpha", "(0, 1e8]"),
+        ({"alpha": 1.0, "beta": -1e-3}, "beta", "[0, 1e6]"),
+        ({"alpha": 1.0, "xi": -0.1}, "xi", "[0, 1e3]"),
+        ({"alpha": 1.0, "xi": math.inf}, "xi", "[0, 1e3]"),
+        ({"alpha": 1.0, "n_masses": 1}, "n_masses", "[2, 512]"),
+        ({"alpha": 1.0, "n_masses": 2.5}, "n_masses", "[2, 512]"),
+        ({"alpha": 1.0, "method": "euler"}, "method", "auto, impulsive, piecewise"),
+    ],
+)
+def test_invalid_scene_names_parameter_and_range(kwargs, name, allowed):
+    with pytest.raises(SceneError) as err:
+        solve(**kwargs)
+    assert name in str(err.value)
+    assert allowed in str(err.value)
+
+
+def test_forced_method_must_fit_the_scene():
+    with pytest.raises(SceneError, match="'impulsive' needs beta = 0"):
+        solve(alpha=1.0, beta=0.1, method="impulsive")
+    with pytest.raises(SceneError, match="'piecewise' needs beta > 0"):
+        solve(alpha=1.0, beta=0.0, method="piecewise")
+
+
+def test_auto_records_the_method_the_scene_needs():
+    assert solve(alpha=0.5).method == "impulsive"
+    assert solve(alpha=0.5, beta=0.01).method == "piecewise"
+    assert solve(alpha=0.5, n_masses=4).method == "impulsive"
+
+
+def test_solve_single_contact_closed_form():
+    # Below alpha*_1 = 0.6971 one impulsive contact: COR = (1 - alpha)/(1 + alpha) (Eq. 1).
+    r = solve(alpha=0.3)
+    assert r.success and r.n_collisions == 1
+    assert r.cor == pytest.approx((1 - 0.3) / 1.3, abs=1e-14)
+    assert r.e_translational + r.e_vibrational + r.e_dissipated == pytest.approx(1.0, abs=1e-12)
+
+
+def test_history_has_one_row_per_contact():
+    r = solve(alpha=5.0, history=True)
+    assert len(r.history) == r.n_collisions > 1
+    assert (r.history["v1_in"] <= 0).all() and (r.history["v1_out"] >= 0).all()
+    assert np.all(np.diff(r.history["omega_t_start"]) > 0)
+    assert r.history["omega_t_end"].iloc[-1] == pytest.approx(r.omega_t_col, abs=1e-12)
+
+
+def test_solve_many_matches_solve_and_keeps_input_columns():
+    frame = pd.DataFrame(
+        {
+            "alpha": [0.3, 2.0, 5.0, 1.5, 3.0],
+            "beta": [0.0, 0.0, 0.01, 0.1, 0.0],
+            "xi": [0.0, 0.2, 0.0, 0.5, 0.0],
+            "n_masses": [2, 2, 2, 3, 4],
+            "label": list("abcde"),
+        },
+        index=[10, 11, 12, 13, 14],
+    )
+    out = solve_many(frame)
+    assert list(out.index) == list(frame.index)
+    assert list(out["label"]) == list("abcde")
+    for c in RESULT_COLUMNS:
+        assert c in out
+    for (_, row), (_, res) in zip(frame.iterrows(), out.iterrows(), strict=True):
+        r = solve(row.alpha, row.beta, row.xi, int(row.n_masses))
+        assert res.cor == r.cor  # the batch and scalar paths run the same kernels
+        assert res.n_collisions == r.n_collisions
+        assert res.method == r.method and res.status == r.status
+
+
+def test_solve_many_validates_every_row_before_work():
+    frame = pd.DataFrame({"alpha": [1.0, 2.0, -3.0], "beta": [0.0, 0.0, 0.0]})
+    with pytest.raises(SceneError, match=r"alpha must be in \(0, 1e8\]; got -3.0 \(row 2\)"):
+        solve_many(frame)
+    with pytest.raises(SceneError, match="needs a column 'alpha'"):
+        solve_many(pd.DataFrame({"beta": [0.0]}))
+    with pytest.raises(SceneError, match="method"):
+        solve_many(pd.DataFrame({"alpha": [1.0], "method": ["rk4"]}))
+
+
+def test_solve_many_bit_identical_for_any_thread_count():
+    rng = np.random.default_rng(7)
+    frame = pd.DataFrame(
+        {
+            "alpha": 10 ** rng.uniform(-2, 2.3, 300),
+            "beta": np.where(rng.random(300) < 0.5, 0.0, 10 ** rng.uniform(-3, 0, 300)),
+            "xi": np.where(rng.random(300) < 0.5, 0.0, rng.uniform(0, 2, 300)),
+        }
+    )
+    before = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        one = solve_many(frame)
+        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+        many = solve_many(frame)
+    finally:
+        numba.set_num_threads(before)
+    pd.testing.assert_frame_equal(one, many, check_exact=True)
+
+
+def test_event_budget_is_reported_not_hidden():
+    r = solve(alpha=100.0, max_events=3)
+    assert r.status == "event_budget_exhausted" and not r.success
+    assert "NOT finished" in r.message
+
+
+def test_version_is_exposed():
+    assert restitution.__version__ != ""

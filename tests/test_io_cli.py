@@ -1,0 +1,75 @@
+"""Tables on disk (schema, provenance, atomicity, clear errors) and the command line."""
+
+import json
+import subprocess
+import sys
+
+import pandas as pd
+import pyarrow.parquet as pq
+import pytest
+
+from restitution.io import TableError, config_hash, read_provenance, read_table, write_table
+
+
+def _run(*args):
+    return subprocess.run(
+        [sys.executable, "-m", "restitution.cli", *args], capture_output=True, text=True
+    )
+
+
+def test_parquet_has_explicit_schema_and_provenance(tmp_path):
+    frame = pd.DataFrame({"alpha": [1, 2], "n_masses": [2, 3], "method": ["a", "b"]})
+    path = write_table(frame, tmp_path / "t.parquet", config={"b": 1, "a": [1, 2]})
+    schema = pq.read_schema(path)
+    assert str(schema.field("alpha").type) == "double"  # ints in, contract type out
+    assert str(schema.field("n_masses").type) == "int64"
+    meta = read_provenance(path)
+    assert meta["config_hash"] == config_hash({"a": [1, 2], "b": 1})
+    assert {"numpy", "numba", "pyarrow"} <= set(meta["libraries"])
+    assert meta["git_commit"] and meta["package_version"]
+    assert list(path.parent.iterdir()) == [path]  # no temporary file left behind
+
+
+def test_truncated_parquet_names_the_file(tmp_path):
+    path = write_table(pd.DataFrame({"alpha": [1.0] * 100}), tmp_path / "t.parquet")
+    data = path.read_bytes()
+    path.write_bytes(data[: len(data) // 2])
+    with pytest.raises(TableError, match="t.parquet"):
+        read_table(path)
+    with pytest.raises(TableError, match="no such results file"):
+        read_table(tmp_path / "missing.parquet")
+
+
+def test_cli_cor_json():
+    p = _run("cor", "--alpha", "1", "--json")
+    assert p.returncode == 0, p.stderr
+    d = json.loads(p.stdout)
+    assert d["cor"] == pytest.approx(1.0, abs=1e-12)
+    assert d["n_collisions"] == 2 and d["method"] == "impulsive" and d["status"] == "ok"
+
+
+def test_cli_cor_bad_input_names_parameter():
+    p = _run("cor", "--alpha", "-2")
+    assert p.returncode == 2
+    assert "alpha must be in (0, 1e8]; got -2.0" in p.stderr
+
+
+@pytest.mark.parametrize("suffix_in, suffix_out", [(".csv", ".parquet"), (".parquet", ".csv")])
+def test_cli_batch_roundtrip(tmp_path, suffix_in, suffix_out):
+    frame = pd.DataFrame({"alpha": [0.3, 2.0], "beta": [0.0, 0.05], "tag": ["x", "y"]})
+    src, dst = tmp_path / f"in{suffix_in}", tmp_path / f"out{suffix_out}"
+    write_table(frame, src)
+    p = _run("batch", str(src), "-o", str(dst))
+    assert p.returncode == 0, p.stderr
+    out = read_table(dst)
+    assert list(out["tag"]) == ["x", "y"]
+    assert out["cor"].iloc[0] == pytest.approx(0.7 / 1.3, abs=1e-14)
+    assert set(out["status"]) == {"ok"}
+
+
+def test_cli_batch_bad_row_fails_before_writing(tmp_path):
+    src, dst = tmp_path / "in.csv", tmp_path / "out.parquet"
+    pd.DataFrame({"alpha": [1.0, 0.0]}).to_csv(src, index=False)
+    p = _run("batch", str(src), "-o", str(dst))
+    assert p.returncode == 2 and "alpha" in p.stderr and "(row 1)" in p.stderr
+    assert not dst.exists()
