@@ -1,0 +1,25 @@
+# The restitution workflow: every figure of the paper from exact simulations.
+# A table of contents only; the rules live in workflow/rules/, one file per stage.
+# Run: `make all` (or `snakemake -c2 all` in an activated environment).
+
+from snakemake.utils import min_version
+
+min_version("9.0")
+
+
+configfile: "config/config.yaml"
+
+
+report: "workflow/report/workflow.rst"
+
+
+include: "workflow/rules/common.smk"
+include: "workflow/rules/sweeps.smk"
+include: "workflow/rules/figures.smk"
+
+
+rule all:
+    default_target: True
+    input:
+        rules.render_fig2a.output.png,
+        rules.render_fig2a.output.pdf,

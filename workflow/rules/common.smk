@@ -1,0 +1,159 @@
+# Shared helpers: configuration checks and the small functions rules use for inputs and params.
+# No rules here (snakemake --lint wants rules and functions in separate files).
+
+import difflib
+import math
+from pathlib import Path
+
+import yaml
+from snakemake.exceptions import WorkflowError
+from snakemake.utils import validate
+
+SCHEMA = Path(workflow.basedir) / "workflow" / "schemas" / "config.schema.yaml"
+
+
+# ---------------------------------------------------------------------------------------------
+# Configuration: fail before any job runs, naming the key, the value and the allowed range.
+# ---------------------------------------------------------------------------------------------
+def _allowed(subschema):
+    """Plain-words description of what a schema node accepts, e.g. 'a number > 0 and <= 1e+08'."""
+    if "enum" in subschema:
+        return "one of " + ", ".join(repr(v) for v in subschema["enum"])
+    kind = subschema.get("type", "value")
+    words = {"number": "a number", "integer": "an integer", "string": "a string"}
+    text = words.get(
+        kind, f"a {kind}" if isinstance(kind, str) else f"one of types {kind}"
+    )
+    bounds = []
+    for key, op in (
+        ("minimum", ">="),
+        ("exclusiveMinimum", ">"),
+        ("maximum", "<="),
+        ("exclusiveMaximum", "<"),
+    ):
+        if key in subschema:
+            bounds.append(f"{op} {subschema[key]:g}")
+    if bounds:
+        text += " " + " and ".join(bounds)
+    if kind == "array":
+        items = subschema.get("items", {})
+        text += f" of {_allowed(items)}" if items else ""
+        if "minItems" in subschema:
+            text += f", at least {subschema['minItems']} item(s)"
+        if subschema.get("uniqueItems"):
+            text += ", no duplicates"
+    return text
+
+
+def _key(path):
+    text = ""
+    for part in path:
+        text += (
+            f"[{part}]"
+            if isinstance(part, int)
+            else (f".{part}" if text else str(part))
+        )
+    return text or "<top level>"
+
+
+def _describe(error):
+    """One line per jsonschema error: key = value: must be <allowed range>."""
+    key = _key(error.absolute_path)
+    if error.validator == "additionalProperties":
+        known = list(error.schema.get("properties", {}))
+        lines = []
+        for name in sorted(set(error.instance) - set(known)):
+            where = f"{key}.{name}" if error.absolute_path else name
+            close = difflib.get_close_matches(name, known, n=1)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            lines.append(
+                f"{where} = {error.instance[name]!r}: unknown key{hint}; "
+                f"allowed keys here: {', '.join(known)}"
+            )
+        return lines
+    if error.validator == "required":
+        return [f"{key}: {error.message}"]
+    return [
+        f"{key} = {error.instance!r}: must be {_allowed(error.schema)} ({error.message})"
+    ]
+
+
+def check_config(config, schema_path=SCHEMA):
+    """Validate ``config`` against the schema; raise WorkflowError listing every problem."""
+    import jsonschema
+
+    schema = yaml.safe_load(Path(schema_path).read_text())
+    validator = jsonschema.Draft202012Validator(schema)
+    problems = []
+    for error in sorted(
+        validator.iter_errors(config), key=lambda e: list(map(str, e.path))
+    ):
+        problems.extend(_describe(error))
+    fig2a = config.get("fig2a", {})
+    lo, hi = fig2a.get("alpha_min"), fig2a.get("alpha_max")
+    if isinstance(lo, (int, float)) and isinstance(hi, (int, float)) and not lo < hi:
+        problems.append(
+            f"fig2a.alpha_max = {hi!r}: must be greater than fig2a.alpha_min = {lo!r}"
+        )
+    if problems:
+        raise WorkflowError(
+            "Invalid configuration (config/config.yaml plus any --configfile/--config):\n  "
+            + "\n  ".join(problems)
+        )
+
+
+check_config(config)
+# snakemake's own validation fills in the schema's defaults for keys the config leaves out.
+validate(config, schema="../schemas/config.schema.yaml")
+
+
+wildcard_constraints:
+    beta=r"\d+(\.\d+)?(e[+-]?\d+)?",
+    chunk=r"\d+",
+
+
+# ---------------------------------------------------------------------------------------------
+# Helpers for rules
+# ---------------------------------------------------------------------------------------------
+def beta_label(beta):
+    """Path label of a beta value: short ('0', '0.001', '1e-05') yet exact when read back."""
+    beta = float(beta)
+    short = f"{beta:g}"
+    return short if float(short) == beta else repr(beta)
+
+
+def package_sources():
+    """The package modules a simulation depends on, sorted: editing one reruns simulations.
+
+    Plotting code is left out so a restyled figure never reruns a simulation.
+    """
+    src = Path(workflow.basedir) / "src" / "restitution"
+    files = sorted(src.glob("kernels/*.py")) + sorted(src.glob("*.py"))
+    return [
+        str(f.relative_to(workflow.basedir)) for f in files if f.name != "plotting.py"
+    ]
+
+
+def solver_settings():
+    """The solver part of the config (params of every simulation rule)."""
+    return {"method": config["method"], "max_events": config["max_events"]}
+
+
+def fig2a_grid():
+    """The alpha-grid part of config['fig2a'] (not the betas: adding a beta reruns nothing)."""
+    keys = ("alpha_min", "alpha_max", "n_alpha", "chunk_size", "refine_steps")
+    return {key: config["fig2a"][key] for key in keys}
+
+
+def fig2a_n_chunks():
+    """Chunk k holds grid indices k*chunk_size .. (k+1)*chunk_size (shared boundary point)."""
+    grid = config["fig2a"]
+    return math.ceil((grid["n_alpha"] - 1) / grid["chunk_size"])
+
+
+def fig2a_chunk_tables():
+    return expand(
+        "results/fig2a/beta~{beta}/chunk_{chunk}.parquet",
+        beta=[beta_label(b) for b in config["fig2a"]["betas"]],
+        chunk=range(fig2a_n_chunks()),
+    )

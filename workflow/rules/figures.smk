@@ -1,0 +1,27 @@
+# Plotting stage: figures from results/ tables only (restyling never reruns a simulation).
+
+
+rule render_fig2a:
+    """Draw Fig. 2(a) in the house style (png for the report, pdf for print)."""
+    input:
+        sweep=rules.aggregate_fig2a.output.sweep,
+        style="src/restitution/restitution.mplstyle",
+        plotting="src/restitution/plotting.py",
+    output:
+        png=report(
+            "figures/fig2a.png",
+            caption="../report/fig2a.rst",
+            category="Fig. 2",
+            labels={"figure": "2(a)", "quantity": "COR vs alpha"},
+        ),
+        pdf="figures/fig2a.pdf",
+    log:
+        "logs/fig2a/render.log",
+    benchmark:
+        "logs/benchmarks/fig2a/render.tsv"
+    conda:
+        "../envs/restitution.yaml"
+    params:
+        betas=config["fig2a"]["betas"],
+    script:
+        "../scripts/render_fig2a.py"

@@ -1,0 +1,45 @@
+# Simulation stage: parameter sweeps solved by the package, written as parquet under results/.
+# Fig. 2(a): COR against alpha = m2/m1 for a rigid wall (beta = 0) and finite contact stiffness;
+# simulate_fig2a (one job per beta and alpha chunk) -> aggregate_fig2a (one table).
+
+
+rule simulate_fig2a:
+    """Solve one chunk of the alpha grid for one beta, refined at every change of the contact count."""
+    input:
+        code=package_sources(),
+    output:
+        table="results/fig2a/beta~{beta}/chunk_{chunk}.parquet",
+    log:
+        "logs/fig2a/simulate/beta~{beta}/chunk_{chunk}.log",
+    benchmark:
+        "logs/benchmarks/fig2a/simulate/beta~{beta}/chunk_{chunk}.tsv"
+    conda:
+        "../envs/restitution.yaml"
+    threads: 2
+    resources:
+        mem_mb=1000,
+        runtime=20,
+    params:
+        grid=fig2a_grid(),
+        solver=solver_settings(),
+    script:
+        "../scripts/simulate_fig2a.py"
+
+
+rule aggregate_fig2a:
+    """Concatenate the chunks of every beta into one sweep table (shared boundary rows once)."""
+    input:
+        chunks=fig2a_chunk_tables(),
+    output:
+        sweep="results/fig2a/sweep.parquet",
+    log:
+        "logs/fig2a/aggregate.log",
+    benchmark:
+        "logs/benchmarks/fig2a/aggregate.tsv"
+    conda:
+        "../envs/restitution.yaml"
+    params:
+        fig2a=config["fig2a"],
+        solver=solver_settings(),
+    script:
+        "../scripts/aggregate_fig2a.py"

@@ -1,0 +1,108 @@
+"""Shared start-up for every workflow script: logging into the rule's log, numba threads, progress.
+
+Usage at the top of a script's ``if __name__ == "__main__":`` block::
+
+    from _common import setup
+
+    log = setup(snakemake)  # noqa: F821 (``snakemake`` is injected by Snakemake)
+
+- Python logging (and warnings) go to the rule's ``log:`` file; an uncaught exception is written
+  there with its traceback before the job fails (and still printed to stderr).
+- ``NUMBA_NUM_THREADS`` and ``numba.set_num_threads`` follow the rule's ``threads``: Snakemake sets
+  OMP/MKL thread variables from ``threads:`` but not numba's, so ``-c2`` would oversubscribe.
+- ``NUMBA_CACHE_DIR`` defaults to the project cache ``.cache/numba`` (cleared by ``make clean``
+  and CI).
+- ``show_progress()`` is True only when stderr is a terminal, so logs and CI stay free of bars.
+
+Scripts read ``snakemake.params`` (the config subtree their rule passes), never
+``snakemake.config``; their work is a ``main(...)`` function that notebooks can call directly.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import sys
+import time
+from pathlib import Path
+
+LOG_FORMAT = "%(asctime)s %(levelname)s %(name)s: %(message)s"
+
+
+def project_root() -> Path:
+    """The repository root: Snakemake runs jobs with the working directory at the workflow root."""
+    return Path.cwd()
+
+
+def configure_numba(threads: int) -> int:
+    """Cap numba's thread pool at ``threads`` (call before heavy work); return the count used."""
+    threads = max(1, int(threads))
+    os.environ.setdefault("NUMBA_CACHE_DIR", str(project_root() / ".cache" / "numba"))
+    os.environ.setdefault("NUMBA_NUM_THREADS", str(threads))
+    import numba
+
+    used = min(threads, numba.config.NUMBA_NUM_THREADS)
+    numba.set_num_threads(used)
+    return used
+
+
+def configure_logging(log_path: str | os.PathLike | None, name: str) -> logging.Logger:
+    """Send logging and warnings to ``log_path`` (stderr when None); log uncaught exceptions."""
+    if log_path:
+        Path(log_path).parent.mkdir(parents=True, exist_ok=True)
+        handler: logging.Handler = logging.FileHandler(log_path, mode="w", encoding="utf-8")
+    else:
+        handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(logging.Formatter(LOG_FORMAT))
+    root = logging.getLogger()
+    for old in list(root.handlers):
+        root.removeHandler(old)
+    root.addHandler(handler)
+    root.setLevel(logging.INFO)
+    for noisy in ("numba", "matplotlib", "PIL", "fontTools"):
+        logging.getLogger(noisy).setLevel(logging.WARNING)
+    logging.captureWarnings(True)
+    logger = logging.getLogger(name)
+
+    def excepthook(kind, value, tb):
+        logger.critical("uncaught exception, job failed", exc_info=(kind, value, tb))
+        handler.flush()
+        sys.__excepthook__(kind, value, tb)
+
+    sys.excepthook = excepthook
+    return logger
+
+
+def show_progress() -> bool:
+    """Progress bars only on an interactive terminal (never in logs or CI)."""
+    return sys.stderr.isatty()
+
+
+def setup(snakemake) -> logging.Logger:
+    """Logging into ``snakemake.log[0]``, numba threads from ``snakemake.threads``."""
+    log_path = snakemake.log[0] if len(snakemake.log) else None
+    logger = configure_logging(log_path, f"restitution.workflow.{snakemake.rule}")
+    used = configure_numba(snakemake.threads)
+    logger.info(
+        "rule %s, wildcards %s, numba threads %d",
+        snakemake.rule,
+        dict(snakemake.wildcards.items()),
+        used,
+    )
+    return logger
+
+
+class Timer:
+    """``with Timer(log, "what"):`` logs the wall time of a block."""
+
+    def __init__(self, logger: logging.Logger, what: str):
+        self.logger, self.what = logger, what
+
+    def __enter__(self):
+        self.start = time.perf_counter()
+        return self
+
+    def __exit__(self, *exc):
+        self.seconds = time.perf_counter() - self.start
+        self.logger.info("%s: %.2f s", self.what, self.seconds)
+        return False
