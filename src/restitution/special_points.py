@@ -1,4 +1,4 @@
-"""Exact special points of the two-mass COR curve: the minima alpha*_n, e*_n and unity points alpha#_n.
+"""Exact special points of the two-mass COR curve: minima alpha*_n, e*_n and unity points alpha#_n.
 
 For a rigid wall (beta = 0) every point is the root of a smooth defining condition, solved with
 Brent's method to round-off (no grid scan decides a value):
@@ -48,7 +48,7 @@ def _gap(s, V, a, b):
 
 @njit(cache=True)
 def _first_min(V, a, b):
-    """(s_min, width) of g's first local minimum after s = 0; width = distance to the maximum before.
+    """(s_min, width): g's first local minimum after s = 0 and its distance to the maximum before.
 
     g'(s) = V + R sin(s - phi) with R = hypot(a, b); minima where sin(s - phi) = -V/R, cos >= 0.
     Returns s_min = -1 when g has no minimum (R <= |V|: g is monotonic).
@@ -156,8 +156,13 @@ def rigid_reference(alpha, max_events: int = 100_000) -> pd.DataFrame:
         for i in np.flatnonzero(~finished):
             finished[i] = grazing_gap(a[i], int(max_events)) >= 0.0
     return pd.DataFrame(
-        {"alpha": a, "cor": out[:, 1], "n_collisions": n, "omega_t_col": out[:, 4],
-         "finished": finished}
+        {
+            "alpha": a,
+            "cor": out[:, 1],
+            "n_collisions": n,
+            "omega_t_col": out[:, 4],
+            "finished": finished,
+        }
     )
 
 
@@ -208,7 +213,7 @@ def _brent(f, lo, hi):
 
 
 def alpha_star(n: int, lo: float, step: float) -> float:
-    """Root of :func:`grazing_gap` (alpha, n) above ``lo`` (> alpha*_{n-1}), bracketed by stepping."""
+    """Root of :func:`grazing_gap` (alpha, n) above ``lo`` (> alpha*_{n-1}), bracketed by steps."""
     f_lo = grazing_gap(lo, n)
     if not f_lo > 0.0:
         raise ValueError(f"grazing gap of n={n} is not positive at alpha={lo!r}")
@@ -248,10 +253,17 @@ def special_points(n_max: int = 30) -> pd.DataFrame:
             _, v_u, _, rp_u, _ = _run(a_unity, n)
             unity_res, vib_res = 1.0 - v_u, abs(rp_u)
         rows.append(
-            dict(n=n, alpha_star=a_star, e_star=e_star, omega_t_star=t_star, alpha_unity=a_unity,
-                 gamma_star=0.5 * (1.0 + a_star) * (1.0 - e_star),
-                 grazing_residual=grazing_gap(a_star, n), unity_residual=unity_res,
-                 vibration_residual=vib_res)
+            dict(
+                n=n,
+                alpha_star=a_star,
+                e_star=e_star,
+                omega_t_star=t_star,
+                alpha_unity=a_unity,
+                gamma_star=0.5 * (1.0 + a_star) * (1.0 - e_star),
+                grazing_residual=grazing_gap(a_star, n),
+                unity_residual=unity_res,
+                vibration_residual=vib_res,
+            )
         )
         spacing = a_star - prev if n > 1 else spacing
         prev = a_star
@@ -261,8 +273,9 @@ def special_points(n_max: int = 30) -> pd.DataFrame:
 # ---------------------------------------------------------------------------------------------
 # Finite beta: where the contact count changes (bisection on the count of any solver).
 # ---------------------------------------------------------------------------------------------
-def count_changes(solver, alpha_min: float, alpha_max: float, n_grid: int = 400,
-                  steps: int = 60) -> pd.DataFrame:
+def count_changes(
+    solver, alpha_min: float, alpha_max: float, n_grid: int = 400, steps: int = 60
+) -> pd.DataFrame:
     """Every alpha in [alpha_min, alpha_max] where the contact count changes, by bisection.
 
     ``solver(alphas) -> (cor, n_collisions)`` arrays. A log grid brackets the changes; each bracket
@@ -289,8 +302,14 @@ def count_changes(solver, alpha_min: float, alpha_max: float, n_grid: int = 400,
         c_hi = np.where(left, c_hi, c_mid)
         n_hi = np.where(left, n_hi, n_mid)
     return pd.DataFrame(
-        {"alpha_change": 0.5 * (lo + hi), "bracket": hi - lo, "n_below": n_lo, "n_above": n_hi,
-         "cor_below": c_lo, "cor_above": c_hi}
+        {
+            "alpha_change": 0.5 * (lo + hi),
+            "bracket": hi - lo,
+            "n_below": n_lo,
+            "n_above": n_hi,
+            "cor_below": c_lo,
+            "cor_above": c_hi,
+        }
     )
 
 
