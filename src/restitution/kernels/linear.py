@@ -1,0 +1,902 @@
+"""Exact event-driven solver for every piecewise-linear scene (any N >= 2, beta >= 0, xi >= 0).
+
+Model (non-dimensional, DESIGN.md): m1 = 1, m2..mN = alpha, springs k2 = alpha/(1+alpha) between
+neighbours, contact spring k1 = k2/beta on m1 while u1 < 0 (beta = 0: rigid wall, v1 -> -v1),
+dashpot c = 2 xi k2 between m1 and m2 only. At t = 0 all u = 0, all v = -1.
+
+Closed form per phase
+---------------------
+Both phases are linear, homogeneous and time invariant, so every quantity is an exponential sum.
+*Free phase*: the centre of mass moves as X0 + V t exactly; the relative motion is expanded in the
+N-1 non-rigid modes of (K, M). For N = 2 it is the scalar oscillator r'' + 2 xi r' + r = 0
+(r = u2 - u1) written with C(t) = e^{-xi t} cos / cosh and S(t) = e^{-xi t} sin(wt)/w / sinh(gt)/g,
+switched to their power series when |(1 - xi^2) t^2| < 1/2, so xi = 1 and xi -> 1 lose nothing.
+*Contact phase*: the full N-DOF system with k1 added at m1 (all modes elastic, no rigid mode).
+Undamped phases use real modes (lambda = i omega, eigh of M^-1/2 K M^-1/2); damped phases use the
+complex eigen-decomposition of the modal state matrix [[0, I], [-Omega^2, -D]] (D = c d d^T, the
+dashpot is rank one). Its eigenvector condition number is checked: above COND_MAX the scene is
+flagged STATUS_ILL_CONDITIONED (the closed form would lose more than ~8 digits). Decompositions are
+done once per scene.
+
+Event location (rigorous)
+-------------------------
+In every phase the monitored gap is f(t) = c0 + c1 t + Re sum_k b_k e^{lambda_k t}, Re lambda <= 0
+(free: f = u1; contact: f = -u1). Hence for s >= t, |f^(m)(s) - [m<=1] c1...| is bounded by
+B_m(t) = sum_k |b_k| |lambda_k|^m e^{Re lambda_k t} (for the scalar N = 2 oscillator the same role
+is played by the non-increasing energies r^(m)^2 + r^(m+1)^2). From a point with f >= -tol we step
+by the largest h for which the cubic lower bound f + f' h + f'' h^2/2 - B3 h^3/6 stays >= -tol, so
+no step can cross a point where f < -tol; such steps converge quadratically to a transversal root
+and superlinearly (order 3/2) to a tangency. A crossing is *certified* when the quadratic upper
+bound f + f' h + B2 h^2/2 dips below -tol; f is then strictly decreasing on [t, t + |f'|/B2], so
+its unique root there is the event, found by bracketed, safeguarded Newton to machine precision.
+
+Touching rule: a contact (or a separation) happens iff the gap goes below -tol, with
+tol = 64 eps * scale and scale = sum of the magnitudes of the terms of f. A gap minimum within
+that round-off band is a graze and changes nothing (its impulse would be O(sqrt(tol))), which keeps
+the COR continuous across the grazing points alpha*_n.
+
+Termination by proof: in free flight with V > 0, once X(t) - B0(t) > tol the gap can never close
+again (X grows, B0 never grows), so the sequence is finished. In a damped contact whose slowest
+term is real, if that term outweighs the sum of all others the contact can never end
+(``permanent contact``: the system comes to rest against the wall, COR = 0, omega_t_col = inf,
+all energy dissipated). Every phase has a step budget (STATUS_NONCONVERGED) and every scene an
+event budget (STATUS_EVENT_BUDGET), so nothing hangs.
+
+Rigid wall + dashpot: m1 chatters against the wall with velocities decaying like 1/n (the
+sticking limit of beta -> 0 is not an impulsive sequence); such scenes exhaust max_events and
+are reported as STATUS_EVENT_BUDGET instead of a truncated COR.
+
+Energies (fractions of the initial kinetic energy Mtot/2) are evaluated at the final separation:
+translational cor^2, vibrational (relative kinetic + structural springs), dissipated = integral
+of c (v2 - v1)^2 by 10-point Gauss-Legendre on sub-intervals of length <= 1/max|lambda| (error
+~ 1/20!, round-off). Their sum is checked (STATUS_ENERGY if off by more than 1e-9).
+"""
+
+import cmath
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from restitution.kernels.layout import (
+    H_IMPULSE,
+    H_TEND,
+    H_TSTART,
+    H_VIN,
+    H_VOUT,
+    H_XMAX,
+    N_HIST,
+    N_OUT,
+    OUT_COR,
+    OUT_EDISS,
+    OUT_ERR,
+    OUT_ETRANS,
+    OUT_EVIB,
+    OUT_NCOL,
+    OUT_NEVENTS,
+    OUT_STATUS,
+    OUT_TCOL,
+    STATUS_ENERGY,
+    STATUS_EVENT_BUDGET,
+    STATUS_ILL_CONDITIONED,
+    STATUS_NONCONVERGED,
+    STATUS_OK,
+)
+
+EPS = 2.220446049250313e-16
+TOL_ULPS = 64.0  # touching band, in ulps of the gap's scale
+COND_MAX = 1e8  # eigenvector condition number above which a closed form is not trusted
+MAX_STEPS = 400_000  # conservative steps per phase
+ENERGY_TOL = 1e-9
+
+# Locator outcomes.
+LOC_EVENT = 0
+LOC_NEVER = 1
+LOC_BUDGET = 2
+LOC_PERMANENT = 3
+
+# Phase kinds.
+KIND_MODAL = 0
+KIND_SCALAR = 1
+
+# 10-point Gauss-Legendre on [-1, 1].
+_GL_X = np.array(
+    [
+        -0.9739065285171717,
+        -0.8650633666889845,
+        -0.6794095682990244,
+        -0.4333953941292472,
+        -0.1488743389816312,
+        0.1488743389816312,
+        0.4333953941292472,
+        0.6794095682990244,
+        0.8650633666889845,
+        0.9739065285171717,
+    ]
+)
+_GL_W = np.array(
+    [
+        0.0666713443086881,
+        0.1494513491505806,
+        0.2190863625159820,
+        0.2692667193099963,
+        0.2955242247147529,
+        0.2955242247147529,
+        0.2692667193099963,
+        0.2190863625159820,
+        0.1494513491505806,
+        0.0666713443086881,
+    ]
+)
+
+
+# ----------------------------------------------------------------------------------------------
+# System and modal models
+# ----------------------------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def _masses(alpha, n):
+    m = np.full(n, alpha)
+    m[0] = 1.0
+    return m
+
+
+@njit(cache=True)
+def _stiffness(n, k2, kc):
+    """Chain stiffness matrix, plus kc at m1 (contact spring)."""
+    K = np.zeros((n, n))
+    for i in range(n - 1):
+        K[i, i] += k2
+        K[i + 1, i + 1] += k2
+        K[i, i + 1] -= k2
+        K[i + 1, i] -= k2
+    K[0, 0] += kc
+    return K
+
+
+@njit(cache=True)
+def _modal_model(m, k2, kc, c, drop_rigid):
+    """Exponential-sum model of one phase.
+
+    Returns ``lam`` (K,), ``U`` (n, K) and ``P`` (K, 2n), complex, such that for a start state
+    y0 = (u0, v0) (relative to the centre of mass if ``drop_rigid``) z = P @ y0 and
+    u(t) = Re U @ (z e^{lam t}), v(t) = Re U @ (lam z e^{lam t}); plus the eigenvector condition
+    number (1 when undamped).
+    """
+    n = m.size
+    K = _stiffness(n, k2, kc)
+    sm = np.sqrt(m)
+    Kt = np.empty((n, n))
+    for i in range(n):
+        for j in range(n):
+            Kt[i, j] = K[i, j] / (sm[i] * sm[j])
+    w2, psi = np.linalg.eigh(Kt)
+    s = 1 if drop_rigid else 0  # eigh sorts ascending: the rigid mode (omega = 0) comes first
+    nm = n - s
+    phi = np.empty((n, nm))
+    om = np.empty(nm)
+    for k in range(nm):
+        om[k] = math.sqrt(max(w2[k + s], 0.0))
+        for i in range(n):
+            phi[i, k] = psi[i, k + s] / sm[i]
+    if c == 0.0:
+        lam = np.empty(nm, np.complex128)
+        U = np.empty((n, nm), np.complex128)
+        P = np.zeros((nm, 2 * n), np.complex128)
+        for k in range(nm):
+            lam[k] = 1j * om[k]
+            for i in range(n):
+                U[i, k] = phi[i, k]
+                P[k, i] = phi[i, k] * m[i]
+                P[k, n + i] = -1j * phi[i, k] * m[i] / om[k]
+        return lam, U, P, 1.0
+    d = phi[0, :] - phi[1, :]
+    S = np.zeros((2 * nm, 2 * nm), np.complex128)
+    for k in range(nm):
+        S[k, nm + k] = 1.0
+        S[nm + k, k] = -om[k] * om[k]
+        for j in range(nm):
+            S[nm + k, nm + j] = -c * d[k] * d[j]
+    lam, V = np.linalg.eig(S)
+    for k in range(2 * nm):  # round-off can leave +1e-17 real parts on undamped-looking modes
+        if lam[k].real > 0.0:
+            lam[k] = 1j * lam[k].imag
+    cond = np.linalg.cond(V)
+    W = np.linalg.inv(V)
+    phic = phi.astype(np.complex128)
+    U = phic @ np.ascontiguousarray(V[:nm, :])
+    PhiTM = np.empty((nm, n), np.complex128)
+    for k in range(nm):
+        for i in range(n):
+            PhiTM[k, i] = phi[i, k] * m[i]
+    P = np.empty((2 * nm, 2 * n), np.complex128)
+    P[:, :n] = np.ascontiguousarray(W[:, :nm]) @ PhiTM
+    P[:, n:] = np.ascontiguousarray(W[:, nm:]) @ PhiTM
+    return lam, U, P, cond
+
+
+# ----------------------------------------------------------------------------------------------
+# The scalar damped oscillator r'' + 2 xi r' + r = 0 (free phase of two masses)
+# ----------------------------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def _cs(xi, t):
+    """(e^{-xi t} C(t), e^{-xi t} S(t)) with C = cos(wt)|cosh(gt)|1, S = sin(wt)/w|sinh(gt)/g|t."""
+    d = 1.0 - xi * xi
+    x = -d * t * t
+    if abs(x) < 0.5:
+        # Series: C = sum x^j/(2j)!, S = t sum x^j/(2j+1)!; no 0/0 at xi = 1.
+        c = 1.0
+        s = 1.0
+        tc = 1.0
+        ts = 1.0
+        for j in range(1, 14):
+            tc *= x / ((2 * j - 1) * (2 * j))
+            ts *= x / ((2 * j) * (2 * j + 1))
+            c += tc
+            s += ts
+        e = math.exp(-xi * t)
+        return e * c, e * s * t
+    if d > 0.0:
+        w = math.sqrt(d)
+        e = math.exp(-xi * t)
+        return e * math.cos(w * t), e * math.sin(w * t) / w
+    g = math.sqrt(-d)
+    slow = math.exp(-t / (xi + g))  # e^{(g - xi) t} without cancellation
+    fast = math.exp(-(xi + g) * t)
+    return 0.5 * (slow + fast), 0.5 * (slow - fast) / g
+
+
+@njit(cache=True)
+def _osc(xi, r0, rd0, t):
+    ce, se = _cs(xi, t)
+    return r0 * ce + (rd0 + xi * r0) * se, rd0 * ce - (r0 + xi * rd0) * se
+
+
+# ----------------------------------------------------------------------------------------------
+# Gap evaluation with derivative bounds over [t, inf)
+# ----------------------------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res):
+    """res = f, f', f'', f''', B0, B2, B3, scale at phase time t (B_m bounds |f^(m)| on [t, inf),
+    for m = 0 only the oscillating part)."""
+    f = c0 + c1 * t
+    f1 = c1
+    if kind == KIND_SCALAR:
+        r, rd = _osc(xi, r0, rd0, t)
+        r2 = -2.0 * xi * rd - r
+        r3 = -2.0 * xi * r2 - rd
+        r4 = -2.0 * xi * r3 - r2
+        res[0] = f - mu * r
+        res[1] = f1 - mu * rd
+        res[2] = -mu * r2
+        res[3] = -mu * r3
+        res[4] = mu * math.sqrt(r * r + rd * rd)
+        res[5] = mu * math.sqrt(r2 * r2 + r3 * r3)
+        res[6] = mu * math.sqrt(r3 * r3 + r4 * r4)
+        res[7] = abs(c0) + abs(c1 * t) + res[4]
+        return
+    f2 = 0.0
+    f3 = 0.0
+    b0 = 0.0
+    b2 = 0.0
+    b3 = 0.0
+    for k in range(b.size):
+        lk = lam[k]
+        e = b[k] * cmath.exp(lk * t)
+        le = lk * e
+        l2e = lk * le
+        f += e.real
+        f1 += le.real
+        f2 += l2e.real
+        f3 += (lk * l2e).real
+        a = abs(e)
+        al = abs(lk)
+        b0 += a
+        b2 += a * al * al
+        b3 += a * al * al * al
+    res[0] = f
+    res[1] = f1
+    res[2] = f2
+    res[3] = f3
+    res[4] = b0
+    res[5] = b2
+    res[6] = b3
+    res[7] = abs(c0) + abs(c1 * t) + b0
+
+
+@njit(cache=True)
+def _cubic(a0, a1, a2, a3, s):
+    return a0 + s * (a1 + s * (0.5 * a2 - s * a3 / 6.0))
+
+
+@njit(cache=True)
+def _safe_step(a0, a1, a2, a3):
+    """Largest h (to ~1e-13, from below) with p(s) = a0 + a1 s + a2 s^2/2 - a3 s^3/6 > 0 on
+    [0, h); a0 > 0, a3 >= 0. Returns inf if p never vanishes."""
+    if a0 <= 0.0:
+        return 0.0
+    if a3 <= 0.0:  # all higher derivatives vanish: f is linear
+        if a1 < 0.0:
+            return a0 / -a1
+        return math.inf
+    lo = 0.0
+    disc = a2 * a2 + 2.0 * a1 * a3
+    if disc > 0.0:
+        sq = math.sqrt(disc)
+        cr1 = (a2 - sq) / a3
+        cr2 = (a2 + sq) / a3
+        if cr1 > 0.0:  # p decreases on [0, cr1], increases on [cr1, cr2]
+            if _cubic(a0, a1, a2, a3, cr1) <= 0.0:
+                return _mono_root(a0, a1, a2, a3, 0.0, cr1)
+            lo = cr2
+        elif cr2 > 0.0:
+            lo = cr2
+    # p decreases on [lo, inf) from p(lo) > 0.
+    plo = _cubic(a0, a1, a2, a3, lo)
+    h = max((6.0 * plo / a3) ** (1.0 / 3.0), 1e-300)
+    hi = lo + h
+    for _ in range(200):
+        if _cubic(a0, a1, a2, a3, hi) <= 0.0:
+            break
+        lo = hi
+        h *= 2.0
+        hi = lo + h
+    return _mono_root(a0, a1, a2, a3, lo, hi)
+
+
+@njit(cache=True)
+def _mono_root(a0, a1, a2, a3, lo, hi):
+    """Root of the cubic, decreasing on [lo, hi] with p(lo) > 0 >= p(hi); returns a point below
+    it (p > 0 there)."""
+    x = lo
+    for _ in range(100):
+        p = _cubic(a0, a1, a2, a3, x)
+        if p > 0.0:
+            lo = x
+        else:
+            hi = x
+        if hi - lo <= 1e-14 * hi:
+            break
+        dp = a1 + x * (a2 - 0.5 * a3 * x)
+        xn = x - p / dp if dp < 0.0 else 0.5 * (lo + hi)
+        if not (lo < xn < hi):
+            xn = 0.5 * (lo + hi)
+        x = xn
+    return lo
+
+
+@njit(cache=True)
+def _refine(kind, lo, hi, c0, c1, b, lam, xi, mu, r0, rd0, res):
+    """Root of the gap on [lo, hi] where it is strictly decreasing, f(hi) < 0: safeguarded Newton
+    to machine precision."""
+    _eval_gap(kind, lo, c0, c1, b, lam, xi, mu, r0, rd0, res)
+    if res[0] <= 0.0:
+        return lo
+    x = lo
+    best = lo
+    bestf = res[0]
+    for _ in range(200):
+        _eval_gap(kind, x, c0, c1, b, lam, xi, mu, r0, rd0, res)
+        f = res[0]
+        if abs(f) < bestf:
+            best = x
+            bestf = abs(f)
+        if f == 0.0:
+            return x
+        if f > 0.0:
+            lo = x
+        else:
+            hi = x
+        if hi - lo <= 2.0 * EPS * max(abs(hi), 1.0):
+            break
+        xn = x - f / res[1] if res[1] < 0.0 else 0.5 * (lo + hi)
+        if not (lo < xn < hi):
+            xn = 0.5 * (lo + hi)
+        x = xn
+    return best
+
+
+@njit(cache=True)
+def _never_ends(t, b, lam, tol):
+    """Proof that a damped contact never ends: the slowest real term outweighs all others now,
+    hence forever (all others decay faster)."""
+    kmax = -1
+    lr = -math.inf
+    for k in range(b.size):
+        if abs(b[k]) > 0.0 and lam[k].real > lr:
+            lr = lam[k].real
+            kmax = k
+    if kmax < 0 or abs(lam[kmax].imag) > 1e-12 * abs(lam[kmax]):
+        return False
+    dom = (b[kmax] * cmath.exp(lam[kmax] * t)).real
+    rest = 0.0
+    for k in range(b.size):
+        if k == kmax or abs(b[k]) == 0.0:
+            continue
+        if lam[k].real >= lr - 1e-12 * abs(lr):
+            return False
+        rest += abs(b[k]) * math.exp(lam[k].real * t)
+    return dom - rest > tol
+
+
+@njit(cache=True)
+def _locate(kind, c0, c1, b, lam, xi, mu, r0, rd0, check_permanent, info):
+    """First time the gap goes below the touching band; see the module docstring.
+
+    Returns a LOC_* code; info = [event time, max gap, time of max gap, steps].
+    """
+    res = np.empty(8)
+    t = 0.0
+    fmax = -math.inf
+    tmax = 0.0
+    for it in range(MAX_STEPS):
+        _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res)
+        f = res[0]
+        f1 = res[1]
+        f2 = res[2]
+        b2 = res[5]
+        b3 = res[6]
+        tol = TOL_ULPS * EPS * res[7] + 1e-300
+        info[3] = it
+        if f > fmax:
+            fmax = f
+            tmax = t
+        info[1] = fmax
+        info[2] = tmax
+        if c1 > 0.0 and c0 + c1 * t - res[4] > tol:
+            return LOC_NEVER
+        if check_permanent and _never_ends(t, b, lam, tol):
+            return LOC_PERMANENT
+        if f < -tol:  # only by round-off at a step end: the crossing is here
+            info[0] = t
+            return LOC_EVENT
+        if f1 < 0.0:
+            if b2 > 0.0:
+                reach = -f1 / b2
+                dip = f + 0.5 * f1 * reach
+            else:
+                reach = 2.0 * (f + tol) / -f1
+                dip = -math.inf
+            if dip < -tol:
+                info[0] = _refine(kind, t, t + reach, c0, c1, b, lam, xi, mu, r0, rd0, res)
+                return LOC_EVENT
+        h = _safe_step(f + tol, f1, f2, b3)
+        if h == math.inf:
+            return LOC_NEVER
+        if h <= 4.0 * EPS * max(t, 1.0):
+            # Stalled on a tangency exactly at the band edge: it is a graze by the rule; pass it.
+            h = max(_safe_step(f + 2.0 * tol, f1, f2, b3), 4.0 * EPS * max(t, 1.0))
+        t += h
+    return LOC_BUDGET
+
+
+@njit(cache=True)
+def _xmax(kind, t0, tend, c0, c1, b, lam, xi, mu, r0, rd0):
+    """Largest gap on [0, tend] near the best sample t0 (Newton on f')."""
+    res = np.empty(8)
+    _eval_gap(kind, t0, c0, c1, b, lam, xi, mu, r0, rd0, res)
+    best = res[0]
+    t = t0
+    for _ in range(30):
+        if res[2] >= 0.0:
+            break
+        tn = min(max(t - res[1] / res[2], 0.0), tend)
+        if tn == t:
+            break
+        t = tn
+        _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res)
+        if res[0] > best:
+            best = res[0]
+    return best
+
+
+# ----------------------------------------------------------------------------------------------
+# State propagation and dissipation
+# ----------------------------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def _modal_state(t, z, lam, U, X0, V, u, v):
+    """u, v at phase time t from modal coefficients z (plus centre-of-mass motion X0 + V t)."""
+    n = U.shape[0]
+    ez = np.empty(z.size, np.complex128)
+    lz = np.empty(z.size, np.complex128)
+    for k in range(z.size):
+        ez[k] = z[k] * cmath.exp(lam[k] * t)
+        lz[k] = lam[k] * ez[k]
+    for i in range(n):
+        su = 0.0
+        sv = 0.0
+        for k in range(z.size):
+            su += (U[i, k] * ez[k]).real
+            sv += (U[i, k] * lz[k]).real
+        u[i] = X0 + V * t + su
+        v[i] = V + sv
+
+
+@njit(cache=True)
+def _scalar_state(t, xi, r0, rd0, mu, X0, V, u, v):
+    r, rd = _osc(xi, r0, rd0, t)
+    X = X0 + V * t
+    u[0] = X - mu * r
+    u[1] = X + (1.0 - mu) * r
+    v[0] = V - mu * rd
+    v[1] = V + (1.0 - mu) * rd
+
+
+@njit(cache=True)
+def _diss_modal(T, g, lam, c):
+    """Integral of c (Re sum g_k e^{lam_k t})^2 over [0, T], Gauss-Legendre (round-off exact)."""
+    if c == 0.0 or T <= 0.0:
+        return 0.0
+    lmax = 1e-300
+    for k in range(lam.size):
+        lmax = max(lmax, abs(lam[k]))
+    nsub = int(math.ceil(T * lmax))
+    nsub = max(nsub, 1)
+    h = T / nsub
+    acc = 0.0
+    for s in range(nsub):
+        part = 0.0
+        for j in range(10):
+            t = (s + 0.5 + 0.5 * _GL_X[j]) * h
+            val = 0.0
+            for k in range(g.size):
+                val += (g[k] * cmath.exp(lam[k] * t)).real
+            part += _GL_W[j] * val * val
+        acc += part
+    return c * 0.5 * h * acc
+
+
+@njit(cache=True)
+def _diss_scalar(T, xi, r0, rd0, c):
+    if c == 0.0 or T <= 0.0:
+        return 0.0
+    lmax = max(1.0, xi + math.sqrt(max(xi * xi - 1.0, 0.0)))
+    nsub = max(int(math.ceil(T * lmax)), 1)
+    h = T / nsub
+    acc = 0.0
+    for s in range(nsub):
+        part = 0.0
+        for j in range(10):
+            t = (s + 0.5 + 0.5 * _GL_X[j]) * h
+            rd = _osc(xi, r0, rd0, t)[1]
+            part += _GL_W[j] * rd * rd
+        acc += part
+    return c * 0.5 * h * acc
+
+
+@njit(cache=True)
+def _vib_energy(m, k2, u, v):
+    """Relative kinetic + structural spring energy."""
+    n = m.size
+    mt = 0.0
+    p = 0.0
+    for i in range(n):
+        mt += m[i]
+        p += m[i] * v[i]
+    V = p / mt
+    e = 0.0
+    for i in range(n):
+        e += 0.5 * m[i] * (v[i] - V) ** 2
+    for i in range(n - 1):
+        e += 0.5 * k2 * (u[i + 1] - u[i]) ** 2
+    return e
+
+
+# ----------------------------------------------------------------------------------------------
+# The event-driven solver
+# ----------------------------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def _run(alpha, beta, xi, n, max_events, hist, rec):
+    """Solve one scene; fill ``hist`` and, if rec has rows, record every phase start as
+    [t0, kind (0 free, 1 contact, 2 rest), duration, u(n), v(n)]. Returns (out, n_records)."""
+    out = np.zeros(N_OUT)
+    m = _masses(alpha, n)
+    mt = 1.0 + (n - 1) * alpha
+    k2 = alpha / (1.0 + alpha)
+    c = 2.0 * xi * k2
+    mu = alpha / (1.0 + alpha)
+    status = STATUS_OK
+    cond = 1.0
+    if n > 2:
+        lamF, UF, PF, condF = _modal_model(m, k2, 0.0, c, True)
+        cond = max(cond, condF)
+    else:
+        lamF = np.zeros(0, np.complex128)
+        UF = np.zeros((n, 0), np.complex128)
+        PF = np.zeros((0, 2 * n), np.complex128)
+    if beta > 0.0:
+        lamC, UC, PC, condC = _modal_model(m, k2, k2 / beta, c, False)
+        cond = max(cond, condC)
+    else:
+        lamC = np.zeros(0, np.complex128)
+        UC = np.zeros((n, 0), np.complex128)
+        PC = np.zeros((0, 2 * n), np.complex128)
+    if cond > COND_MAX:
+        status = STATUS_ILL_CONDITIONED
+
+    u = np.zeros(n)
+    v = -np.ones(n)
+    y = np.empty(2 * n)
+    info = np.zeros(4)
+    t = 0.0
+    t_last = 0.0
+    ncol = 1
+    ediss = 0.0
+    nrec = 0
+    nh = hist.shape[0]
+    in_contact = beta > 0.0
+    permanent = False
+    if nh > 0:
+        hist[0, H_TSTART] = 0.0
+        hist[0, H_VIN] = -1.0
+    if beta == 0.0:
+        v[0] = 1.0
+        if nh > 0:
+            hist[0, H_TEND] = 0.0
+            hist[0, H_VOUT] = 1.0
+            hist[0, H_XMAX] = 0.0
+            hist[0, H_IMPULSE] = 2.0
+    while True:
+        if nrec < rec.shape[0]:
+            rec[nrec, 0] = t
+            rec[nrec, 1] = 1.0 if in_contact else 0.0
+            rec[nrec, 2] = math.inf
+            rec[nrec, 3 : 3 + n] = u
+            rec[nrec, 3 + n :] = v
+        nrec += 1
+        if in_contact:
+            p_in = 0.0
+            for i in range(n):
+                y[i] = u[i]
+                y[n + i] = v[i]
+                p_in += m[i] * v[i]
+            z = PC @ y.astype(np.complex128)
+            bgap = np.empty(z.size, np.complex128)
+            g = np.empty(z.size, np.complex128)
+            for k in range(z.size):
+                bgap[k] = -UC[0, k] * z[k]
+                g[k] = (UC[1, k] - UC[0, k]) * lamC[k] * z[k]
+            code = _locate(KIND_MODAL, 0.0, 0.0, bgap, lamC, xi, mu, 0.0, 0.0, c > 0.0, info)
+            if code == LOC_BUDGET:
+                status = STATUS_NONCONVERGED
+                break
+            if code == LOC_PERMANENT:
+                permanent = True
+                # Dissipation to (numerically) infinite time: beyond 40 e-foldings of the
+                # slowest term the remaining energy is < e^-80 of what it was.
+                slow = 0.0
+                for k in range(z.size):
+                    if abs(bgap[k]) > 0.0 and (slow == 0.0 or lamC[k].real > slow):
+                        slow = lamC[k].real
+                ediss += _diss_modal(80.0 / -slow, g, lamC, c)
+                if ncol - 1 < nh:
+                    hist[ncol - 1, H_TEND] = math.inf
+                    hist[ncol - 1, H_VOUT] = 0.0
+                    hist[ncol - 1, H_XMAX] = _xmax(
+                        KIND_MODAL, info[2], 80.0 / -slow, 0.0, 0.0, bgap, lamC, xi, mu, 0.0, 0.0
+                    )
+                    hist[ncol - 1, H_IMPULSE] = -p_in
+                break
+            te = info[0]
+            ediss += _diss_modal(te, g, lamC, c)
+            _modal_state(te, z, lamC, UC, 0.0, 0.0, u, v)
+            u[0] = 0.0  # separation: exactly at the wall
+            t += te
+            t_last = t
+            if nrec - 1 < rec.shape[0]:
+                rec[nrec - 1, 2] = te
+            if ncol - 1 < nh:
+                p_out = 0.0
+                for i in range(n):
+                    p_out += m[i] * v[i]
+                hist[ncol - 1, H_TEND] = t
+                hist[ncol - 1, H_VOUT] = v[0]
+                hist[ncol - 1, H_XMAX] = _xmax(
+                    KIND_MODAL, info[2], te, 0.0, 0.0, bgap, lamC, xi, mu, 0.0, 0.0
+                )
+                hist[ncol - 1, H_IMPULSE] = p_out - p_in
+            in_contact = False
+            continue
+        # Free flight.
+        X0 = 0.0
+        V = 0.0
+        for i in range(n):
+            X0 += m[i] * u[i]
+            V += m[i] * v[i]
+        X0 /= mt
+        V /= mt
+        if n == 2:
+            r0 = u[1] - u[0]
+            rd0 = v[1] - v[0]
+            code = _locate(KIND_SCALAR, X0, V, lamF, lamF, xi, mu, r0, rd0, False, info)
+        else:
+            r0 = 0.0
+            rd0 = 0.0
+            for i in range(n):
+                y[i] = u[i] - X0
+                y[n + i] = v[i] - V
+            z = PF @ y.astype(np.complex128)
+            bgap = np.empty(z.size, np.complex128)
+            g = np.empty(z.size, np.complex128)
+            for k in range(z.size):
+                bgap[k] = UF[0, k] * z[k]
+                g[k] = (UF[1, k] - UF[0, k]) * lamF[k] * z[k]
+            code = _locate(KIND_MODAL, X0, V, bgap, lamF, xi, mu, 0.0, 0.0, False, info)
+        if code == LOC_NEVER:
+            break
+        if code != LOC_EVENT:
+            status = STATUS_NONCONVERGED
+            break
+        te = info[0]
+        if n == 2:
+            ediss += _diss_scalar(te, xi, r0, rd0, c)
+            _scalar_state(te, xi, r0, rd0, mu, X0, V, u, v)
+        else:
+            ediss += _diss_modal(te, g, lamF, c)
+            _modal_state(te, z, lamF, UF, X0, V, u, v)
+        u[0] = 0.0  # contact starts exactly at the wall
+        t += te
+        if nrec - 1 < rec.shape[0]:
+            rec[nrec - 1, 2] = te
+        if ncol >= max_events:
+            status = STATUS_EVENT_BUDGET
+            break
+        ncol += 1
+        if ncol - 1 < nh:
+            hist[ncol - 1, H_TSTART] = t
+            hist[ncol - 1, H_VIN] = v[0]
+        if beta == 0.0:
+            vin = v[0]
+            v[0] = -vin
+            t_last = t
+            if ncol - 1 < nh:
+                hist[ncol - 1, H_TEND] = t
+                hist[ncol - 1, H_VOUT] = -vin
+                hist[ncol - 1, H_XMAX] = 0.0
+                hist[ncol - 1, H_IMPULSE] = -2.0 * vin
+        else:
+            in_contact = True
+
+    e0 = 0.5 * mt
+    if permanent:
+        cor = 0.0
+        evib = 0.0
+        t_last = math.inf
+    else:
+        p = 0.0
+        for i in range(n):
+            p += m[i] * v[i]
+        cor = p / mt
+        evib = _vib_energy(m, k2, u, v) / e0
+    out[OUT_COR] = cor
+    out[OUT_NCOL] = ncol
+    out[OUT_TCOL] = t_last
+    out[OUT_ETRANS] = cor * cor
+    out[OUT_EVIB] = evib
+    out[OUT_EDISS] = ediss / e0
+    out[OUT_NEVENTS] = ncol
+    out[OUT_ERR] = TOL_ULPS * EPS * ncol * cond
+    if status == STATUS_OK and abs(out[OUT_ETRANS] + evib + out[OUT_EDISS] - 1.0) > ENERGY_TOL:
+        status = STATUS_ENERGY
+    out[OUT_STATUS] = status
+    return out, nrec
+
+
+@njit(cache=True)
+def solve_linear(alpha, beta, xi, n_masses, max_events, hist):
+    """Exact event-driven solution of one piecewise-linear scene.
+
+    Parameters
+    ----------
+    alpha, beta, xi : float
+        Mass ratio, stiffness ratio k2/k1 (0 = rigid wall), damping ratio of the m1-m2 dashpot.
+    n_masses : int
+        Number of masses N >= 2.
+    max_events : int
+        Contact budget; exceeding it gives STATUS_EVENT_BUDGET.
+    hist : ndarray, shape (rows, N_HIST)
+        One row per contact is written while rows last.
+
+    Returns
+    -------
+    out : ndarray, shape (N_OUT,)
+        See ``restitution.kernels.layout``.
+    """
+    rec = np.zeros((0, 3 + 2 * n_masses))
+    return _run(alpha, beta, xi, n_masses, max_events, hist, rec)[0]
+
+
+@njit(parallel=True, cache=True)
+def solve_linear_batch(alpha, beta, xi, n_masses, max_events):
+    """``solve_linear`` over arrays of scenes (one row each); scenes are independent, so the
+    result is bit-identical for any thread count."""
+    ns = alpha.size
+    out = np.empty((ns, N_OUT))
+    for i in prange(ns):
+        hist = np.zeros((0, N_HIST))
+        out[i, :] = solve_linear(alpha[i], beta[i], xi[i], int(n_masses[i]), max_events, hist)
+    return out
+
+
+@njit(cache=True)
+def _sample(alpha, beta, xi, n, times, max_events):
+    nrow = 2 * max_events + 4
+    rec = np.zeros((nrow, 3 + 2 * n))
+    hist = np.zeros((0, N_HIST))
+    _, nrec = _run(alpha, beta, xi, n, max_events, hist, rec)
+    nrec = min(nrec, nrow)
+    m = _masses(alpha, n)
+    mt = 1.0 + (n - 1) * alpha
+    k2 = alpha / (1.0 + alpha)
+    c = 2.0 * xi * k2
+    mu = alpha / (1.0 + alpha)
+    if n > 2:
+        lamF, UF, PF, _c = _modal_model(m, k2, 0.0, c, True)
+    else:
+        lamF = np.zeros(0, np.complex128)
+        UF = np.zeros((n, 0), np.complex128)
+        PF = np.zeros((0, 2 * n), np.complex128)
+    if beta > 0.0:
+        lamC, UC, PC, _c = _modal_model(m, k2, k2 / beta, c, False)
+    else:
+        lamC = np.zeros(0, np.complex128)
+        UC = np.zeros((n, 0), np.complex128)
+        PC = np.zeros((0, 2 * n), np.complex128)
+    U = np.empty((times.size, n))
+    Vv = np.empty((times.size, n))
+    u = np.empty(n)
+    v = np.empty(n)
+    y = np.empty(2 * n)
+    for j in range(times.size):
+        tj = times[j]
+        if tj < 0.0:
+            U[j, :] = -tj
+            Vv[j, :] = -1.0
+            continue
+        p = 0
+        while p + 1 < nrec and rec[p + 1, 0] <= tj:
+            p += 1
+        tau = tj - rec[p, 0]
+        u0 = rec[p, 3 : 3 + n]
+        v0 = rec[p, 3 + n :]
+        if rec[p, 1] == 1.0:
+            for i in range(n):
+                y[i] = u0[i]
+                y[n + i] = v0[i]
+            z = PC @ y.astype(np.complex128)
+            _modal_state(tau, z, lamC, UC, 0.0, 0.0, u, v)
+        else:
+            X0 = 0.0
+            V = 0.0
+            for i in range(n):
+                X0 += m[i] * u0[i]
+                V += m[i] * v0[i]
+            X0 /= mt
+            V /= mt
+            if n == 2:
+                _scalar_state(tau, xi, u0[1] - u0[0], v0[1] - v0[0], mu, X0, V, u, v)
+            else:
+                for i in range(n):
+                    y[i] = u0[i] - X0
+                    y[n + i] = v0[i] - V
+                z = PF @ y.astype(np.complex128)
+                _modal_state(tau, z, lamF, UF, X0, V, u, v)
+        U[j, :] = u
+        Vv[j, :] = v
+    return U, Vv
+
+
+def sample_linear(alpha, beta, xi, n_masses, times, max_events=10_000):
+    """Positions and velocities (len(times), N) at the given times, from the closed form of the
+    phase that contains each time (the event history is recomputed once)."""
+    times = np.ascontiguousarray(times, dtype=np.float64)
+    return _sample(float(alpha), float(beta), float(xi), int(n_masses), times, int(max_events))
