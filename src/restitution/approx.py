@@ -39,7 +39,7 @@ PAPER = {"p": 0.8, "q": 0.21, "c": 0.4, "eta1": 2.0, "eta2": 2.0, "alpha_star_1"
 
 #: Shape coefficients (a1, a2, a3, b0, b1, b2) fitted once over the windows n = 2..90 (see
 #: restitution.fitting.fit_universal_shape; regenerate with workflow/scripts/approx_fit.py).
-UNIVERSAL_SHAPE = (0.0, 0.0, 0.0, 1.0, 0.0, 0.0)
+UNIVERSAL_SHAPE = (0.026392, -0.16499, 0.065998, 1.5242, -1.6592, 0.75639)
 
 _SAMPLES = 96  # samples per branch and window when fitting the per-window shapes
 
