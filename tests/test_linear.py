@@ -1,0 +1,354 @@
+"""The exact piecewise-linear kernel against closed forms and an independent ODE reference."""
+
+import math
+
+import numba
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from restitution.kernels.layout import (
+    H_TEND,
+    H_TSTART,
+    N_HIST,
+    OUT_COR,
+    OUT_EDISS,
+    OUT_ETRANS,
+    OUT_EVIB,
+    OUT_NCOL,
+    OUT_STATUS,
+    OUT_TCOL,
+    STATUS_EVENT_BUDGET,
+    STATUS_OK,
+)
+from restitution.kernels.linear import sample_linear, solve_linear, solve_linear_batch
+
+NOHIST = np.zeros((0, N_HIST))
+X1 = 4.493409457909064  # first positive root of tan x = x
+ALPHA1 = 1.0 / (1.0 - 2.0 * math.cos(X1))  # first grazing point, beta = 0, N = 2
+
+
+def run(alpha, beta=0.0, xi=0.0, n=2, max_events=100_000, rows=0):
+    hist = np.zeros((rows, N_HIST))
+    out = solve_linear(float(alpha), float(beta), float(xi), int(n), int(max_events), hist)
+    return (out, hist) if rows else out
+
+
+# ------------------------------------------------------------------------------------------------
+# Independent reference: DOP853 per phase, terminal events switch the force law.
+# ------------------------------------------------------------------------------------------------
+
+
+def _system(alpha, beta, xi, n):
+    m = np.full(n, float(alpha))
+    m[0] = 1.0
+    k2 = alpha / (1.0 + alpha)
+    K = np.zeros((n, n))
+    for i in range(n - 1):
+        K[i : i + 2, i : i + 2] += k2 * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    C = np.zeros((n, n))
+    C[:2, :2] = 2.0 * xi * k2 * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    k1 = 0.0 if beta == 0 else k2 / beta
+    return m, K, C, k1
+
+
+def reference(alpha, beta, xi, n, max_contacts=2000):
+    """(cor, n_contacts, t_final_separation) by solve_ivp with a small max_step."""
+    m, K, C, k1 = _system(alpha, beta, xi, n)
+    mt = m.sum()
+    Kc = K.copy()
+    Kc[0, 0] += k1
+    wmax = math.sqrt(max(np.max(np.abs(np.linalg.eigvals(np.diag(1 / m) @ Kc))), 1e-300))
+    max_step = 0.05 / max(wmax, 1.0)
+    # Bound |u1 - X| <= sqrt(2 E_rel g), E_rel non-increasing (free flight): g = max u1^2/u'Ku
+    # over displacements with zero centre of mass.
+    Q = np.linalg.svd(m[None, :])[2][1:].T  # basis of {u : m.u = 0}
+    g = Q[0] @ np.linalg.solve(Q.T @ K @ Q, Q[0])
+
+    def rhs(kc):
+        def f(t, y):
+            u, v = y[:n], y[n:]
+            a = -(K @ u + C @ v) / m
+            a[0] -= kc * u[0] / m[0]
+            return np.concatenate([v, a])
+
+        return f
+
+    def hit(t, y):
+        return y[0]
+
+    hit.terminal = True
+    y = np.concatenate([np.zeros(n), -np.ones(n)])
+    t = 0.0
+    count = 1
+    t_sep = 0.0
+    contact = beta > 0
+    if not contact:
+        y[n] = 1.0
+    opts = dict(method="DOP853", rtol=1e-12, atol=1e-14, max_step=max_step, events=hit)
+    while count <= max_contacts:
+        if contact:
+            hit.direction = 1.0
+            y[0] = -1e-300  # start inside; the event is the return of u1 to zero
+            sol = solve_ivp(rhs(k1), (t, t + 1e4), y, **opts)
+            assert sol.t_events[0].size, "reference contact did not end"
+            t = sol.t_events[0][0]
+            y = sol.y_events[0][0].copy()
+            y[0] = 0.0
+            t_sep = t
+            contact = False
+            continue
+        hit.direction = -1.0
+        done = False
+        while True:
+            u, v = y[:n], y[n:]
+            V = m @ v / mt
+            X = m @ u / mt
+            erel = 0.5 * (m @ (v - V) ** 2) + 0.5 * u @ K @ u
+            if V > 0 and X - math.sqrt(2 * erel * g) > 1e-12:
+                done = True
+                break
+            y[0] = max(y[0], 1e-300)
+            sol = solve_ivp(rhs(0.0), (t, t + 20.0), y, **opts)
+            if sol.t_events[0].size:
+                t = sol.t_events[0][0]
+                y = sol.y_events[0][0].copy()
+                y[0] = 0.0
+                break
+            t = sol.t[-1]
+            y = sol.y[:, -1].copy()
+        if done:
+            break
+        count += 1
+        if beta == 0:
+            y[n] = -y[n]
+            t_sep = t
+        else:
+            contact = True
+    return m @ y[n:] / mt, count, t_sep
+
+
+def _random_scenes(rng, k, nmax, amax):
+    scenes = []
+    for _ in range(k):
+        alpha = 10 ** rng.uniform(-2, math.log10(amax))
+        beta = 10 ** rng.uniform(-4, 1)
+        xi = rng.choice([0.0, rng.uniform(0, 3)])
+        n = int(rng.integers(2, nmax + 1))
+        scenes.append((alpha, beta, xi, n))
+    return scenes
+
+
+def _check_against_reference(scenes):
+    bad = []
+    for alpha, beta, xi, n in scenes:
+        out = run(alpha, beta, xi, n)
+        assert out[OUT_STATUS] == STATUS_OK, (alpha, beta, xi, n, out)
+        cor, cnt, _ = reference(alpha, beta, xi, n)
+        if abs(out[OUT_COR] - cor) > 1e-8 or out[OUT_NCOL] != cnt:
+            bad.append((alpha, beta, xi, n, out[OUT_COR], cor, out[OUT_NCOL], cnt))
+    assert not bad, bad
+
+
+def test_reference_random_scenes_small():
+    rng = np.random.default_rng(1)
+    _check_against_reference(_random_scenes(rng, 60, 6, 5.0))
+
+
+@pytest.mark.slow
+def test_reference_random_scenes_large():
+    rng = np.random.default_rng(2)
+    _check_against_reference(_random_scenes(rng, 300, 10, 20.0))
+
+
+def test_reference_rigid_wall():
+    rng = np.random.default_rng(3)
+    scenes = [(10 ** rng.uniform(-2, 1.0), 0.0, 0.0, int(rng.integers(2, 6))) for _ in range(20)]
+    scenes += [(10 ** rng.uniform(-2, 0.3), 0.0, rng.uniform(0, 3), 2) for _ in range(10)]
+    _check_against_reference(scenes)
+
+
+# ------------------------------------------------------------------------------------------------
+# Closed forms
+# ------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("n", [2, 3, 5, 10])
+def test_chain_first_contact_cor(n):
+    for s in (0.05, 0.2):  # s = (N - 1) alpha, small: a single contact
+        out = run(s / (n - 1), 0.0, 0.0, n)
+        assert out[OUT_NCOL] == 1
+        assert out[OUT_COR] == pytest.approx((1 - s) / (1 + s), abs=1e-14)
+
+
+def test_rigid_two_mass_closed_forms():
+    out, hist = run(1.0, rows=4)
+    assert out[OUT_NCOL] == 2
+    assert out[OUT_COR] == pytest.approx(1.0, abs=1e-13)
+    assert hist[1, H_TSTART] == pytest.approx(math.pi, abs=1e-12)
+    for alpha in (0.01, 0.3, 0.6, 0.697):
+        out = run(alpha)
+        assert out[OUT_NCOL] == 1
+        assert out[OUT_COR] == pytest.approx((1 - alpha) / (1 + alpha), abs=1e-14)
+    # The first COR minimum of the paper (alpha*_1 = 0.6971, COR 0.178481).
+    assert round(ALPHA1, 4) == 0.6971
+    assert run(0.6971)[OUT_COR] == pytest.approx(0.178481, abs=1e-6)
+    assert run(ALPHA1 * (1 - 1e-9))[OUT_NCOL] == 1
+    assert run(ALPHA1 * (1 + 1e-9))[OUT_NCOL] == 2
+
+
+def _energy(alpha, beta, n, u, v):
+    m, K, _, k1 = _system(alpha, beta, 0.0, n)
+    e = 0.5 * np.einsum("ti,i,ti->t", v, m, v) + 0.5 * np.einsum("ti,ij,tj->t", u, K, u)
+    return e + 0.5 * k1 * np.minimum(u[:, 0], 0.0) ** 2
+
+
+@pytest.mark.parametrize(
+    "alpha, beta, n", [(2.2, 0.1, 2), (7.0, 0.01, 2), (3.0, 0.05, 4), (5.0, 0.0, 3), (9.0, 0.0, 2)]
+)
+def test_energy_conserved_through_events(alpha, beta, n):
+    out, hist = run(alpha, beta, 0.0, n, rows=1000)
+    k = int(out[OUT_NCOL])
+    assert k > 1
+    ev = np.concatenate([hist[:k, H_TSTART], hist[:k, H_TEND]])
+    times = np.sort(np.concatenate([ev, ev + 1e-9, ev - 1e-9, np.linspace(0, ev.max() + 5, 400)]))
+    u, v = sample_linear(alpha, beta, 0.0, n, times)
+    e0 = 0.5 * (1 + (n - 1) * alpha)
+    assert np.max(np.abs(_energy(alpha, beta, n, u, v) / e0 - 1)) < 1e-12
+
+
+def test_energy_split_sums_to_one():
+    rng = np.random.default_rng(5)
+    for alpha, beta, xi, n in _random_scenes(rng, 40, 8, 30.0):
+        out = run(alpha, beta, xi, n)
+        assert out[OUT_STATUS] == STATUS_OK
+        tot = out[OUT_ETRANS] + out[OUT_EVIB] + out[OUT_EDISS]
+        assert abs(tot - 1) < 1e-10
+        assert out[OUT_ETRANS] == out[OUT_COR] ** 2
+        if xi == 0:
+            assert out[OUT_EDISS] == 0.0
+
+
+def test_small_alpha_contact_duration_limit():
+    beta = 0.1
+    errs = []
+    for alpha in (1e-2, 1e-3, 1e-4):
+        out = run(alpha, beta)
+        assert out[OUT_NCOL] == 1
+        limit = 0.5 * math.sqrt(beta * (1 + alpha) / alpha)
+        errs.append(abs(out[OUT_TCOL] / (2 * math.pi) / limit - 1))
+    # First-order convergence in alpha (m2 follows m1 adiabatically: effective mass 1 + alpha).
+    assert errs[0] > errs[1] > errs[2]
+    assert errs[2] < 2e-4
+    assert errs[0] / errs[1] > 5 and errs[1] / errs[2] > 5
+
+
+@pytest.mark.parametrize("beta, n", [(0.0, 2), (0.01, 2), (0.3, 2), (0.05, 3)])
+def test_critical_damping_is_smooth(beta, n):
+    for alpha in (0.4, 1.7, 6.0):
+        c = [run(alpha, beta, xi, n)[OUT_COR] for xi in (1 - 1e-9, 1.0, 1 + 1e-9)]
+        assert max(c) - min(c) < 1e-7
+
+
+def test_beta_to_zero_converges_to_rigid():
+    for alpha in (0.5, 3.0):
+        rigid = run(alpha)
+        betas = np.array([1e-4, 1e-5, 1e-6, 1e-7])
+        diffs = np.array([abs(run(alpha, b)[OUT_COR] - rigid[OUT_COR]) for b in betas])
+        assert all(run(alpha, b)[OUT_NCOL] == rigid[OUT_NCOL] for b in betas)
+        rate = np.polyfit(np.log10(betas), np.log10(diffs), 1)[0]
+        assert rate > 0.4, (diffs, rate)  # at least ~sqrt(beta) (contact duration ~ sqrt(beta))
+        assert diffs[-1] < 1e-3
+
+
+def _graze_bracket(lo, hi, beta, xi, n):
+    """Bisect alpha between a count k (at lo) and a larger count (at hi) to relative 1e-13."""
+    klo = run(lo, beta, xi, n)[OUT_NCOL]
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if mid in (lo, hi) or hi - lo < 1e-13 * hi:
+            break
+        if run(mid, beta, xi, n)[OUT_NCOL] == klo:
+            lo = mid
+        else:
+            hi = mid
+    return lo, hi
+
+
+@pytest.mark.parametrize(
+    "lo, hi, beta, xi, n",
+    [
+        (0.6, 0.8, 0.0, 0.0, 2),
+        (1.5, 2.5, 0.0, 0.0, 2),
+        (3.0, 4.2, 0.0, 0.0, 2),
+        (0.6, 0.8, 0.001, 0.0, 2),
+        (1.5, 2.5, 0.01, 0.0, 2),
+        (0.6, 0.8, 0.0, 0.1, 2),
+        (0.1, 1.0, 0.0, 0.0, 3),
+        (0.3, 0.6, 0.01, 0.0, 4),
+    ],
+)
+def test_continuity_across_grazing(lo, hi, beta, xi, n):
+    klo, khi = run(lo, beta, xi, n)[OUT_NCOL], run(hi, beta, xi, n)[OUT_NCOL]
+    assert khi > klo
+    # Walk to the first step of the count, then bisect on it.
+    grid = np.linspace(lo, hi, 400)
+    counts = [run(a, beta, xi, n)[OUT_NCOL] for a in grid]
+    i = next(j for j in range(1, len(grid)) if counts[j] != counts[j - 1])
+    a, b = _graze_bracket(grid[i - 1], grid[i], beta, xi, n)
+    oa, ob = run(a, beta, xi, n), run(b, beta, xi, n)
+    assert ob[OUT_NCOL] - oa[OUT_NCOL] == 1
+    assert abs(ob[OUT_COR] - oa[OUT_COR]) < 1e-4
+
+
+def test_matches_rigid2():
+    rigid2 = pytest.importorskip(
+        "restitution.kernels.rigid2", reason="specialised rigid-wall kernel rigid2 not present"
+    ).rigid2
+    rng = np.random.default_rng(7)
+    for alpha in np.concatenate([10 ** rng.uniform(-2, 1.5, 40), [1.0, ALPHA1 * 1.001]]):
+        for xi in (0.0, 0.2, 1.0, 2.5):
+            a = run(alpha, 0.0, xi, 2, max_events=2000)
+            b = rigid2(float(alpha), xi, 2000, NOHIST)
+            if a[OUT_STATUS] == STATUS_EVENT_BUDGET:
+                assert b[OUT_STATUS] == STATUS_EVENT_BUDGET
+                continue
+            assert a[OUT_NCOL] == b[OUT_NCOL], (alpha, xi)
+            assert abs(a[OUT_COR] - b[OUT_COR]) < 1e-13, (alpha, xi)
+            assert abs(a[OUT_TCOL] - b[OUT_TCOL]) < 1e-11 * max(1, b[OUT_TCOL])
+
+
+def test_batch_is_thread_count_independent():
+    rng = np.random.default_rng(11)
+    k = 64
+    alpha = 10 ** rng.uniform(-2, 1.5, k)
+    beta = np.where(rng.random(k) < 0.3, 0.0, 10 ** rng.uniform(-3, 0, k))
+    xi = np.where(rng.random(k) < 0.5, 0.0, rng.uniform(0, 2, k))
+    xi[beta == 0] = 0.0
+    n = rng.integers(2, 6, k).astype(np.int64)
+    ref = np.array([run(*s) for s in zip(alpha, beta, xi, n, strict=True)])
+    old = numba.get_num_threads()
+    try:
+        outs = []
+        for nt in sorted({1, numba.config.NUMBA_NUM_THREADS}):
+            numba.set_num_threads(nt)
+            outs.append(solve_linear_batch(alpha, beta, xi, n, 100_000))
+    finally:
+        numba.set_num_threads(old)
+    for o in outs:
+        assert np.array_equal(o, ref)
+
+
+def test_sample_linear_continuous_and_consistent():
+    alpha, beta, xi, n = 2.2, 0.1, 0.3, 3
+    out, hist = run(alpha, beta, xi, n, rows=20)
+    t = np.linspace(-1, out[OUT_TCOL] + 3, 3001)
+    u, v = sample_linear(alpha, beta, xi, n, t)
+    assert np.all(np.abs(np.diff(u, axis=0)) < 1.01 * np.abs(v).max() * (t[1] - t[0]) + 1e-12)
+    k = int(out[OUT_NCOL])
+    ts = hist[:k, H_TSTART]
+    us, _ = sample_linear(alpha, beta, xi, n, ts)
+    assert np.max(np.abs(us[:, 0])) < 1e-12
+    # Final centre-of-mass velocity is the COR.
+    m = _system(alpha, beta, xi, n)[0]
+    assert (m @ v[-1]) / m.sum() == pytest.approx(out[OUT_COR], abs=1e-12)
