@@ -18,6 +18,7 @@ from collections.abc import Iterable
 from pathlib import Path
 
 import matplotlib as mpl
+import matplotlib.style
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
@@ -66,6 +67,18 @@ def save_figure(fig: Figure, stem, formats: Iterable[str] = ("png", "pdf")) -> l
             fig.savefig(path, format=fmt, metadata=METADATA.get(fmt))
             paths.append(path)
     return paths
+
+
+def log_axis(ax, which: str = "x") -> None:
+    """Log scale with plain-number labels (0.1, 1, 10, 100) and unlabelled minor ticks."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    axis = ax.xaxis if which == "x" else ax.yaxis
+    (ax.set_xscale if which == "x" else ax.set_yscale)("log")
+    axis.set_major_locator(LogLocator(base=10))
+    axis.set_major_formatter(FuncFormatter(lambda value, _pos: f"{value:g}"))
+    axis.set_minor_locator(LogLocator(base=10, subs=tuple(range(2, 10))))
+    axis.set_minor_formatter(NullFormatter())
 
 
 def beta_text(beta: float) -> str:

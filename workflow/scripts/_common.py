@@ -78,16 +78,21 @@ def show_progress() -> bool:
     return sys.stderr.isatty()
 
 
-def setup(snakemake) -> logging.Logger:
-    """Logging into ``snakemake.log[0]``, numba threads from ``snakemake.threads``."""
+def setup(snakemake, numba: bool = True) -> logging.Logger:
+    """Logging into ``snakemake.log[0]``; numba threads from ``snakemake.threads`` if ``numba``.
+
+    Scripts that never run a kernel (plotting) pass ``numba=False`` and skip importing numba.
+    """
     log_path = snakemake.log[0] if len(snakemake.log) else None
     logger = configure_logging(log_path, f"restitution.workflow.{snakemake.rule}")
-    used = configure_numba(snakemake.threads)
+    os.environ.setdefault("NUMBA_CACHE_DIR", str(project_root() / ".cache" / "numba"))
+    used = configure_numba(snakemake.threads) if numba else 0
     logger.info(
-        "rule %s, wildcards %s, numba threads %d",
+        "rule %s, wildcards %s, threads %d, numba threads %s",
         snakemake.rule,
         dict(snakemake.wildcards.items()),
-        used,
+        snakemake.threads,
+        used or "not used",
     )
     return logger
 

@@ -3,8 +3,6 @@
 Neighbouring chunks share their boundary alpha; the duplicate row is dropped here.
 """
 
-from __future__ import annotations
-
 import pandas as pd
 
 
@@ -36,6 +34,6 @@ def main(chunks, output_path, params, logger) -> pd.DataFrame:
 if __name__ == "__main__":
     from _common import Timer, setup
 
-    log = setup(snakemake)  # noqa: F821 (injected by Snakemake)
+    log = setup(snakemake, numba=False)  # noqa: F821 (injected by Snakemake)
     with Timer(log, "aggregate"):
         main(snakemake.input.chunks, snakemake.output.sweep, snakemake.params, log)  # noqa: F821

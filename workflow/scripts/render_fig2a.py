@@ -5,8 +5,6 @@ curve (the cusps) are written to the log, so the depths can be compared with the
 0.178, 0.557, 0.710 at alpha = 0.697, 2.07, 3.64 (rigid wall).
 """
 
-from __future__ import annotations
-
 import numpy as np
 import pandas as pd
 
@@ -49,7 +47,7 @@ def draw(sweep: pd.DataFrame, betas, logger):
             beta,
             ", ".join(f"({a:.4f}, {c:.4f})" for a, c in cusp_minima(curve)),
         )
-    ax.set_xscale("log")
+    plotting.log_axis(ax, "x")
     ax.set_xlim(sweep["alpha"].min(), sweep["alpha"].max())
     ax.set_ylim(0.0, 1.02)
     ax.set_xlabel(r"mass ratio $\alpha = m_2/m_1$")
@@ -79,7 +77,7 @@ def main(sweep_path, png_path, pdf_path, params, logger):
 if __name__ == "__main__":
     from _common import Timer, setup
 
-    log = setup(snakemake)  # noqa: F821 (injected by Snakemake)
+    log = setup(snakemake, numba=False)  # noqa: F821 (injected by Snakemake)
     with Timer(log, "render"):
         main(
             snakemake.input.sweep,  # noqa: F821

@@ -13,8 +13,6 @@ their boundary alpha, so no change of the count between chunks is missed (aggreg
 duplicate row).
 """
 
-from __future__ import annotations
-
 import numpy as np
 import pandas as pd
 

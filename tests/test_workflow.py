@@ -1,0 +1,257 @@
+"""The Snakemake workflow: configuration checks, dry runs, lint, and a tiny end-to-end run.
+
+Bad configuration must stop snakemake before any job runs, with a message naming the key, the
+value and the allowed range. The end-to-end test (marker ``pipeline``) runs the whole Fig. 2(a)
+chain on a tiny configuration in a temporary copy of the workflow.
+"""
+
+import importlib.util
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pyarrow.parquet as pq
+import pytest
+import yaml
+
+REPO = Path(__file__).resolve().parents[1]
+SNAKEMAKE = [sys.executable, "-m", "snakemake"]
+
+
+def _env():
+    env = dict(os.environ)
+    # Without .pyc files every snakemake start recompiles the stack (notes/setup.md).
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    env.setdefault("NUMBA_CACHE_DIR", str(REPO / ".cache" / "numba"))
+    env.setdefault("MPLBACKEND", "Agg")
+    return env
+
+
+def run_snakemake(*args, cwd=REPO, timeout=600):
+    return subprocess.run(
+        [*SNAKEMAKE, *args],
+        cwd=cwd,
+        env=_env(),
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+    )
+
+
+def write_config(path: Path, config: dict) -> Path:
+    path.write_text(yaml.safe_dump(config))
+    return path
+
+
+# --- bad configuration fails before any job runs, naming key, value and range -----------------
+
+BAD_CONFIGS = {
+    "negative alpha_min": (
+        {"fig2a": {"alpha_min": -1.0}},
+        ["fig2a.alpha_min", "-1.0", "> 0"],
+    ),
+    "unknown method": (
+        {"method": "newton"},
+        ["method", "'newton'", "'auto'", "'impulsive'", "'piecewise'"],
+    ),
+    "string in betas": (
+        {"fig2a": {"betas": [0.0, 0.01, "stiff"]}},
+        ["fig2a.betas[2]", "'stiff'", "a number >= 0"],
+    ),
+    "misspelt key": (
+        {"fig2a": {"alpah_min": 0.5}},
+        ["fig2a.alpah_min", "0.5", "unknown key", "did you mean 'alpha_min'"],
+    ),
+    "alpha range reversed": (
+        {"fig2a": {"alpha_min": 10.0, "alpha_max": 1.0}},
+        ["fig2a.alpha_max", "1.0", "greater than fig2a.alpha_min = 10.0"],
+    ),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_CONFIGS))
+def test_bad_config_fails_before_any_job(case, tmp_path):
+    config, expected = BAD_CONFIGS[case]
+    bad = write_config(tmp_path / "bad.yaml", config)
+    result = run_snakemake("-n", "--configfile", str(bad))
+    text = result.stdout + result.stderr
+    assert result.returncode != 0, text
+    assert "Invalid configuration" in text, text
+    for fragment in expected:
+        assert fragment in text, f"{fragment!r} missing from:\n{text}"
+    assert "Job stats" not in text  # failed while parsing, before building any job
+
+
+def test_every_problem_is_listed_at_once(tmp_path):
+    bad = write_config(tmp_path / "bad.yaml", {"max_event": 10, "fig2a": {"chunk_size": 0}})
+    result = run_snakemake("-n", "--configfile", str(bad))
+    text = result.stdout + result.stderr
+    assert result.returncode != 0
+    assert "max_event = 10: unknown key (did you mean 'max_events'?)" in text, text
+    assert "fig2a.chunk_size = 0: must be an integer >= 2" in text, text
+
+
+def test_bad_config_on_the_command_line():
+    result = run_snakemake("-n", "--config", "max_events=-5")
+    text = result.stdout + result.stderr
+    assert result.returncode != 0
+    assert "max_events = -5: must be an integer >= 1" in text, text
+
+
+def test_default_config_dry_run():
+    result = run_snakemake("-n", "all")
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "render_fig2a" in result.stdout
+
+
+def test_lint_is_clean():
+    result = run_snakemake("--lint")
+    assert result.returncode == 0, result.stdout + result.stderr
+
+
+def test_schema_documents_every_key():
+    schema = yaml.safe_load((REPO / "workflow/schemas/config.schema.yaml").read_text())
+
+    def walk(node, where):
+        assert node.get("additionalProperties") is False, where
+        for key, sub in node["properties"].items():
+            for field in ("description", "type", "default"):
+                assert field in sub, f"{where}.{key} lacks {field}"
+            if sub["type"] == "object":
+                walk(sub, f"{where}.{key}")
+            elif sub["type"] in ("number", "integer"):
+                assert {"minimum", "exclusiveMinimum"} & set(sub), f"{where}.{key}: no lower bound"
+                assert {"maximum", "exclusiveMaximum"} & set(sub), f"{where}.{key}: no upper bound"
+            elif sub["type"] == "string":
+                assert "enum" in sub, f"{where}.{key}: no enum"
+            elif sub["type"] == "array":
+                assert "minItems" in sub and "items" in sub, f"{where}.{key}"
+
+    walk(schema, "config")
+
+
+# --- pieces of the scripts ----------------------------------------------------------------------
+
+
+def _load_script(name):
+    path = REPO / "workflow" / "scripts" / f"{name}.py"
+    spec = importlib.util.spec_from_file_location(f"workflow_script_{name}", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.mark.parametrize("n_alpha, chunk_size", [(600, 300), (601, 300), (10, 3), (2, 2), (7, 50)])
+def test_chunks_cover_the_grid_with_shared_boundaries(n_alpha, chunk_size):
+    sim = _load_script("simulate_fig2a")
+    grid = {"alpha_min": 0.1, "alpha_max": 100.0, "n_alpha": n_alpha, "chunk_size": chunk_size}
+    n_chunks = -(-(n_alpha - 1) // chunk_size)  # the formula of common.smk's fig2a_n_chunks
+    chunks = [sim.chunk_alphas(grid, k) for k in range(n_chunks)]
+    np.testing.assert_array_equal(np.unique(np.concatenate(chunks)), sim.alpha_grid(grid))
+    for left, right in zip(chunks, chunks[1:], strict=False):
+        assert left[-1] == right[0]  # a change of contact count between chunks is not missed
+    with pytest.raises(ValueError, match="outside the grid"):
+        sim.chunk_alphas(grid, n_chunks)
+
+
+def test_figures_are_deterministic(tmp_path):
+    from restitution import plotting
+
+    def render(stem):
+        fig = plotting.new_figure()
+        ax = fig.add_subplot()
+        ax.plot([0.1, 1, 10], [0.3, 1.0, 0.9], label=plotting.beta_text(1e-3))
+        plotting.log_axis(ax)
+        ax.legend()
+        return plotting.save_figure(fig, stem, formats=("png", "pdf", "svg"))
+
+    first = render(tmp_path / "a")
+    second = render(tmp_path / "b")
+    for a, b in zip(first, second, strict=True):
+        assert a.read_bytes() == b.read_bytes(), f"{a.suffix} output differs between renders"
+    assert b"CreationDate" not in first[1].read_bytes()
+
+
+# --- end to end on a tiny configuration -----------------------------------------------------------
+
+TINY = {
+    "fig2a": {
+        "alpha_min": 0.5,
+        "alpha_max": 1.5,
+        "n_alpha": 13,
+        "betas": [0.0, 0.1],
+        "chunk_size": 6,
+        "refine_steps": 30,
+    }
+}
+
+
+@pytest.fixture(scope="module")
+def tiny_run(tmp_path_factory):
+    """The workflow copied to a temporary directory and run on TINY (package code shared)."""
+    work = tmp_path_factory.mktemp("workflow")
+    shutil.copy(REPO / "Snakefile", work / "Snakefile")
+    for folder in ("workflow", "config"):
+        shutil.copytree(REPO / folder, work / folder, ignore=shutil.ignore_patterns("__pycache__"))
+    (work / "src").symlink_to(REPO / "src", target_is_directory=True)
+    tiny = write_config(work / "tiny.yaml", TINY)
+    result = run_snakemake(
+        "-c2",
+        "--workflow-profile",
+        "workflow/profiles/default",
+        "--configfile",
+        str(tiny),
+        cwd=work,
+    )
+    return work, result
+
+
+@pytest.mark.pipeline
+def test_tiny_pipeline_runs(tiny_run):
+    work, result = tiny_run
+    assert result.returncode == 0, result.stdout + result.stderr[-5000:]
+    png = work / "figures" / "fig2a.png"
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert (work / "figures" / "fig2a.pdf").read_bytes()[:5] == b"%PDF-"
+    for log in ("aggregate", "render"):
+        assert "INFO" in (work / "logs" / "fig2a" / f"{log}.log").read_text()
+
+
+@pytest.mark.pipeline
+def test_tiny_pipeline_tables_carry_provenance(tiny_run):
+    work, result = tiny_run
+    assert result.returncode == 0, result.stdout + result.stderr[-5000:]
+    sweep_path = work / "results" / "fig2a" / "sweep.parquet"
+    chunks = sorted((work / "results" / "fig2a").glob("beta~*/chunk_*.parquet"))
+    assert len(chunks) == 2 * 2  # two betas, ceil((13 - 1) / 6) = 2 chunks each
+    for path in [sweep_path, *chunks]:
+        meta = pq.read_schema(path).metadata
+        assert b"restitution" in meta, path
+        provenance = json.loads(meta[b"restitution"])
+        assert provenance["config_hash"] and provenance["git_commit"], path
+    sweep = pq.read_table(sweep_path).to_pandas()
+    assert set(sweep["beta"]) == {0.0, 0.1}
+    assert (sweep["status"] == "ok").all()
+    assert not sweep.duplicated(["beta", "alpha"]).any()
+
+
+@pytest.mark.pipeline
+def test_tiny_pipeline_resolves_the_first_cusp(tiny_run):
+    """Refinement puts points at the first minimum: alpha* = 0.69712, COR = 0.178465 (Eq. 10-11).
+
+    The 13-point grid alone misses its depth by ~0.05.
+    """
+    work, result = tiny_run
+    assert result.returncode == 0, result.stdout + result.stderr[-5000:]
+    sweep = pq.read_table(work / "results" / "fig2a" / "sweep.parquet").to_pandas()
+    rigid = sweep[sweep["beta"] == 0.0]
+    assert rigid["refined"].any()
+    grid_min = rigid.loc[~rigid["refined"], "cor"].min()
+    best = rigid.loc[rigid["cor"].idxmin()]
+    assert best["cor"] == pytest.approx(0.178465, abs=2e-5)
+    assert best["alpha"] == pytest.approx(0.697123, abs=1e-4)
+    assert grid_min > best["cor"] + 0.01
