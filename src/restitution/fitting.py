@@ -184,16 +184,21 @@ def law_residuals(points: pd.DataFrame, fits: dict) -> pd.DataFrame:
 
 
 def fit_all(points: pd.DataFrame, alpha_min=0.01, alpha_max=200.0, n_eta=20_000) -> dict:
-    """Every fit of the issue on the exact points; returns ``name -> Fit``."""
+    """Every fit of the issue; returns ``name -> Fit``.
+
+    The laws are fitted on the points with alpha*_n <= alpha_max; eta1, eta2 on the exact COR at
+    ``n_eta`` log-spaced alphas in (alpha*_1, alpha_max] (``points`` must cover alpha_max).
+    """
+    law = points[points["alpha_star"] <= alpha_max].reset_index(drop=True)
     fits = {}
     for f in (
-        fit_unity_law(points),
-        fit_power(points["alpha_unity"][1:], points["n"][1:] - 1.0, scale=True, name="eq19_scaled",
-                  p0=0.8, note="n = 1 + A alpha#_n**p (two parameters)"),
-        fit_gap_law(points, 1),
-        fit_gap_law(points, 2, scale=True),
-        fit_minima_law(points, 1),
-        fit_minima_law(points, 2),
+        fit_unity_law(law),
+        fit_power(law["alpha_unity"][1:], law["n"][1:] - 1.0, scale=True, name="eq19_scaled",
+                  p0=0.8, note="n = 1 + A alpha#_n**p (two parameters), n >= 2"),
+        fit_gap_law(law, 1),
+        fit_gap_law(law, 2, scale=True),
+        fit_minima_law(law, 1),
+        fit_minima_law(law, 2),
     ):  # fmt: skip
         fits[f.name] = f
     a = np.geomspace(max(alpha_min, points["alpha_star"].iloc[0] * (1 + 1e-9)), alpha_max, n_eta)

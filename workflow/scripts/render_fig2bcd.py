@@ -1,0 +1,157 @@
+"""Render Fig. 2(b), 2(c) or 2(d) (``params.panel``) from the results/approx tables.
+
+- 2(b): omega t_col / 2 pi and the number of contacts against alpha (from the Fig. 2(a) sweep),
+  with the exact unity points alpha#_n and Eq. 19 (paper p = 0.8 and our fit); a third panel
+  collects the minima e*_n against alpha*_n with the law e* = (alpha* - c)/(1 + alpha*).
+- 2(c): alpha*_n - alpha#_n against n with Eq. 22 (paper q = 0.21 and our fits), residual panel.
+- 2(d): exact, paper-approximate and improved-approximate COR, with an error panel.
+"""
+
+import json
+
+import numpy as np
+
+BLACK, ORANGE, BLUE, GREEN, RED = "black", "#E69F00", "#0072B2", "#009E73", "#D55E00"
+
+
+def fig2b(sweep, points, fit, plot):
+    from restitution import plotting
+
+    fig = plotting.new_figure("single", aspect=1.55)
+    ax1, ax2, ax3 = fig.subplots(3, 1, sharex=True, gridspec_kw={"hspace": 0.08})
+    colours = iter([ORANGE, BLUE, GREEN, RED, "#CC79A7", "#56B4E9"] * 4)
+    for beta in sorted(sweep["beta"].unique()):
+        c = sweep[(sweep["beta"] == beta) & (sweep["status"] == "ok")].sort_values("alpha")
+        colour = BLACK if beta == 0 else next(colours)
+        ax1.plot(c["alpha"], c["omega_t_col"] / (2 * np.pi), color=colour, lw=0.8,
+                 label=plotting.beta_text(beta))  # fmt: skip
+        if beta == 0:
+            ax2.step(c["alpha"], c["n_collisions"], where="post", color=BLACK, lw=0.8,
+                     label=r"exact, $\beta = 0$")  # fmt: skip
+    ax1.set_ylabel(r"$\omega t_\mathrm{col} / 2\pi$")
+    ax1.legend(loc="upper left", fontsize="x-small")
+    a = np.geomspace(plot["alpha_min"], plot["alpha_max"], 400)
+    p = fit["fits"]["eq19_unity"]["params"]["p"]
+    sel = (points["alpha_unity"] >= plot["alpha_min"]) & (
+        points["alpha_unity"] <= plot["alpha_max"]
+    )
+    ax2.plot(points["alpha_unity"][sel], points["n"][sel], "o", ms=2.5, mfc="none", color=BLUE,
+             label=r"unity points $\alpha^\#_n$")  # fmt: skip
+    ax2.plot(a, 1 + a**0.8, color=ORANGE, lw=0.9, ls="--", label=r"Eq. 19, $p = 0.8$ (paper)")
+    ax2.plot(a, 1 + a**p, color=GREEN, lw=0.9, label=rf"Eq. 19, $p = {p:.4f}$ (fit)")
+    ax2.set_yscale("log")
+    ax2.set_ylabel("number of contacts $n$")
+    ax2.legend(loc="upper left", fontsize="x-small")
+    c_fit = fit["fits"]["minima_c_n1"]["params"]["c"]
+    sel = (points["alpha_star"] >= plot["alpha_min"]) & (points["alpha_star"] <= plot["alpha_max"])
+    ax3.plot(points["alpha_star"][sel], points["e_star"][sel], "o", ms=2.5, mfc="none",
+             color=BLUE, label=r"minima $(\alpha^*_n, e^*_n)$")  # fmt: skip
+    ax3.plot(a, (a - 0.4) / (1 + a), color=ORANGE, lw=0.9, ls="--",
+             label=r"$(\alpha^* - 0.4)/(1 + \alpha^*)$ (paper)")  # fmt: skip
+    ax3.plot(a, (a - c_fit) / (1 + a), color=GREEN, lw=0.9,
+             label=rf"$c = {c_fit:.3f}$ (fit)")  # fmt: skip
+    ax3.set_ylim(0, 1.02)
+    ax3.set_ylabel(r"minimum COR $e^*$")
+    ax3.legend(loc="lower right", fontsize="x-small")
+    plotting.log_axis(ax3, "x")
+    ax3.set_xlim(plot["alpha_min"], plot["alpha_max"])
+    ax3.set_xlabel(r"mass ratio $\alpha = m_2/m_1$")
+    return fig
+
+
+def fig2c(residuals, fit):
+    from restitution import plotting
+
+    fig = plotting.new_figure("single", aspect=1.05)
+    ax1, ax2 = fig.subplots(
+        2, 1, sharex=True, gridspec_kw={"height_ratios": [2.2, 1], "hspace": 0.08}
+    )
+    n = residuals["n"].to_numpy(dtype=float)
+    gap = residuals["gap"].to_numpy()
+    q = fit["fits"]["eq22_gap_n1"]["params"]["q"]
+    qs = fit["fits"]["eq22_gap_scaled_n2"]["params"]
+    nn = np.linspace(1, n.max(), 400)
+    ax1.plot(n, gap, "o", ms=2.5, mfc="none", color=BLACK, label="exact")
+    ax1.plot(nn, nn**0.21, color=ORANGE, ls="--", lw=0.9, label=r"$n^{0.21}$ (paper)")
+    ax1.plot(nn, nn**q, color=GREEN, lw=0.9, label=rf"$n^{{{q:.4f}}}$ (fit)")
+    ax1.plot(nn, qs["A"] * nn ** qs["q"], color=BLUE, lw=0.9, ls=":",
+             label=rf"${qs['A']:.3f}\,n^{{{qs['q']:.4f}}}$ (fit, $n \geq 2$)")  # fmt: skip
+    ax1.set_ylabel(r"$\alpha^*_n - \alpha^\#_n$")
+    ax1.legend(loc="lower right", fontsize="x-small")
+    ax2.axhline(0, color="0.6", lw=0.5)
+    ax2.plot(n, n**0.21 - gap, "o-", ms=2, lw=0.6, color=ORANGE, label="paper law - exact")
+    ax2.plot(n, n**q - gap, "s-", ms=2, lw=0.6, color=GREEN, label="fitted law - exact")
+    ax2.set_ylabel("residual")
+    ax2.set_xlabel("number of contacts $n$")
+    ax2.set_xscale("log")
+    ax2.legend(loc="upper right", fontsize="x-small")
+    return fig
+
+
+def fig2d(curves, errors, plot):
+    from restitution import plotting
+
+    fig = plotting.new_figure("single", aspect=1.25)
+    ax1, ax2 = fig.subplots(
+        2, 1, sharex=True, gridspec_kw={"height_ratios": [1.6, 1], "hspace": 0.08}
+    )
+    c = curves[(curves["alpha"] >= plot["alpha_min"]) & (curves["alpha"] <= plot["alpha_max"])]
+    e = {r.model: r for r in errors.itertuples()}
+    styles = [
+        ("paper", ORANGE, "--", "paper, Eqs. 19-22"),
+        ("improved", BLUE, "-", "improved (sqrt cusp)"),
+    ]
+    ax1.plot(c["alpha"], c["exact"], color=BLACK, lw=1.4, label="exact", zorder=1)
+    for name, colour, ls, text in styles:
+        ax1.plot(c["alpha"], c[name], color=colour, ls=ls, lw=0.8, label=text, zorder=2)
+    ax1.set_ylim(0, 1.02)
+    ax1.set_ylabel("COR $e$")
+    ax1.legend(loc="lower right", fontsize="x-small")
+    styles_err = styles + [("improved_universal", GREEN, ":", "improved, one shape for all $n$")]
+    for name, colour, ls, text in styles_err:
+        err = np.abs(c[name] - c["exact"]).clip(lower=1e-12)
+        ax2.plot(c["alpha"], err, color=colour, ls=ls, lw=0.7,
+                 label=f"{text}: max {e[name].max_abs_error:.1e}")  # fmt: skip
+    ax2.set_yscale("log")
+    ax2.set_ylim(1e-8, 1)
+    ax2.set_ylabel("|approx - exact|")
+    ax2.legend(loc="lower left", fontsize="xx-small", ncols=1)
+    plotting.log_axis(ax2, "x")
+    ax2.set_xlim(plot["alpha_min"], plot["alpha_max"])
+    ax2.set_xlabel(r"mass ratio $\alpha = m_2/m_1$")
+    return fig
+
+
+def main(inp, out, params, logger):
+    from pathlib import Path
+
+    from restitution import plotting
+    from restitution.io import read_table
+
+    plot = {
+        "alpha_min": params.approx["plot_alpha_min"],
+        "alpha_max": params.approx["plot_alpha_max"],
+    }
+    with open(inp.fit) as fh:
+        fit = json.load(fh)
+    if params.panel == "b":
+        sweep = read_table(inp.sweep)
+        fig = fig2b(sweep, read_table(inp.points), fit, plot)
+    elif params.panel == "c":
+        fig = fig2c(read_table(inp.residuals), fit)
+    elif params.panel == "d":
+        fig = fig2d(read_table(inp.curves), read_table(inp.errors), plot)
+    else:
+        raise ValueError(f"unknown panel {params.panel!r}; expected 'b', 'c' or 'd'")
+    stem = Path(out.png).with_suffix("")
+    for path in plotting.save_figure(fig, stem, formats=("png", "pdf")):
+        logger.info("wrote %s", path)
+
+
+if __name__ == "__main__":
+    from _common import Timer, setup
+
+    smk = snakemake  # noqa: F821 (injected by Snakemake)
+    log = setup(smk, numba=False)
+    with Timer(log, f"render fig2{smk.params.panel}"):
+        main(smk.input, smk.output, smk.params, log)
