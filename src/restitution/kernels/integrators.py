@@ -1,0 +1,382 @@
+"""Integrators written once for any force law: velocity Verlet and Dormand-Prince 5(4).
+
+The force laws enter only through their packed parameters ``cp`` (contact) and ``sp`` (structure)
+and the mutable contact memory ``mem``: ``rhs`` / ``accel_verlet`` below dispatch on the law codes
+of ``restitution.laws``, so any law added there is integrated by the same code. (Passing the law
+as a numba function argument would defeat numba's on-disk cache: a minute of compilation per
+process.)
+
+State y = [u1, u2, v1, v2, W, D]: lab-frame displacements and velocities of m1 = 1 and
+m2 = alpha, W = integral of the contact force times d(penetration) (work done on the contact),
+D = dashpot loss. mem = [phase, branch, xmax, fmax, xp, c, alpha, spare]: phase 1 = in contact,
+branch 1 = loading/rising, xmax/fmax the largest penetration and force so far (plastic), xp the
+residual dent (m1 touches iff x = -u1 > xp), c the dashpot coefficient.
+
+Event location (DP5(4)). Every event of these scenes is a *linear* functional g(y) = w.y + b of
+the state (a penetration, a velocity), so on an accepted step g along the dense output is a
+polynomial of degree 4 in theta in [0, 1]. Its first root is found with certainty by Bernstein
+bounds (convex-hull property: all Bernstein coefficients > 0 => no root) and left-first
+subdivision, not by endpoint signs: a shallow contact or a reload past the previous maximum that
+enters and leaves within one step is found. An event that starts the phase at g = 0 (leaving the
+surface) is handled exactly by dividing out the zero leading coefficients (theta**k), which the
+dense output reproduces exactly because its linear coefficient is h*f(y0).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from restitution.laws import (
+    C_PLASTIC,
+    C_RIGID,
+    contact_force,
+    contact_hysteretic,
+    structure_energy,
+    structure_extent,
+    structure_force,
+)
+
+# Dormand-Prince 5(4) tableau and the 4th-order dense output (Shampine; as in scipy's RK45).
+DP_C = np.array([0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0])
+DP_A = np.array(
+    [
+        [0.0, 0.0, 0.0, 0.0, 0.0],
+        [1 / 5, 0.0, 0.0, 0.0, 0.0],
+        [3 / 40, 9 / 40, 0.0, 0.0, 0.0],
+        [44 / 45, -56 / 15, 32 / 9, 0.0, 0.0],
+        [19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729, 0.0],
+        [9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656],
+    ]
+)
+DP_B = np.array([35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84])
+DP_E = np.array(
+    [-71 / 57600, 0.0, 71 / 16695, -71 / 1920, 17253 / 339200, -22 / 525, 1 / 40]
+)
+DP_P = np.array(
+    [
+        [1.0, -8048581381 / 2820520608, 8663915743 / 2820520608, -12715105075 / 11282082432],
+        [0.0, 0.0, 0.0, 0.0],
+        [0.0, 131558114200 / 32700410799, -68118460800 / 10900136933,
+         87487479700 / 32700410799],
+        [0.0, -1754552775 / 470086768, 14199869525 / 1410260304, -10690763975 / 1880347072],
+        [0.0, 127303824393 / 49829197408, -318862633887 / 49829197408,
+         701980252875 / 199316789632],
+        [0.0, -282668133 / 205662961, 2019193451 / 616988883, -1453857185 / 822651844],
+        [0.0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423],
+    ]
+)
+
+_BINOM = np.array([[1.0, 0, 0, 0, 0], [1, 1, 0, 0, 0], [1, 2, 1, 0, 0], [1, 3, 3, 1, 0],
+                   [1, 4, 6, 4, 1]])
+
+M_PHASE, M_BRANCH, M_XMAX, M_FMAX, M_XP, M_C, M_ALPHA = 0, 1, 2, 3, 4, 5, 6
+N_MEM = 8
+N_Y = 6
+
+
+@njit(cache=True)
+def rhs(y, cp, sp, mem, dy):
+    """Equations of motion (m1 = 1, m2 = alpha) with the current contact branch."""
+    x = -y[0]
+    fc = 0.0
+    if mem[M_PHASE] == 1.0:
+        fc = contact_force(cp, int(mem[M_BRANCH]), mem[M_XMAX], mem[M_FMAX], x)
+    f2 = structure_force(sp, y[1] - y[0])
+    dv = y[3] - y[2]
+    fd = mem[M_C] * dv
+    dy[0] = y[2]
+    dy[1] = y[3]
+    dy[2] = fc + f2 + fd
+    dy[3] = -(f2 + fd) / mem[M_ALPHA]
+    dy[4] = -fc * y[2]
+    dy[5] = mem[M_C] * dv * dv
+
+
+@njit(cache=True)
+def accel_verlet(y, cp, sp, mem, acc):
+    """Accelerations for Verlet with the path-following (hysteretic) contact law."""
+    x = -y[0]
+    fc = 0.0
+    if cp[0] != C_RIGID:
+        fc, xm, fm = contact_hysteretic(cp, mem[M_XMAX], mem[M_FMAX], x)
+        mem[M_XMAX], mem[M_FMAX] = xm, fm
+    f2 = structure_force(sp, y[1] - y[0])
+    dv = y[3] - y[2]
+    fd = mem[M_C] * dv
+    acc[0] = fc + f2 + fd
+    acc[1] = -(f2 + fd) / mem[M_ALPHA]
+    return fc, mem[M_C] * dv * dv
+
+
+@njit(cache=True)
+def dent(cp, mem):
+    if cp[0] == C_PLASTIC and mem[M_FMAX] > 0.0:
+        return mem[M_XMAX] - mem[M_FMAX] / cp[1]
+    return 0.0
+
+
+@njit(cache=True)
+def no_contact_possible(y, cp, sp, mem):
+    """True when the centre of mass recedes and the internal energy cannot bring m1 back."""
+    a = mem[M_ALPHA]
+    m = 1.0 + a
+    mu = a / m
+    vcom = (y[2] + a * y[3]) / m
+    if vcom <= 0.0:
+        return False
+    xcom = (y[0] + a * y[1]) / m
+    r = y[1] - y[0]
+    w = y[3] - y[2]
+    e = 0.5 * mu * w * w + structure_energy(sp, r)
+    rhi = structure_extent(sp, e, 1.0)
+    return xcom + mem[M_XP] - mu * rhi > 0.0
+
+
+@njit(cache=True)
+def never_stop(y, cp, sp, mem):
+    return False
+
+
+# rk_phase return codes
+EV_STOP = -1  # the stop test passed (e.g. no further contact possible)
+EV_FAIL = -2  # step size underflow or step budget exhausted
+# rk_phase stop tests
+STOP_NEVER = 0
+STOP_NO_CONTACT = 1
+
+
+@njit(cache=True)
+def dp_step(y, f0, h, rtol, atol, cp, sp, mem, K, ynew, tmp):
+    """One DP5(4) step from y (with f0 = f(y)); fills K (7 x n) and ynew; returns the error norm."""
+    n = y.shape[0]
+    K[0, :] = f0
+    for s in range(1, 6):
+        for i in range(n):
+            acc = 0.0
+            for j in range(s):
+                acc += DP_A[s, j] * K[j, i]
+            tmp[i] = y[i] + h * acc
+        rhs(tmp, cp, sp, mem, K[s])
+    for i in range(n):
+        acc = 0.0
+        for j in range(6):
+            acc += DP_B[j] * K[j, i]
+        ynew[i] = y[i] + h * acc
+    rhs(ynew, cp, sp, mem, K[6])
+    err = 0.0
+    for i in range(n):
+        e = 0.0
+        for j in range(7):
+            e += DP_E[j] * K[j, i]
+        sc = atol + rtol * max(abs(y[i]), abs(ynew[i]))
+        err += (h * e / sc) ** 2
+    return math.sqrt(err / n)
+
+
+@njit(cache=True)
+def event_poly(K, h, y0, w, b, coef):
+    """Monomial coefficients (degree 4 in theta) of w.y(theta) + b along the dense output."""
+    n = y0.shape[0]
+    g0 = b
+    for i in range(n):
+        g0 += w[i] * y0[i]
+    coef[0] = g0
+    for j in range(4):
+        acc = 0.0
+        for s in range(7):
+            if DP_P[s, j] != 0.0:
+                wk = 0.0
+                for i in range(n):
+                    wk += w[i] * K[s, i]
+                acc += wk * DP_P[s, j]
+        coef[j + 1] = h * acc
+
+
+@njit(cache=True)
+def dense_state(y0, K, h, theta, out):
+    n = y0.shape[0]
+    for i in range(n):
+        acc = 0.0
+        tp = 1.0
+        for j in range(4):
+            tp *= theta
+            q = 0.0
+            for s in range(7):
+                q += K[s, i] * DP_P[s, j]
+            acc += q * tp
+        out[i] = y0[i] + h * acc
+
+
+@njit(cache=True)
+def poly_val(c, n, t):
+    acc = 0.0
+    for k in range(n, -1, -1):
+        acc = acc * t + c[k]
+    return acc
+
+
+@njit(cache=True)
+def _bernstein_min(c, n, a, b):
+    """Smallest Bernstein coefficient of the degree-n polynomial c restricted to [a, b]."""
+    # Taylor shift to a, then scale by (b - a)**k: monomials in s in [0, 1].
+    d = np.empty(n + 1)
+    for k in range(n + 1):
+        d[k] = c[k]
+    for i in range(n):
+        for k in range(n - 1, i - 1, -1):
+            d[k] += a * d[k + 1]
+    sc = 1.0
+    for k in range(n + 1):
+        d[k] *= sc
+        sc *= b - a
+    # monomial -> Bernstein: b_i = sum_j C(i,j)/C(n,j) d_j
+    m = math.inf
+    for i in range(n + 1):
+        acc = 0.0
+        for j in range(i + 1):
+            acc += _BINOM[i, j] / _BINOM[n, j] * d[j]
+        m = min(m, acc)
+    return m
+
+
+@njit(cache=True)
+def first_root(c, n, strip):
+    """First theta in (0, 1] where the polynomial goes from > 0 to <= 0; -1.0 if none.
+
+    ``strip`` leading coefficients are known to be exactly zero (the event starts on its surface);
+    they are divided out. Returns 0.0 if the function moves to the negative side at once.
+    """
+    q = np.zeros(n + 1)
+    m = n - strip
+    for k in range(m + 1):
+        q[k] = c[k + strip]
+    if q[0] <= 0.0:
+        return 0.0
+    if m == 0:
+        return -1.0
+    stack_a = np.empty(128)
+    stack_b = np.empty(128)
+    top = 0
+    stack_a[0], stack_b[0] = 0.0, 1.0
+    top = 1
+    while top > 0:
+        top -= 1
+        a, b = stack_a[top], stack_b[top]
+        if poly_val(q, m, b) <= 0.0:
+            # bracketed: p(a) > 0 >= p(b); Illinois-safeguarded bisection to round-off
+            for _ in range(200):
+                mid = 0.5 * (a + b)
+                if mid <= a or mid >= b:
+                    break
+                fm = poly_val(q, m, mid)
+                if fm > 0.0:
+                    a = mid
+                else:
+                    b = mid
+            return b
+        if _bernstein_min(q, m, a, b) > 0.0 or b - a < 1e-13 or top > 120:
+            continue  # provably no root here (or a tangency below round-off)
+        mid = 0.5 * (a + b)
+        stack_a[top], stack_b[top] = mid, b
+        stack_a[top + 1], stack_b[top + 1] = a, mid
+        top += 2
+    return -1.0
+
+
+@njit(cache=True)
+def rk_phase(y, t, h, hmax, rtol, atol, cp, sp, mem, W, B, strip, nev, stop, max_steps,
+             err_acc):
+    """Integrate with DP5(4) until the first event (or ``stop``); y is updated in place.
+
+    W[k], B[k], strip[k] (k < nev) define the events g_k = W[k].y + B[k] (trigger: > 0 -> <= 0).
+    ``strip`` applies to the first step only; ``stop`` = STOP_NO_CONTACT ends the phase when
+    ``no_contact_possible`` after an accepted step. Returns (code, t, h_next) with code = event
+    index, EV_STOP or EV_FAIL. ``err_acc[0]`` accumulates the local error estimates of the total momentum
+    (index 2, 3 of y: v1 + alpha*v2 weighted by mem[6] = alpha).
+    """
+    n = y.shape[0]
+    K = np.empty((7, n))
+    ynew = np.empty(n)
+    tmp = np.empty(n)
+    f0 = np.empty(n)
+    coef = np.empty(5)
+    rhs(y, cp, sp, mem, f0)
+    first = True
+    alpha = mem[6]
+    for _ in range(max_steps):
+        h = min(h, hmax)
+        if h < 1e-14 * max(1.0, abs(t)):
+            return EV_FAIL, t, h
+        err = dp_step(y, f0, h, rtol, atol, cp, sp, mem, K, ynew, tmp)
+        if not err <= 1.0:  # also catches NaN
+            fac = 0.2 if not err == err else max(0.2, 0.9 * err ** -0.2)
+            h *= fac
+            continue
+        # accepted: look for the first event on the dense output
+        best = 2.0
+        which = -1
+        for k in range(nev):
+            event_poly(K, h, y, W[k], B[k], coef)
+            s = 0
+            if first and strip[k] > 0:
+                coef[0] = 0.0
+                s = strip[k]
+                while s < 4 and coef[s] == 0.0:
+                    s += 1
+            th = first_root(coef, 4, s)
+            if th >= 0.0 and th < best:
+                best, which = th, k
+        em = 0.0
+        for j in range(7):
+            em += DP_E[j] * (K[j, 2] + alpha * K[j, 3])
+        err_acc[0] += abs(h * em)
+        hn = h * min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.2))
+        if which >= 0:
+            dense_state(y, K, h, best, tmp)
+            y[:] = tmp
+            return which, t + best * h, max(h * best, 0.1 * h)
+        y[:] = ynew
+        f0[:] = K[6]
+        t += h
+        h = hn
+        first = False
+        if stop == STOP_NO_CONTACT and no_contact_possible(y, cp, sp, mem):
+            return EV_STOP, t, h
+    return EV_FAIL, t, h
+
+
+@njit(cache=True)
+def verlet_step(y, acc, h, cp, sp, mem):
+    """One velocity-Verlet step of y = [u1, u2, v1, v2, W_contact, D_dashpot].
+
+    ``accel_verlet(y, cp, sp, mem, acc)`` fills acc[0:2] with the accelerations and returns
+    (contact force, dashpot power). A velocity-dependent force (dashpot) is evaluated with the
+    predictor v + h*a, which keeps the scheme second order. ``acc`` enters with a(y) and leaves
+    with a(y_new); W (contact work) and D (dashpot loss) use the trapezoidal rule.
+    """
+    x_old = -y[0]
+    f_old = acc[2]
+    p_old = acc[3]
+    for i in range(2):
+        vh = y[2 + i] + 0.5 * h * acc[i]
+        y[i] += h * vh
+        y[2 + i] = vh
+    # velocity predictor for the velocity-dependent part
+    v1, v2 = y[2], y[3]
+    y[2] = v1 + 0.5 * h * acc[0]
+    y[3] = v2 + 0.5 * h * acc[1]
+    fc, pw = accel_verlet(y, cp, sp, mem, acc)
+    y[2] = v1 + 0.5 * h * acc[0]
+    y[3] = v2 + 0.5 * h * acc[1]
+    # one corrector pass with the new velocities (keeps dashpot scenes second order)
+    if pw != 0.0 or p_old != 0.0:
+        fc, pw = accel_verlet(y, cp, sp, mem, acc)
+        y[2] = v1 + 0.5 * h * acc[0]
+        y[3] = v2 + 0.5 * h * acc[1]
+    y[4] += 0.5 * (f_old + fc) * (-y[0] - x_old)
+    y[5] += 0.5 * h * (p_old + pw)
+    acc[2] = fc
+    acc[3] = pw

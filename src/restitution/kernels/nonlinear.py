@@ -1,0 +1,436 @@
+"""Two-mass scene kernel for any contact law (rigid, linear, plastic) and structure law (linear,
+scissor): DP5(4) with guaranteed events, or the paper's velocity Verlet.
+
+State y and contact memory mem as in integrators.py.
+
+Adaptive method: only phases whose force law is nonlinear are integrated. Free flight with a linear
+structure is closed form: the centre of mass X moves at constant V and r = u2 - u1 solves
+r'' + 2 xi r' + r = 0 (omega = 1), so the gap g = u1 + xp = X + xp - mu r has |g''| <= G =
+mu*sqrt(1 + 4 xi**2)*sqrt(r0**2 + r0'**2) (r**2 + r'**2 never grows). The next contact is found
+by a scan whose intervals are skipped only when min(g(a), g(b)) - G h**2/8 > 0 (the linear
+interpolation error bound): no sampling gamble, shallow dips are subdivided until resolved.
+With ``integrate_free`` (tests) free flight is integrated by DP5(4) too.
+
+Contact phases are two-branch machines whose switches are all linear events (integrators.py):
+plastic: loading --(x' = 0)--> elastic --(x = xmax)--> loading, elastic --(x = xp)--> separated;
+linear: rising --(x' = 0)--> falling --(x' = 0)--> rising, falling --(x = 0)--> separated.
+Each switch projects the state exactly onto the event surface (error O(tolerance)).
+
+Energy account (fractions of E0 = (1 + alpha) v0**2/2, at the final separation): e_trans = cor**2,
+e_vib = relative kinetic + structural energy, e_diss = W + D (contact + dashpot, integrated as
+extra ODE components, independent of the other two). |sum - 1| > etol -> STATUS_ENERGY.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from restitution.kernels.integrators import (
+    EV_FAIL,
+    EV_STOP,
+    M_ALPHA,
+    M_BRANCH,
+    M_C,
+    M_FMAX,
+    M_PHASE,
+    M_XMAX,
+    M_XP,
+    N_MEM,
+    N_Y,
+    STOP_NEVER,
+    STOP_NO_CONTACT,
+    accel_verlet,
+    dent,
+    no_contact_possible,
+    rk_phase,
+    verlet_step,
+)
+from restitution.kernels.layout import (
+    H_IMPULSE,
+    H_TEND,
+    H_TSTART,
+    H_VIN,
+    H_VOUT,
+    H_XMAX,
+    N_OUT,
+    OUT_COR,
+    OUT_EDISS,
+    OUT_ERR,
+    OUT_ETRANS,
+    OUT_EVIB,
+    OUT_NCOL,
+    OUT_NEVENTS,
+    OUT_STATUS,
+    OUT_TCOL,
+    STATUS_ENERGY,
+    STATUS_EVENT_BUDGET,
+    STATUS_NONCONVERGED,
+    STATUS_OK,
+)
+from restitution.laws import C_LINEAR, C_PLASTIC, C_RIGID, S_LINEAR, SP_K2, structure_energy
+
+N_ACCT = 5  # kinetic, elastic, dissipated in contact, dissipated in dashpot, residual
+METHOD_ADAPTIVE = 0
+METHOD_VERLET = 1
+
+# ---------------------------------------------------------------- closed-form free flight --
+@njit(cache=True)
+def _osc(s, xi, r0, w0):
+    """r(s), r'(s) of r'' + 2 xi r' + r = 0 (all damping regimes, overflow-free)."""
+    if xi < 1.0:
+        wd = math.sqrt(1.0 - xi * xi)
+        e = math.exp(-xi * s)
+        c = e * math.cos(wd * s)
+        sn = e * (math.sin(wd * s) / wd if wd * s > 1e-300 else s)
+    elif xi == 1.0:
+        e = math.exp(-s)
+        c = e
+        sn = e * s
+    else:
+        wh = math.sqrt(xi * xi - 1.0)
+        ep = math.exp((wh - xi) * s)
+        em = math.exp(-(wh + xi) * s)
+        c = 0.5 * (ep + em)
+        sn = 0.5 * (ep - em) / wh
+    r = r0 * c + (w0 + xi * r0) * sn
+    w = w0 * c - (r0 + xi * w0) * sn
+    return r, w
+
+
+@njit(cache=True)
+def _gap(s, x0, v, mu, xi, r0, w0):
+    r, _ = _osc(s, xi, r0, w0)
+    return x0 + v * s - mu * r
+
+
+@njit(cache=True)
+def free_flight_linear(y, xp, xi, alpha):
+    """Advance y (linear structure, no contact) to the next contact; return its local time or -1.
+
+    On a contact, y is the state there with u1 = -xp exactly, and y[5] gains the dashpot loss.
+    """
+    m = 1.0 + alpha
+    mu = alpha / m
+    x0 = (y[0] + alpha * y[1]) / m + xp
+    v = (y[2] + alpha * y[3]) / m
+    r0 = y[1] - y[0]
+    w0 = y[3] - y[2]
+    amp = math.sqrt(r0 * r0 + w0 * w0)
+    gbound = mu * math.sqrt(1.0 + 4.0 * xi * xi) * amp
+    g0 = x0 - mu * r0
+    dg0 = v - mu * w0
+    s = 0.0
+    if g0 <= 0.0:
+        g0 = 0.0
+    if g0 == 0.0:
+        if dg0 <= 0.0:
+            return 0.0  # leaving along the surface: touching again at once
+        s = dg0 / gbound if gbound > 0.0 else 1.0
+    gs = _gap(s, x0, v, mu, xi, r0, w0)
+    h = 0.25
+    hit = -1.0
+    for _ in range(10_000_000):
+        if v > 0.0 and x0 + v * s - mu * amp > 0.0:
+            break  # the gap can never close again
+        if v <= 0.0 and s > 1e9:
+            break
+        gb = _gap(s + h, x0, v, mu, xi, r0, w0)
+        if gb <= 0.0:
+            lo, hi = s, s + h
+            for _ in range(200):
+                mid = 0.5 * (lo + hi)
+                if mid <= lo or mid >= hi:
+                    break
+                if _gap(mid, x0, v, mu, xi, r0, w0) > 0.0:
+                    lo = mid
+                else:
+                    hi = mid
+            hit = hi
+            break
+        if min(gs, gb) - gbound * h * h / 8.0 > 0.0 or h < 1e-12 * max(1.0, s):
+            s += h
+            gs = gb
+            h = min(2.0 * h, 0.5)
+        else:
+            h *= 0.5
+    if hit < 0.0:
+        return -1.0
+    r, w = _osc(hit, xi, r0, w0)
+    xc = x0 - xp + v * hit
+    e_before = 0.5 * mu * (r0 * r0 + w0 * w0)
+    e_after = 0.5 * mu * (r * r + w * w)
+    y[0] = -xp
+    y[1] = -xp + r
+    y[2] = v - mu * w
+    y[3] = v + w / m
+    y[5] += e_before - e_after
+    _ = xc
+    return hit
+
+
+# ------------------------------------------------------------------------------ the scene --
+@njit(cache=True)
+def _setup_contact_events(cp, mem, W, B, strip, entering):
+    """Event rows of the current contact branch; returns their number."""
+    for k in range(2):
+        for i in range(N_Y):
+            W[k, i] = 0.0
+        B[k] = 0.0
+        strip[k] = 0
+    rising = mem[M_BRANCH] == 1.0
+    if rising:
+        # turn: x' = -v1 falls to 0
+        W[0, 2] = -1.0
+        return 1
+    # separation: x - xp = -u1 - xp falls to 0
+    W[0, 0] = -1.0
+    B[0] = -mem[M_XP]
+    strip[0] = 1 if entering else 0
+    if cp[0] == C_PLASTIC:
+        # reload past the maximum: xmax - x = xmax + u1 falls to 0 (starts at 0 after a turn)
+        W[1, 0] = 1.0
+        B[1] = mem[M_XMAX]
+        strip[1] = 0 if entering else 2
+    else:
+        # linear contact, rising again: v1 falls to 0 (starts at 0 after a turn)
+        W[1, 2] = 1.0
+        strip[1] = 0 if entering else 1
+    return 2
+
+
+@njit(cache=True)
+def _energies(y, sp, alpha, v0, out, acct):
+    m = 1.0 + alpha
+    e0 = 0.5 * m * v0 * v0
+    vc = (y[2] + alpha * y[3]) / m
+    w = y[3] - y[2]
+    ekin = 0.5 * (y[2] * y[2] + alpha * y[3] * y[3])
+    eel = structure_energy(sp, y[1] - y[0])
+    out[OUT_COR] = vc / v0
+    out[OUT_ETRANS] = vc * vc / (v0 * v0)
+    out[OUT_EVIB] = (0.5 * (alpha / m) * w * w + eel) / e0
+    out[OUT_EDISS] = (y[4] + y[5]) / e0
+    acct[0] = ekin / e0
+    acct[1] = eel / e0
+    acct[2] = y[4] / e0
+    acct[3] = y[5] / e0
+    acct[4] = out[OUT_ETRANS] + out[OUT_EVIB] + out[OUT_EDISS] - 1.0
+
+
+@njit(cache=True)
+def _record(hist, n, col, value):
+    if n < hist.shape[0]:
+        hist[n, col] = value
+
+
+@njit(cache=True)
+def solve_scene(alpha, v0, xi, cp, sp, method, rtol, step_frac, integrate_free, etol,
+                max_events, hist, acct):
+    """COR of one two-mass scene; ``out`` in the layout of kernels/layout.py.
+
+    method 0 = adaptive DP5(4) (rtol; atol = rtol*v0), 1 = velocity Verlet (step = step_frac of
+    the shortest local period). ``acct`` receives the energy account (N_ACCT entries).
+    """
+    out = np.zeros(N_OUT)
+    y = np.zeros(N_Y)
+    y[2] = -v0
+    y[3] = -v0
+    mem = np.zeros(N_MEM)
+    mem[M_C] = 2.0 * xi * sp[SP_K2]
+    mem[M_ALPHA] = alpha
+    m = 1.0 + alpha
+    ysep = y.copy()  # state at the latest separation: the energies are taken there
+    if method == METHOD_VERLET:
+        status, ncol, tcol = _verlet(y, ysep, cp, sp, mem, step_frac, max_events, hist, v0)
+        err = 0.0
+    else:
+        status, ncol, tcol, err = _adaptive(
+            y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, hist, v0
+        )
+    _energies(ysep, sp, alpha, v0, out, acct)
+    out[OUT_NCOL] = ncol
+    out[OUT_TCOL] = tcol
+    out[OUT_NEVENTS] = ncol
+    out[OUT_ERR] = err / (m * v0)
+    if status == STATUS_OK and not abs(acct[4]) <= etol:
+        status = STATUS_ENERGY
+    out[OUT_STATUS] = status
+    return out
+
+
+@njit(cache=True)
+def _adaptive(y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, hist, v0):
+    alpha = mem[M_ALPHA]
+    atol = rtol * v0
+    kind = int(cp[0])
+    linear_free = sp[0] == S_LINEAR and not integrate_free
+    W = np.zeros((2, N_Y))
+    B = np.zeros(2)
+    strip = np.zeros(2, dtype=np.int64)
+    err_acc = np.zeros(1)
+    t = 0.0
+    tcol = 0.0
+    ncol = 1
+    # contact-scale step guess and cap: k1 sets the contact period
+    k1 = cp[1] if kind != C_RIGID else 1.0
+    hc = 0.05 / math.sqrt(k1 + 1.0)
+    hf = 0.05
+    h = hc
+    p_in = (y[2] + alpha * y[3])
+    _record(hist, 0, H_TSTART, 0.0)
+    _record(hist, 0, H_VIN, y[2] / v0)
+    xmax_c = 0.0
+    if kind == C_RIGID:
+        y[2] = -y[2]
+        ysep[:] = y
+        _record(hist, 0, H_TEND, 0.0)
+        _record(hist, 0, H_VOUT, y[2] / v0)
+        _record(hist, 0, H_IMPULSE, (y[2] + alpha * y[3] - p_in) / v0)
+        mem[M_PHASE] = 0.0
+    else:
+        mem[M_PHASE] = 1.0
+        mem[M_BRANCH] = 1.0
+    entering = True
+    max_switch = 1_000_000
+    for _ in range(max_switch):
+        if mem[M_PHASE] == 1.0:
+            nev = _setup_contact_events(cp, mem, W, B, strip, entering)
+            code, t, h = rk_phase(y, t, h, 1e300, rtol, atol, cp, sp, mem,
+                                  W, B, strip, nev, STOP_NEVER, 10_000_000, err_acc)
+            if code == EV_FAIL or code == EV_STOP:
+                return STATUS_NONCONVERGED, ncol, tcol, err_acc[0]
+            entering = False
+            rising = mem[M_BRANCH] == 1.0
+            if rising:  # turn at the deepest point
+                y[2] = 0.0
+                x = -y[0]
+                xmax_c = max(xmax_c, x)
+                mem[M_BRANCH] = 0.0
+                if kind == C_PLASTIC and x >= mem[M_XMAX]:
+                    mem[M_XMAX] = x
+                    mem[M_FMAX] = cp[2] * x ** cp[3]
+                    mem[M_XP] = dent(cp, mem)
+            elif code == 1:  # reload past xmax (plastic) / rising again (linear)
+                if kind == C_PLASTIC:
+                    y[0] = -mem[M_XMAX]
+                else:
+                    y[2] = 0.0
+                mem[M_BRANCH] = 1.0
+            else:  # separation
+                y[0] = -mem[M_XP]
+                mem[M_PHASE] = 0.0
+                tcol = t
+                ysep[:] = y
+                n = ncol - 1
+                _record(hist, n, H_TEND, t)
+                _record(hist, n, H_VOUT, y[2] / v0)
+                _record(hist, n, H_XMAX, xmax_c)
+                _record(hist, n, H_IMPULSE, (y[2] + alpha * y[3] - p_in) / v0)
+                entering = True
+                h = hf
+        else:
+            if linear_free:
+                s = free_flight_linear(y, mem[M_XP], xi, alpha)
+                if s < 0.0:
+                    return STATUS_OK, ncol, tcol, err_acc[0]
+                t += s
+                h = hc
+            else:
+                W[0, :] = 0.0
+                W[0, 0] = 1.0
+                B[0] = mem[M_XP]
+                strip[0] = 1 if entering else 0
+                mem_p = mem[M_PHASE]
+                code, t, h = rk_phase(y, t, h, 0.5, rtol, atol, cp,
+                                      sp, mem, W, B, strip, 1, STOP_NO_CONTACT, 10_000_000, err_acc)
+                mem[M_PHASE] = mem_p
+                if code == EV_STOP:
+                    return STATUS_OK, ncol, tcol, err_acc[0]
+                if code == EV_FAIL:
+                    return STATUS_NONCONVERGED, ncol, tcol, err_acc[0]
+                y[0] = -mem[M_XP]
+                h = hc
+            # a new contact starts
+            if ncol >= max_events:
+                return STATUS_EVENT_BUDGET, ncol, tcol, err_acc[0]
+            n = ncol
+            ncol += 1
+            xmax_c = -y[0]
+            p_in = y[2] + alpha * y[3]
+            _record(hist, n, H_TSTART, t)
+            _record(hist, n, H_VIN, y[2] / v0)
+            if kind == C_RIGID:
+                y[2] = -y[2]
+                tcol = t
+                ysep[:] = y
+                _record(hist, n, H_TEND, t)
+                _record(hist, n, H_VOUT, y[2] / v0)
+                _record(hist, n, H_IMPULSE, (y[2] + alpha * y[3] - p_in) / v0)
+                entering = True
+                h = hf
+            else:
+                mem[M_PHASE] = 1.0
+                if kind == C_LINEAR or mem[M_FMAX] == 0.0:
+                    mem[M_BRANCH] = 1.0
+                else:
+                    mem[M_BRANCH] = 0.0
+                entering = True
+    return STATUS_NONCONVERGED, ncol, tcol, err_acc[0]
+
+
+@njit(cache=True)
+def _verlet(y, ysep, cp, sp, mem, step_frac, max_events, hist, v0):
+    """The paper's scheme: fixed step = step_frac * shortest local period of the phase."""
+    alpha = mem[M_ALPHA]
+    k2 = sp[SP_K2]
+    k1 = cp[1]
+    # highest eigenfrequency with the contact spring engaged (k1 bounds the plastic slopes)
+    tr = k1 + k2 + k2 / alpha
+    det = k1 * k2 / alpha
+    lam = 0.5 * tr + math.sqrt(max(0.25 * tr * tr - det, 0.0))
+    h_contact = step_frac * 2.0 * math.pi / math.sqrt(lam)
+    h_free = step_frac * 2.0 * math.pi / math.sqrt(k2 + k2 / alpha)
+    acc = np.zeros(4)
+    fc, pw = accel_verlet(y, cp, sp, mem, acc)
+    acc[2], acc[3] = fc, pw
+    t = 0.0
+    ncol = 1
+    tcol = 0.0
+    in_contact = True
+    xmax_c = 0.0
+    p_in = y[2] + alpha * y[3]
+    _record(hist, 0, H_TSTART, 0.0)
+    _record(hist, 0, H_VIN, y[2] / v0)
+    for _ in range(2_000_000_000):
+        # contact-scale steps in contact and when the gap could close within two free steps
+        gap = y[0] + dent(cp, mem)
+        near = gap < 2.0 * h_free * (abs(y[2]) + 1e-3 * v0)
+        h = h_contact if in_contact or near else h_free
+        verlet_step(y, acc, h, cp, sp, mem)
+        t += h
+        now = acc[2] > 0.0
+        if now and not in_contact:
+            if ncol >= max_events:
+                return STATUS_EVENT_BUDGET, ncol, tcol
+            _record(hist, ncol, H_TSTART, t)
+            _record(hist, ncol, H_VIN, y[2] / v0)
+            p_in = y[2] + alpha * y[3]
+            xmax_c = 0.0
+            ncol += 1
+        if now:
+            xmax_c = max(xmax_c, -y[0])
+        if in_contact and not now:
+            tcol = t
+            ysep[:] = y
+            n = ncol - 1
+            _record(hist, n, H_TEND, t)
+            _record(hist, n, H_VOUT, y[2] / v0)
+            _record(hist, n, H_XMAX, xmax_c)
+            _record(hist, n, H_IMPULSE, (y[2] + alpha * y[3] - p_in) / v0)
+        in_contact = now
+        if not now:
+            mem[M_XP] = dent(cp, mem)
+            if no_contact_possible(y, cp, sp, mem):
+                return STATUS_OK, ncol, tcol
+    return STATUS_NONCONVERGED, ncol, tcol

@@ -1,0 +1,178 @@
+"""Plain-Python entry point for nonlinear scenes (Sections 3.1, 3.2) and forced methods.
+
+``solve_nonlinear`` validates every parameter (SceneError naming it and its range), packs the laws
+(``laws.py``) and calls the numba kernel (``kernels/nonlinear.py``) or the scipy reference.
+
+Methods: ``auto`` = adaptive DP5(4) for nonlinear laws (linear scenes go to the exact kernels via
+``restitution.solve``; here ``auto`` on a linear scene also uses ``adaptive``), ``adaptive``
+(rtol), ``verlet`` (fixed step = ``step`` x shortest local period; the error estimate is the
+step-halving (Richardson) estimate |cor(h/2) - cor(h)|/3 and the h/2 result is returned),
+``reference`` (scipy DOP853 with events, slow). ``Result.error_estimate`` is, for ``adaptive``,
+the sum of the local error estimates of the total momentum (/ M v0) over all integrated steps;
+closed-form phases contribute nothing.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import laws
+from .kernels import layout as LY
+from .result import Result
+from .scene import Scene, SceneError
+
+NL_METHODS = ("auto", "adaptive", "verlet", "reference")
+CONTACTS = ("linear", "plastic")
+STRUCTURES = ("linear", "scissor")
+
+
+def _choice(name, value, allowed):
+    if value not in allowed:
+        raise SceneError(f"{name} must be one of {', '.join(map(repr, allowed))}; got {value!r}")
+    return value
+
+
+def _pos(name, value, low, high, low_open=True):
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise SceneError(f"{name} must be a number in ({low:g}, {high:g}]; got {value!r}") from None
+    if isinstance(value, bool) or not math.isfinite(x) or (x <= low if low_open else x < low) \
+            or x > high:
+        raise SceneError(f"{name} must be in ({low:g}, {high:g}]; got {value!r}")
+    return x
+
+
+def build_laws(alpha, beta, contact, eta, dr, structure, L_, ks_ratio, theta0, corner, v0):  # noqa: N803
+    """Validated packed law arrays (cp, sp) and the derived kappa (nan if not plastic)."""
+    scene = Scene(alpha, beta, 0.0, 2)
+    k2 = scene.k2
+    _choice("contact", contact, CONTACTS)
+    _choice("structure", structure, STRUCTURES)
+    kappa = math.nan
+    if contact == "plastic":
+        if scene.beta == 0.0:
+            raise SceneError("contact='plastic' needs beta > 0 (its unloading slope is k1 = "
+                             "k2/beta); got beta=0")
+        eta = laws.check_eta(eta)
+        dr = laws.check_dr(dr, eta)
+        kappa = laws.plastic_kappa(dr, eta, scene.k1, v0)
+        cp = laws.contact_params(laws.C_PLASTIC, scene.k1, kappa, eta)
+    elif scene.beta == 0.0:
+        cp = laws.contact_params(laws.C_RIGID)
+    else:
+        cp = laws.contact_params(laws.C_LINEAR, scene.k1)
+    if structure == "scissor":
+        L_ = laws.check_L(L_)
+        theta0 = laws.check_theta0(theta0)
+        ks_ratio = laws.check_ks_ratio(ks_ratio, theta0)
+        corner = laws.check_corner(corner)
+        sp = laws.scissor_params(k2, ks_ratio * k2, L_, theta0, corner)
+    else:
+        sp = laws.linear_structure_params(k2)
+    return cp, sp, kappa
+
+
+def solve_nonlinear(
+    alpha: float,
+    beta: float = 0.01,
+    xi: float = 0.0,
+    contact: str = "linear",
+    eta: float = 1.0,
+    dr: float = 0.0,
+    structure: str = "linear",
+    L: float = 1.0,  # noqa: N803
+    ks_ratio: float = 0.01,
+    theta0: float = laws.THETA0_DEFAULT,
+    corner: float = laws.CORNER_DEFAULT,
+    v0: float = 1.0,
+    method: str = "auto",
+    step: float = 0.01,
+    rtol: float = 1e-9,
+    max_events: int = 10_000,
+    history: bool = False,
+    integrate_free: bool = False,
+    energy_tol: float | None = None,
+    account: dict | None = None,
+) -> Result:
+    """COR of a two-mass scene with plastic contact and/or the scissor structural spring.
+
+    Parameters
+    ----------
+    alpha, beta, xi : float
+        Mass ratio (0, 1e8], stiffness ratio k2/k1 [0, 1e6] (0: rigid wall), damping ratio.
+    contact : {"linear", "plastic"}
+        "plastic": power-law loading F = kappa*x**eta, linear unloading (laws.py); needs beta > 0.
+    eta, dr : float
+        Loading exponent in (0, 10] and nominal dissipation ratio in [0, 1) (>= (1-eta)/2).
+    structure : {"linear", "scissor"}
+    L, ks_ratio, theta0, corner : float
+        Scissor bar length (> 0), ks/k2 in (0, tan(theta0)**2), rest half angle in (0, pi/2),
+        stroke fraction at which the corner stiffening reaches the cap (laws.py).
+    v0 : float
+        Impact speed (the nonlinear laws are velocity dependent), in (0, 1e6].
+    method : {"auto", "adaptive", "verlet", "reference"}
+    step : float
+        Verlet step as a fraction of the shortest local period, in (0, 0.25].
+    rtol : float
+        Relative tolerance of adaptive / reference, in [1e-14, 1e-2] (atol = rtol*v0).
+    integrate_free : bool
+        Integrate free flight numerically even with a linear structure (checks only).
+    energy_tol : float, optional
+        Energy account tolerance (default: 1e3*rtol, clipped to >= 1e-9, for adaptive/reference;
+        20*(2*pi*step)**2 for Verlet).
+    account : dict, optional
+        Filled with the energy account at the final separation: kinetic, elastic,
+        dissipated_contact, dissipated_dashpot, residual (fractions of the initial energy).
+    """
+    from .scene import check_xi
+
+    xi = check_xi(xi)
+    v0 = laws.check_v0(v0)
+    _choice("method", method, NL_METHODS)
+    cp, sp, kappa = build_laws(alpha, beta, contact, eta, dr, structure, L, ks_ratio, theta0,
+                               corner, v0)
+    scene = Scene(alpha, beta, xi, 2)
+    if isinstance(max_events, bool) or not isinstance(max_events, (int, np.integer)) \
+            or max_events < 1:
+        raise SceneError(f"max_events must be a positive integer; got {max_events!r}")
+    rtol = _pos("rtol", rtol, 1e-14, 1e-2, low_open=False)
+    step = _pos("step", step, 0.0, 0.25)
+    chosen = "adaptive" if method == "auto" else method
+    if chosen == "verlet" and scene.beta == 0.0:
+        raise SceneError("method='verlet' needs beta > 0 (a finite contact spring); got beta=0")
+    if energy_tol is None:
+        energy_tol = 20.0 * (2 * math.pi * step) ** 2 if chosen == "verlet" \
+            else max(1e3 * rtol, 1e-9)
+    acct = np.zeros(5)
+    if chosen == "reference":
+        from .reference import solve_reference
+
+        out, hist = solve_reference(scene.alpha, v0, xi, cp, sp, rtol, max_events, acct,
+                                    energy_tol)
+        hist = hist if history else None
+    else:
+        from .kernels.nonlinear import METHOD_ADAPTIVE, METHOD_VERLET, solve_scene
+
+        hist = np.zeros((max_events if history else 0, LY.N_HIST))
+        if chosen == "verlet":
+            coarse = solve_scene(scene.alpha, v0, xi, cp, sp, METHOD_VERLET, rtol, step, False,
+                                 energy_tol, max_events, np.zeros((0, LY.N_HIST)), acct)
+            out = solve_scene(scene.alpha, v0, xi, cp, sp, METHOD_VERLET, rtol, step / 2, False,
+                              energy_tol, max_events, hist, acct)
+            out[LY.OUT_ERR] = abs(out[LY.OUT_COR] - coarse[LY.OUT_COR]) / 3.0
+        else:
+            out = solve_scene(scene.alpha, v0, xi, cp, sp, METHOD_ADAPTIVE, rtol, step,
+                              bool(integrate_free), energy_tol, max_events, hist, acct)
+        hist = hist if history else None
+    if account is not None:
+        account.update(
+            kinetic=acct[0], elastic=acct[1], dissipated_contact=acct[2],
+            dissipated_dashpot=acct[3], residual=acct[4], kappa=kappa,
+        )
+    return Result.from_row(scene, out, chosen, hist)
+
+
+__all__ = ["NL_METHODS", "build_laws", "solve_nonlinear"]
