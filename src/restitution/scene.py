@@ -21,15 +21,20 @@ class SceneError(ValueError):
     """A scene parameter is outside its allowed range."""
 
 
+def _show(value) -> str:
+    """repr of a value as a user typed it (numpy scalars shown as plain Python numbers)."""
+    return repr(value.item() if isinstance(value, np.generic) else value)
+
+
 def _check_real(name: str, value, low: float, high: float, low_open: bool, allowed: str) -> float:
     try:
         x = float(value)
     except (TypeError, ValueError):
-        raise SceneError(f"{name} must be a number {allowed}; got {value!r}") from None
+        raise SceneError(f"{name} must be a number {allowed}; got {_show(value)}") from None
     if isinstance(value, bool) or math.isnan(x):
-        raise SceneError(f"{name} must be a number {allowed}; got {value!r}")
+        raise SceneError(f"{name} must be a number {allowed}; got {_show(value)}")
     if (x <= low if low_open else x < low) or x > high:
-        raise SceneError(f"{name} must be {allowed}; got {value!r}")
+        raise SceneError(f"{name} must be {allowed}; got {_show(value)}")
     return x
 
 
@@ -50,13 +55,13 @@ def check_n_masses(value) -> int:
         isinstance(value, (float, np.floating)) and float(value).is_integer()
     )
     if isinstance(value, bool) or not ok or not 2 <= int(value) <= 512:
-        raise SceneError(f"n_masses must be an integer in [2, 512]; got {value!r}")
+        raise SceneError(f"n_masses must be an integer in [2, 512]; got {_show(value)}")
     return int(value)
 
 
 def check_method(value) -> str:
     if value not in METHODS:
-        raise SceneError(f"method must be one of {', '.join(METHODS)}; got {value!r}")
+        raise SceneError(f"method must be one of {', '.join(METHODS)}; got {_show(value)}")
     return value
 
 
