@@ -1,4 +1,4 @@
-"""Exact special points (beta = 0): closed forms, the project's solvers, long-double recomputation."""
+"""Exact special points (beta = 0): closed forms, the project's solvers, long double."""
 
 import math
 
