@@ -115,11 +115,15 @@ def eq21_cor(alpha, alpha_star, alpha_unity, gamma_star, eta1=2.0, eta2=2.0):
     return 1.0 - 2.0 * gamma / (1.0 + a)
 
 
-def paper_cor(alpha, p=0.8, q=0.21, c=None, eta1=2.0, eta2=2.0, alpha_star_1=0.6971):
+def paper_cor(
+    alpha, p=0.8, q=0.21, c=None, eta1=2.0, eta2=2.0, alpha_star_1=0.6971, exact_first=False
+):
     """Approximate COR of the paper: points from Eqs. 19 and 22, gamma* = alpha*_1, Eqs. 20-21.
 
     With ``c`` given, gamma* = (1 + c)/2 instead (the minima law e* = (alpha* - c)/(1 + alpha*));
-    c = 2 alpha*_1 - 1 reproduces the default.
+    c = 2 alpha*_1 - 1 reproduces the default. Eq. 21 read literally gives
+    gamma = alpha*_1 (alpha/alpha*_1)**eta2 below alpha*_1; ``exact_first`` uses the exact
+    single-contact branch (1 - alpha)/(1 + alpha) there instead (Eq. 1).
 
     >>> round(float(paper_cor(1.0)), 12)  # alpha#_2 = 1 from Eq. 19
     1.0
@@ -129,7 +133,10 @@ def paper_cor(alpha, p=0.8, q=0.21, c=None, eta1=2.0, eta2=2.0, alpha_star_1=0.6
     n_max = int(np.ceil(1.0 + top**p)) + 3
     pts = law_points(n_max, p, q, alpha_star_1)
     gamma = alpha_star_1 if c is None else 0.5 * (1.0 + c)
-    return eq21_cor(a, pts["alpha_star"], pts["alpha_unity"], gamma, eta1, eta2)
+    e = eq21_cor(a, pts["alpha_star"], pts["alpha_unity"], gamma, eta1, eta2)
+    if exact_first:
+        e = np.where(a < pts["alpha_star"].iloc[0], (1.0 - a) / (1.0 + a), e)
+    return e
 
 
 def paper_cor_exact_points(alpha, eta1=2.0, eta2=2.0, points=None, exact_gamma=False):

@@ -26,6 +26,7 @@ def models(fits: dict, universal: tuple, table: pd.DataFrame) -> dict:
     eta = fits["eq21_eta"].params
     return {
         "paper": lambda a: approx.paper_cor(a),
+        "paper_exact_first_branch": lambda a: approx.paper_cor(a, exact_first=True),
         "paper_refit": lambda a: approx.paper_cor(a, p, q, c, eta["eta1"], eta["eta2"]),
         "paper_shape_exact_points": lambda a: approx.paper_cor_exact_points(
             a, points=table, exact_gamma=True

@@ -37,8 +37,9 @@ def fig2b(sweep, points, fit, plot):
     )
     ax2.plot(points["alpha_unity"][sel], points["n"][sel], "o", ms=2.5, mfc="none", color=BLUE,
              label=r"unity points $\alpha^\#_n$")  # fmt: skip
-    ax2.plot(a, 1 + a**0.8, color=ORANGE, lw=0.9, ls="--", label=r"Eq. 19, $p = 0.8$ (paper)")
     ax2.plot(a, 1 + a**p, color=GREEN, lw=0.9, label=rf"Eq. 19, $p = {p:.4f}$ (fit)")
+    ax2.plot(a, 1 + a**0.8, color=ORANGE, lw=0.9, ls="--", label=r"Eq. 19, $p = 0.8$ (paper)",
+             zorder=3)  # fmt: skip
     ax2.set_yscale("log")
     ax2.set_ylabel("number of contacts $n$")
     ax2.legend(loc="upper left", fontsize="x-small")
@@ -72,8 +73,8 @@ def fig2c(residuals, fit):
     qs = fit["fits"]["eq22_gap_scaled_n2"]["params"]
     nn = np.linspace(1, n.max(), 400)
     ax1.plot(n, gap, "o", ms=2.5, mfc="none", color=BLACK, label="exact")
-    ax1.plot(nn, nn**0.21, color=ORANGE, ls="--", lw=0.9, label=r"$n^{0.21}$ (paper)")
     ax1.plot(nn, nn**q, color=GREEN, lw=0.9, label=rf"$n^{{{q:.4f}}}$ (fit)")
+    ax1.plot(nn, nn**0.21, color=ORANGE, ls="--", lw=0.9, label=r"$n^{0.21}$ (paper)", zorder=3)
     ax1.plot(nn, qs["A"] * nn ** qs["q"], color=BLUE, lw=0.9, ls=":",
              label=rf"${qs['A']:.3f}\,n^{{{qs['q']:.4f}}}$ (fit, $n \geq 2$)")  # fmt: skip
     ax1.set_ylabel(r"$\alpha^*_n - \alpha^\#_n$")
