@@ -294,8 +294,8 @@ def rk_phase(y, t, h, hmax, rtol, atol, cp, sp, mem, W, B, strip, nev, stop, max
     W[k], B[k], strip[k] (k < nev) define the events g_k = W[k].y + B[k] (trigger: > 0 -> <= 0).
     ``strip`` applies to the first step only; ``stop`` = STOP_NO_CONTACT ends the phase when
     ``no_contact_possible`` after an accepted step. Returns (code, t, h_next) with code = event
-    index, EV_STOP or EV_FAIL. ``err_acc[0]`` accumulates the local error estimates of the total momentum
-    (index 2, 3 of y: v1 + alpha*v2 weighted by mem[6] = alpha).
+    index, EV_STOP or EV_FAIL. ``err_acc[0]`` accumulates the local error estimates of the total
+    momentum v1 + alpha*v2.
     """
     n = y.shape[0]
     K = np.empty((7, n))

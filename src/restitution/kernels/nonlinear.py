@@ -170,32 +170,43 @@ def free_flight_linear(y, xp, xi, alpha):
 
 
 # ------------------------------------------------------------------------------ the scene --
+ENTER = 0  # the branch starts at the contact surface (or at t = 0)
+AFTER_TURN = 1  # the branch starts at a turn: v1 = 0 projected, x at a local maximum
+AFTER_RISE = 2  # the branch starts at a reload (plastic, x = xmax) or a rise (linear, v1 = 0)
+
+
 @njit(cache=True)
-def _setup_contact_events(cp, mem, W, B, strip, entering):
-    """Event rows of the current contact branch; returns their number."""
+def _setup_contact_events(cp, mem, W, B, strip, how):
+    """Event rows of the current contact branch; returns their number.
+
+    ``strip`` counts the leading zeros of an event that starts on its own surface (exactly, since
+    the state is projected there): the separation when entering, the reload (double zero: x at
+    its maximum with v1 = 0) or the rise (v1 = 0) after a turn, the turn after a linear rise.
+    """
     for k in range(2):
         for i in range(N_Y):
             W[k, i] = 0.0
         B[k] = 0.0
         strip[k] = 0
-    rising = mem[M_BRANCH] == 1.0
-    if rising:
+    plastic = cp[0] == C_PLASTIC
+    if mem[M_BRANCH] == 1.0:
         # turn: x' = -v1 falls to 0
         W[0, 2] = -1.0
+        strip[0] = 1 if (how == AFTER_RISE and not plastic) else 0
         return 1
     # separation: x - xp = -u1 - xp falls to 0
     W[0, 0] = -1.0
     B[0] = -mem[M_XP]
-    strip[0] = 1 if entering else 0
-    if cp[0] == C_PLASTIC:
-        # reload past the maximum: xmax - x = xmax + u1 falls to 0 (starts at 0 after a turn)
+    strip[0] = 1 if how == ENTER else 0
+    if plastic:
+        # reload past the maximum: xmax - x = xmax + u1 falls to 0
         W[1, 0] = 1.0
         B[1] = mem[M_XMAX]
-        strip[1] = 0 if entering else 2
+        strip[1] = 2 if how == AFTER_TURN else 0
     else:
-        # linear contact, rising again: v1 falls to 0 (starts at 0 after a turn)
+        # linear contact, x rising again: v1 falls to 0
         W[1, 2] = 1.0
-        strip[1] = 0 if entering else 1
+        strip[1] = 1 if how == AFTER_TURN else 0
     return 2
 
 
@@ -292,17 +303,18 @@ def _adaptive(y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, hist, 
         mem[M_PHASE] = 1.0
         mem[M_BRANCH] = 1.0
     entering = True
+    how = ENTER
     max_switch = 1_000_000
     for _ in range(max_switch):
         if mem[M_PHASE] == 1.0:
-            nev = _setup_contact_events(cp, mem, W, B, strip, entering)
+            nev = _setup_contact_events(cp, mem, W, B, strip, how)
             code, t, h = rk_phase(y, t, h, 1e300, rtol, atol, cp, sp, mem,
                                   W, B, strip, nev, STOP_NEVER, 10_000_000, err_acc)
             if code == EV_FAIL or code == EV_STOP:
                 return STATUS_NONCONVERGED, ncol, tcol, err_acc[0]
-            entering = False
             rising = mem[M_BRANCH] == 1.0
             if rising:  # turn at the deepest point
+                how = AFTER_TURN
                 y[2] = 0.0
                 x = -y[0]
                 xmax_c = max(xmax_c, x)
@@ -312,6 +324,7 @@ def _adaptive(y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, hist, 
                     mem[M_FMAX] = cp[2] * x ** cp[3]
                     mem[M_XP] = dent(cp, mem)
             elif code == 1:  # reload past xmax (plastic) / rising again (linear)
+                how = AFTER_RISE
                 if kind == C_PLASTIC:
                     y[0] = -mem[M_XMAX]
                 else:
@@ -375,7 +388,7 @@ def _adaptive(y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, hist, 
                     mem[M_BRANCH] = 1.0
                 else:
                     mem[M_BRANCH] = 0.0
-                entering = True
+                how = ENTER
     return STATUS_NONCONVERGED, ncol, tcol, err_acc[0]
 
 
