@@ -209,7 +209,8 @@ def _basis(s, xi, q, w):
     l1 = 1.0 / (xi + w)  # = xi - w without cancellation
     e1 = math.exp(-l1 * s)
     z = math.expm1(-2.0 * w * s)
-    return e1 * (1.0 + 0.5 * z), -e1 * z / (2.0 * w), 0.5 * (math.expm1(-l1 * s) + math.expm1(-(xi + w) * s))
+    ecm1 = 0.5 * (math.expm1(-l1 * s) + math.expm1(-(xi + w) * s))  # no cancellation: both < 0
+    return e1 * (1.0 + 0.5 * z), -e1 * z / (2.0 * w), ecm1
 
 
 @njit(cache=True)
@@ -363,6 +364,11 @@ def _next_contact_d(V, mu, xi, q, w, r0, w0):
             _, gpb, _, _ = _gapd(sb, V, mu, xi, q, w, r0, w0)
         else:
             gpb = V  # r' -> 0
+        if sb == math.inf and V == 0.0 and gpa < 0.0:  # g falls for ever towards mu r0
+            if mu * r0 >= -_tol(V, mu, r0, 0.0, sa):
+                return -1.0, True
+            hi = _expand(sa, 0, 1.0, V, mu, xi, q, w, r0, w0, 0.5 * mu * r0)
+            return _newton_d(top, hi, 0, V, mu, xi, q, w, r0, w0)
         if gpa >= 0.0 and gpb < 0.0:  # a maximum of g inside [sa, sb]
             hi = sb if sb < math.inf else _expand(sa, 1, 1.0, V, mu, xi, q, w, r0, w0, 0.0)
             if hi == math.inf:
