@@ -124,7 +124,7 @@ def _ld_grazing(alpha, n):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("n", [1, 2, 3, 5, 8])
+@pytest.mark.parametrize("n", [1, 2, 3, 5, 8, 15, 30])
 def test_alpha_star_accurate_in_long_double(points, n):
     a = points.alpha_star[n - 1]
     h = 1e-6
@@ -134,7 +134,7 @@ def test_alpha_star_accurate_in_long_double(points, n):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("n", [2, 3, 5, 8])
+@pytest.mark.parametrize("n", [2, 3, 5, 8, 15, 30])
 def test_alpha_unity_accurate_in_long_double(points, n):
     a = points.alpha_unity[n - 1]
     V, r, rp, _, _ = _ld_state(a, n)
