@@ -23,11 +23,11 @@ Finding the next contact never samples g:
   V s + mu r0 - mu |r(s)| stays positive (V >= 0).
 
 Contact rule (touching). A local minimum of g is a contact when g_min < -tol with
-tol = 16 eps (|V| s + mu (|r0| + |r(s)|)), i.e. the gap is negative by more than a few ulps of
-the terms it is computed from. Minima within round-off of zero (exact grazing, the values
-alpha*_n where the contact count steps) are not contacts. This keeps the COR continuous across
-alpha*_n: a contact that just qualifies has approach speed ~sqrt(2 g'' tol) ~ 1e-7, hence an
-impulse ~1e-7.
+tol = 16 eps ((|V| + mu |w0|) s + mu (|r0| + |r(s)|)), i.e. the gap is negative by more than a
+few ulps of the terms it is computed from (velocity errors grow with s). Minima within
+round-off of zero (exact grazing, the values alpha*_n where the contact count steps) are not
+contacts. This keeps the COR continuous across alpha*_n: a contact that just qualifies has
+approach speed ~sqrt(2 g'' tol) ~ 1e-7, hence an impulse ~1e-7.
 
 Energies are fractions of the initial kinetic energy (1 + alpha)/2, taken at the final
 separation: e_translational = cor^2, e_vibrational = relative kinetic + spring energy just after
@@ -86,9 +86,13 @@ _GL_X, _GL_W = np.polynomial.legendre.leggauss(20)
 # Shared helpers
 # ---------------------------------------------------------------------------------------------
 @njit(cache=True)
-def _tol(V, mu, r0, rs, s):
-    """Round-off scale of g(s): below -tol a minimum is a contact."""
-    return _TOUCH * _EPS * (abs(V) * s + mu * (abs(r0) + abs(rs)) + 1e-300)
+def _tol(V, mu, r0, w0, rs, s):
+    """Round-off scale of g(s): below -tol a minimum is a contact.
+
+    The velocities V and w0 carry absolute errors of a few ulps of |V| + mu |w0|, which grow
+    linearly in s in the gap; positions those of mu (|r0| + |r(s)|).
+    """
+    return _TOUCH * _EPS * ((abs(V) + mu * abs(w0)) * s + mu * (abs(r0) + abs(rs)) + 1e-300)
 
 
 @njit(cache=True)
@@ -166,7 +170,7 @@ def _next_contact0(V, mu, r0, w0):
     while smin - _TWO_PI > 0.0:
         smin -= _TWO_PI
     gmin, _ = _gap0(smin, V, mu, r0, w0)
-    tol = _tol(V, mu, r0, R, smin)
+    tol = _tol(V, mu, r0, w0, R, smin)
     if gmin >= -tol:
         if V >= 0.0:  # minima never decrease: proof that no contact follows
             return -1.0, True
@@ -174,14 +178,14 @@ def _next_contact0(V, mu, r0, w0):
         j = math.floor((gmin + tol) / (-_TWO_PI * V)) + 1.0
         smin += _TWO_PI * j
         gmin, _ = _gap0(smin, V, mu, r0, w0)
-        while gmin >= -_tol(V, mu, r0, R, smin):  # round-off in the jump
+        while gmin >= -_tol(V, mu, r0, w0, R, smin):  # round-off in the jump
             smin += _TWO_PI
             gmin, _ = _gap0(smin, V, mu, r0, w0)
         # The jump may overshoot by one period when the extrapolation rounded the other way.
         prev = smin - _TWO_PI
         if prev > 0.0:
             gprev, _ = _gap0(prev, V, mu, r0, w0)
-            if gprev < -_tol(V, mu, r0, R, prev):
+            if gprev < -_tol(V, mu, r0, w0, R, prev):
                 smin = prev
     lo = max(smin - math.pi + 2.0 * asn, 0.0)
     return _newton_gap0(lo, smin, V, mu, r0, w0)
@@ -247,7 +251,10 @@ def _gapd(s, V, mu, xi, q, w, r0, w0):
     else:
         g = V * s - mu * (r0 * ecm1 + b * es)
     rp = w0 * ec - (r0 + xi * w0) * es
-    gp = v - mu * (w0 * ecm1 - (r0 + xi * w0) * es)
+    if s < 1.0:  # g' = v - mu (r'(s) - w0), accurate for small v near the contact
+        gp = v - mu * (w0 * ecm1 - (r0 + xi * w0) * es)
+    else:  # r' has decayed: keep its small value exact
+        gp = V - mu * rp
     rs = r0 * ec + b * es
     gpp = mu * (rs + 2.0 * xi * rp)
     return g, gp, gpp, rs
@@ -314,7 +321,7 @@ def _next_zero(a, d, s_after, xi, q, w):
 
 @njit(cache=True)
 def _env_proof(s, V, mu, xi, q, w, r0, w0):
-    """True if V s' + mu r0 - mu |r(s')| > tol for every s' >= s (no contact after s)."""
+    """True if V s' + mu r0 - mu |r(s')| >= -tol for every s' >= s (no contact after s)."""
     if V < 0.0:
         return False
     b = abs(w0 + xi * r0)
@@ -329,7 +336,7 @@ def _env_proof(s, V, mu, xi, q, w, r0, w0):
         m = min(m, math.exp(-lam * s) * (p + b / w))
     elif q < 0.0:  # and sinh-part <= e^(-lam s)/(2 w)
         m = min(m, math.exp(-lam * s) * (p + b / (2.0 * w)))
-    return V * s + mu * r0 - mu * m > _tol(V, mu, r0, m, s)
+    return V * s + mu * r0 - mu * m >= -_tol(V, mu, r0, w0, m, s)
 
 
 @njit(cache=True)
@@ -365,7 +372,7 @@ def _next_contact_d(V, mu, xi, q, w, r0, w0):
         else:
             gpb = V  # r' -> 0
         if sb == math.inf and V == 0.0 and gpa < 0.0:  # g falls for ever towards mu r0
-            if mu * r0 >= -_tol(V, mu, r0, 0.0, sa):
+            if mu * r0 >= -_tol(V, mu, r0, w0, 0.0, sa):
                 return -1.0, True
             hi = _expand(sa, 0, 1.0, V, mu, xi, q, w, r0, w0, 0.5 * mu * r0)
             return _newton_d(top, hi, 0, V, mu, xi, q, w, r0, w0)
@@ -384,21 +391,21 @@ def _next_contact_d(V, mu, xi, q, w, r0, w0):
             if not ok:
                 return 0.0, False
             g, _, _, rs = _gapd(c, V, mu, xi, q, w, r0, w0)
-            if g < -_tol(V, mu, r0, rs, c):
+            if g < -_tol(V, mu, r0, w0, rs, c):
                 return _newton_d(top, c, 0, V, mu, xi, q, w, r0, w0)
         if gpb < 0.0:  # g decreasing at sb, monotone on [top, sb]: has it crossed zero?
             if sb == math.inf:  # decreasing for ever (V < 0): a contact
                 base = max(sa, top)
                 g, _, _, rs = _gapd(base, V, mu, xi, q, w, r0, w0)
                 hi = base
-                thresh = -_tol(V, mu, r0, rs, base)
+                thresh = -_tol(V, mu, r0, w0, rs, base)
                 if g >= thresh:
                     hi = _expand(base, 0, 1.0, V, mu, xi, q, w, r0, w0, thresh)
                 if hi == math.inf:
                     return 0.0, False
                 return _newton_d(top, hi, 0, V, mu, xi, q, w, r0, w0)
             g, _, _, rs = _gapd(sb, V, mu, xi, q, w, r0, w0)
-            if g < -_tol(V, mu, r0, rs, sb):
+            if g < -_tol(V, mu, r0, w0, rs, sb):
                 return _newton_d(top, sb, 0, V, mu, xi, q, w, r0, w0)
         if sb == math.inf:  # increasing for ever from a non-negative minimum
             return -1.0, True
