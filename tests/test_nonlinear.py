@@ -1,4 +1,4 @@
-"""Nonlinear scenes: agreement with the scipy reference, the paper's sanity claims, energy account."""
+"""Nonlinear scenes: scipy reference agreement, the paper's sanity claims, energy account."""
 
 import math
 
