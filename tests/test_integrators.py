@@ -54,7 +54,8 @@ LINEAR = [(0.5, 0.1, 0.0), (2.2, 0.1, 0.0), (3.0, 0.05, 0.05), (6.0, 0.01, 0.0),
 @pytest.mark.parametrize("integrate_free", [False, True])
 def test_adaptive_matches_exact_on_linear_scenes(alpha, beta, xi, integrate_free):
     o = _exact(alpha, beta, xi)
-    r = solve_nonlinear(alpha, beta=beta, xi=xi, rtol=1e-10, integrate_free=integrate_free)
+    r = solve_nonlinear(alpha, beta=beta, xi=xi, rtol=1e-10, integrate_free=integrate_free,
+                        method="adaptive")
     assert r.status == "ok" and r.method == "adaptive"
     assert r.n_collisions == int(o[1])
     assert abs(r.cor - o[0]) < 1e-8
@@ -70,7 +71,8 @@ def test_adaptive_at_the_grazing_alpha1_rigid_wall(d, integrate_free):
     # ~ eps/sqrt(d) in COR: the tolerance follows that conditioning (1e-8 at |d| = 1e-4).
     o = _exact(ALPHA1 + d, 0.0)
     assert int(o[1]) == (2 if d > 0 else 1)
-    r = solve_nonlinear(ALPHA1 + d, beta=0.0, rtol=1e-10, integrate_free=integrate_free)
+    r = solve_nonlinear(ALPHA1 + d, beta=0.0, rtol=1e-10, integrate_free=integrate_free,
+                        method="adaptive")
     assert r.n_collisions == int(o[1])
     tol = 1e-8 * max(1.0, 2.0 * math.sqrt(1e-4 / abs(d))) if integrate_free else 1e-10
     assert abs(r.cor - o[0]) < tol
@@ -93,7 +95,7 @@ def test_adaptive_at_a_grazing_alpha_with_finite_beta(beta, lo, hi):
     for a in (lo - 1e-6, hi + 1e-6, lo - 1e-9, hi + 1e-9):
         o = _exact(a, beta)
         for free in (False, True):
-            r = solve_nonlinear(a, beta=beta, rtol=1e-10, integrate_free=free)
+            r = solve_nonlinear(a, beta=beta, rtol=1e-10, integrate_free=free, method="adaptive")
             assert r.n_collisions == int(o[1]), (a, free)
             assert abs(r.cor - o[0]) < 1e-8
 

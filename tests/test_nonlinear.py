@@ -117,3 +117,9 @@ def test_method_and_error_estimate_are_recorded():
     assert abs(r.cor - q.cor) < 10 * r.error_estimate + 1e-9
     v = solve_nonlinear(**scene, method="verlet", step=0.005)
     assert v.method == "verlet" and 0.0 < v.error_estimate < 1e-3
+
+
+def test_auto_uses_the_exact_kernels_for_linear_scenes():
+    assert solve_nonlinear(2.2, beta=0.1).method == "piecewise"
+    assert solve_nonlinear(0.8, beta=0.0).method == "impulsive"
+    assert solve_nonlinear(0.8, beta=0.0, structure="scissor").method == "adaptive"

@@ -3,8 +3,9 @@
 ``solve_nonlinear`` validates every parameter (SceneError naming it and its range), packs the laws
 (``laws.py``) and calls the numba kernel (``kernels/nonlinear.py``) or the scipy reference.
 
-Methods: ``auto`` = adaptive DP5(4) for nonlinear laws (linear scenes go to the exact kernels via
-``restitution.solve``; here ``auto`` on a linear scene also uses ``adaptive``), ``adaptive``
+Methods: ``auto`` = adaptive DP5(4) for nonlinear laws, the exact kernels
+(``restitution.api.solve``: ``impulsive`` / ``piecewise``) when contact and structure are both
+linear, ``adaptive``
 (rtol), ``verlet`` (fixed step = ``step`` x shortest local period; the error estimate is the
 step-halving (Richardson) estimate |cor(h/2) - cor(h)|/3 and the h/2 result is returned),
 ``reference`` (scipy DOP853 with events, slow). ``Result.error_estimate`` is, for ``adaptive``,
@@ -140,6 +141,12 @@ def solve_nonlinear(
         raise SceneError(f"max_events must be a positive integer; got {max_events!r}")
     rtol = _pos("rtol", rtol, 1e-14, 1e-2, low_open=False)
     step = _pos("step", step, 0.0, 0.25)
+    if method == "auto" and contact == "linear" and structure == "linear" and not integrate_free:
+        from .api import solve
+
+        # linear scenes: the exact kernels (COR does not depend on v0 there)
+        return solve(scene.alpha, scene.beta, scene.xi, 2, history=history,
+                     max_events=int(max_events))
     chosen = "adaptive" if method == "auto" else method
     if chosen == "verlet" and scene.beta == 0.0:
         raise SceneError("method='verlet' needs beta > 0 (a finite contact spring); got beta=0")
