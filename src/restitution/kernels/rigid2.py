@@ -116,34 +116,38 @@ def _s_minus_sin(s):
 # ---------------------------------------------------------------------------------------------
 @njit(cache=True)
 def _gap0(s, V, mu, r0, w0):
-    """g(s) and g'(s) for xi = 0 (r = r0 cos s + w0 sin s), written without cancellation."""
+    """g(s), g'(s), g''(s) for xi = 0 (r = r0 cos s + w0 sin s), written without cancellation."""
     sh = math.sin(0.5 * s)
-    sn = math.sin(s)
+    ch = math.cos(0.5 * s)
+    sn = 2.0 * sh * ch
+    sh2 = sh * sh
     v = V - mu * w0  # m1's speed leaving the wall
     if s < 1.0:  # near the contact g ~ v s: keep v explicit so small v stays accurate
-        g = v * s + mu * w0 * _s_minus_sin(s) + 2.0 * mu * r0 * sh * sh
+        g = v * s + mu * w0 * _s_minus_sin(s) + 2.0 * mu * r0 * sh2
     else:
-        g = V * s + 2.0 * mu * r0 * sh * sh - mu * w0 * sn
-    gp = v + 2.0 * mu * w0 * sh * sh + mu * r0 * sn
-    return g, gp
+        g = V * s + 2.0 * mu * r0 * sh2 - mu * w0 * sn
+    gp = v + 2.0 * mu * w0 * sh2 + mu * r0 * sn
+    gpp = mu * (r0 * (1.0 - 2.0 * sh2) + w0 * sn)  # = mu r(s)
+    return g, gp, gpp
 
 
 @njit(cache=True)
-def _newton_gap0(lo, hi, V, mu, r0, w0):
-    """Root of g on [lo, hi] where g(lo) >= 0 >= g(hi) and g is monotone: safeguarded Newton."""
-    x = 0.5 * (lo + hi)
+def _halley_gap0(lo, hi, x, V, mu, r0, w0):
+    """Root of g on [lo, hi] where g(lo) >= 0 >= g(hi) and g is monotone: Halley from x,
+    safeguarded by bisection."""
     for _ in range(_MAX_NEWTON):
-        g, gp = _gap0(x, V, mu, r0, w0)
+        g, gp, gpp = _gap0(x, V, mu, r0, w0)
         if g == 0.0:
             return x, True
         if g > 0.0:
             lo = x
         else:
             hi = x
-        xn = x - g / gp if gp != 0.0 else 0.5 * (lo + hi)
+        den = 2.0 * gp * gp - g * gpp
+        xn = x - 2.0 * g * gp / den if den != 0.0 else 0.5 * (lo + hi)
         if not (lo < xn < hi):
             xn = 0.5 * (lo + hi)
-        if abs(xn - x) <= 2.0 * _EPS * abs(x) or hi - lo <= 4.0 * _EPS * abs(hi):
+        if abs(xn - x) <= 4.0 * _EPS * abs(x) or hi - lo <= 4.0 * _EPS * abs(hi):
             return xn, True
         x = xn
     return x, False
@@ -169,7 +173,7 @@ def _next_contact0(V, mu, r0, w0):
         smin += _TWO_PI
     while smin - _TWO_PI > 0.0:
         smin -= _TWO_PI
-    gmin, _ = _gap0(smin, V, mu, r0, w0)
+    gmin = _gap0(smin, V, mu, r0, w0)[0]
     tol = _tol(V, mu, r0, w0, R, smin)
     if gmin >= -tol:
         if V >= 0.0:  # minima never decrease: proof that no contact follows
@@ -177,18 +181,25 @@ def _next_contact0(V, mu, r0, w0):
         # Minima fall by 2 pi |V| per period: jump straight to the first negative one.
         j = math.floor((gmin + tol) / (-_TWO_PI * V)) + 1.0
         smin += _TWO_PI * j
-        gmin, _ = _gap0(smin, V, mu, r0, w0)
+        gmin = _gap0(smin, V, mu, r0, w0)[0]
         while gmin >= -_tol(V, mu, r0, w0, R, smin):  # round-off in the jump
             smin += _TWO_PI
-            gmin, _ = _gap0(smin, V, mu, r0, w0)
+            gmin = _gap0(smin, V, mu, r0, w0)[0]
         # The jump may overshoot by one period when the extrapolation rounded the other way.
         prev = smin - _TWO_PI
         if prev > 0.0:
-            gprev, _ = _gap0(prev, V, mu, r0, w0)
+            gprev = _gap0(prev, V, mu, r0, w0)[0]
             if gprev < -_tol(V, mu, r0, w0, R, prev):
                 smin = prev
     lo = max(smin - math.pi + 2.0 * asn, 0.0)
-    return _newton_gap0(lo, smin, V, mu, r0, w0)
+    # Start from a half cosine through (lo, g(lo)) and (smin, gmin): exact for V = 0, close
+    # otherwise, so the safeguarded Halley iteration needs two or three steps.
+    glo = _gap0(lo, V, mu, r0, w0)[0]
+    c = -(glo + gmin) / (glo - gmin)
+    x = lo + (smin - lo) * math.acos(max(-1.0, min(1.0, c))) / math.pi
+    if not (lo < x < smin):
+        x = 0.5 * (lo + smin)
+    return _halley_gap0(lo, smin, x, V, mu, r0, w0)
 
 
 # ---------------------------------------------------------------------------------------------
