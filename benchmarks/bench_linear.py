@@ -57,8 +57,10 @@ def main():
         (10.0, 1e-3, 0.3, 32, False),
         (1.0, 1e-2, 0.0, 32, True),
     ]
-    print(f"{'alpha':>7} {'beta':>7} {'xi':>4} {'N':>3} {'contacts':>8} {'COR':>12} "
-          f"{'ms/scene':>9} {'|dCOR| vs ref':>14}")
+    print(
+        f"{'alpha':>7} {'beta':>7} {'xi':>4} {'N':>3} {'contacts':>8} {'COR':>12} "
+        f"{'ms/scene':>9} {'|dCOR| vs ref':>14}"
+    )
     for alpha, beta, xi, n, cheap in cases:
         out = solve_linear(alpha, beta, xi, n, 100_000, NOHIST)
         dt = best_time(lambda a=alpha, b=beta, x=xi, k=n: solve_linear(a, b, x, k, 100_000, NOHIST))
@@ -67,8 +69,10 @@ def main():
             cor = reference(alpha, beta, xi, n, max_contacts=100_000)[0]
             diff = f"{abs(cor - out[OUT_COR]):.1e}"
         flag = "" if out[OUT_STATUS] == 0 else f" status={int(out[OUT_STATUS])}"
-        print(f"{alpha:7g} {beta:7g} {xi:4g} {n:3d} {int(out[OUT_NCOL]):8d} {out[OUT_COR]:12.9f} "
-              f"{dt * 1e3:9.3f} {diff:>14}{flag}")
+        print(
+            f"{alpha:7g} {beta:7g} {xi:4g} {n:3d} {int(out[OUT_NCOL]):8d} {out[OUT_COR]:12.9f} "
+            f"{dt * 1e3:9.3f} {diff:>14}{flag}"
+        )
 
     k = args.sweep
     alphas = np.geomspace(0.01, 200.0, k)
@@ -80,9 +84,11 @@ def main():
         out = solve_linear_batch(alphas, beta, xis, ns, 100_000)
         dt = time.perf_counter() - t0
         ok = np.count_nonzero(out[:, OUT_STATUS] == 0)
-        print(f"sweep: {k} alphas in [0.01, 200], beta = 1e-3, xi = {xi}: "
-              f"{dt / k * 1e3:.3f} ms/scene (one thread), {ok}/{k} status OK, "
-              f"max contacts {int(out[:, OUT_NCOL].max())}")
+        print(
+            f"sweep: {k} alphas in [0.01, 200], beta = 1e-3, xi = {xi}: "
+            f"{dt / k * 1e3:.3f} ms/scene (one thread), {ok}/{k} status OK, "
+            f"max contacts {int(out[:, OUT_NCOL].max())}"
+        )
 
 
 if __name__ == "__main__":
