@@ -123,3 +123,21 @@ def test_auto_uses_the_exact_kernels_for_linear_scenes():
     assert solve_nonlinear(2.2, beta=0.1).method == "piecewise"
     assert solve_nonlinear(0.8, beta=0.0).method == "impulsive"
     assert solve_nonlinear(0.8, beta=0.0, structure="scissor").method == "adaptive"
+
+
+def test_many_matches_single_scenes_and_names_a_bad_row():
+    import pandas as pd
+
+    from restitution.nonlinear import solve_nonlinear_many
+    from restitution.scene import SceneError
+
+    frame = pd.DataFrame(SCENES)
+    got = solve_nonlinear_many(frame, rtol=1e-10)
+    for i, scene in enumerate(SCENES):
+        r = solve_nonlinear(**scene, rtol=1e-10, method="adaptive")
+        assert got["cor"].iloc[i] == r.cor and got["n_collisions"].iloc[i] == r.n_collisions
+    assert (got["status"] == "ok").all()
+    bad = frame.copy()
+    bad.loc[3, "L"] = -1.0
+    with pytest.raises(SceneError, match=r"L .*row 3"):
+        solve_nonlinear_many(bad)
