@@ -15,6 +15,9 @@ Contact phases are two-branch machines whose switches are all linear events (int
 plastic: loading --(x' = 0)--> elastic --(x = xmax)--> loading, elastic --(x = xp)--> separated;
 linear: rising --(x' = 0)--> falling --(x' = 0)--> rising, falling --(x = 0)--> separated.
 Each switch projects the state exactly onto the event surface (error O(tolerance)).
+History x_max is exact for linear contacts and for plastic contacts that reach the power law; a
+plastic contact that stays on the elastic line (no reload) records its entry penetration (the
+dent), a lower bound: its turn is not an event since the force law does not change there.
 
 Energy account (fractions of E0 = (1 + alpha) v0**2/2, at the final separation): e_trans = cor**2,
 e_vib = relative kinetic + structural energy, e_diss = W + D (contact + dashpot, integrated as
