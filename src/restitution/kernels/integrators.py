@@ -353,8 +353,9 @@ def verlet_step(y, acc, h, cp, sp, mem):
     """One velocity-Verlet step of y = [u1, u2, v1, v2, W_contact, D_dashpot].
 
     ``accel_verlet(y, cp, sp, mem, acc)`` fills acc[0:2] with the accelerations and returns
-    (contact force, dashpot power). A velocity-dependent force (dashpot) is evaluated with the
-    predictor v + h*a, which keeps the scheme second order. ``acc`` enters with a(y) and leaves
+    (contact force, dashpot power). With a dashpot the new acceleration depends on the new
+    velocity: it is evaluated at the predictor v + h*a, then once more at the corrected velocity
+    (a fixed-point pass), which keeps the scheme second order. ``acc`` enters with a(y) and leaves
     with a(y_new); W (contact work) and D (dashpot loss) use the trapezoidal rule.
     """
     x_old = -y[0]
@@ -372,7 +373,7 @@ def verlet_step(y, acc, h, cp, sp, mem):
     y[2] = v1 + 0.5 * h * acc[0]
     y[3] = v2 + 0.5 * h * acc[1]
     # one corrector pass with the new velocities (keeps dashpot scenes second order)
-    if pw != 0.0 or p_old != 0.0:
+    if mem[M_C] != 0.0:
         fc, pw = accel_verlet(y, cp, sp, mem, acc)
         y[2] = v1 + 0.5 * h * acc[0]
         y[3] = v2 + 0.5 * h * acc[1]
