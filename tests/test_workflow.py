@@ -190,43 +190,32 @@ TINY = {
 }
 
 
-@pytest.fixture(scope="module")
-def tiny_run(tmp_path_factory):
-    """The workflow copied to a temporary directory and run on TINY (package code shared)."""
-    work = tmp_path_factory.mktemp("workflow")
+def run_tiny_pipeline(work: Path):
+    """The workflow copied to ``work`` (package code shared through a symlink), run on TINY."""
     shutil.copy(REPO / "Snakefile", work / "Snakefile")
     for folder in ("workflow", "config"):
         shutil.copytree(REPO / folder, work / folder, ignore=shutil.ignore_patterns("__pycache__"))
     (work / "src").symlink_to(REPO / "src", target_is_directory=True)
     tiny = write_config(work / "tiny.yaml", TINY)
-    result = run_snakemake(
-        "-c2",
-        "--workflow-profile",
-        "workflow/profiles/default",
-        "--configfile",
-        str(tiny),
-        cwd=work,
-    )
-    return work, result
+    profile = ("--workflow-profile", "workflow/profiles/default")
+    return run_snakemake("-c2", *profile, "--configfile", str(tiny), cwd=work, timeout=1200)
 
 
 @pytest.mark.pipeline
-def test_tiny_pipeline_runs(tiny_run):
-    work, result = tiny_run
+def test_tiny_pipeline_end_to_end(tmp_path):
+    """One run (one test, so pytest-xdist never runs it twice) checked from several sides."""
+    result = run_tiny_pipeline(tmp_path)
     assert result.returncode == 0, result.stdout + result.stderr[-5000:]
-    png = work / "figures" / "fig2a.png"
-    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    assert (work / "figures" / "fig2a.pdf").read_bytes()[:5] == b"%PDF-"
+
+    # Figures and logs.
+    assert (tmp_path / "figures" / "fig2a.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert (tmp_path / "figures" / "fig2a.pdf").read_bytes()[:5] == b"%PDF-"
     for log in ("aggregate", "render"):
-        assert "INFO" in (work / "logs" / "fig2a" / f"{log}.log").read_text()
+        assert "INFO" in (tmp_path / "logs" / "fig2a" / f"{log}.log").read_text()
 
-
-@pytest.mark.pipeline
-def test_tiny_pipeline_tables_carry_provenance(tiny_run):
-    work, result = tiny_run
-    assert result.returncode == 0, result.stdout + result.stderr[-5000:]
-    sweep_path = work / "results" / "fig2a" / "sweep.parquet"
-    chunks = sorted((work / "results" / "fig2a").glob("beta~*/chunk_*.parquet"))
+    # Every table carries its provenance.
+    sweep_path = tmp_path / "results" / "fig2a" / "sweep.parquet"
+    chunks = sorted((tmp_path / "results" / "fig2a").glob("beta~*/chunk_*.parquet"))
     assert len(chunks) == 2 * 2  # two betas, ceil((13 - 1) / 6) = 2 chunks each
     for path in [sweep_path, *chunks]:
         meta = pq.read_schema(path).metadata
@@ -238,16 +227,8 @@ def test_tiny_pipeline_tables_carry_provenance(tiny_run):
     assert (sweep["status"] == "ok").all()
     assert not sweep.duplicated(["beta", "alpha"]).any()
 
-
-@pytest.mark.pipeline
-def test_tiny_pipeline_resolves_the_first_cusp(tiny_run):
-    """Refinement puts points at the first minimum: alpha* = 0.69712, COR = 0.178465 (Eq. 10-11).
-
-    The 13-point grid alone misses its depth by ~0.05.
-    """
-    work, result = tiny_run
-    assert result.returncode == 0, result.stdout + result.stderr[-5000:]
-    sweep = pq.read_table(work / "results" / "fig2a" / "sweep.parquet").to_pandas()
+    # Refinement resolves the first cusp: alpha* = 0.69712, COR = 0.178465 (paper Eqs. 10-11),
+    # whose depth the 13-point grid alone misses by ~0.03.
     rigid = sweep[sweep["beta"] == 0.0]
     assert rigid["refined"].any()
     grid_min = rigid.loc[~rigid["refined"], "cor"].min()
