@@ -203,7 +203,8 @@ def _next_contact0(V, mu, r0, w0):
     lo = max(smin - math.pi + 2.0 * asn, 0.0)
     # Start from a half cosine through (lo, g(lo)) and (smin, gmin): exact for V = 0, close
     # otherwise, so the safeguarded Halley iteration needs two or three steps.
-    glo = _gap0(lo, V, mu, r0, w0)[0]
+    # g at the maximum in closed form (only a starting guess needs it): cos(s - phi) = -c.
+    glo = V * lo + mu * r0 + A * math.sqrt((1.0 - V / A) * (1.0 + V / A)) if lo > 0.0 else 0.0
     c = -(glo + gmin) / (glo - gmin)
     x = lo + (smin - lo) * math.acos(max(-1.0, min(1.0, c))) / math.pi
     if not (lo < x < smin):
