@@ -618,7 +618,7 @@ def rigid2(alpha, xi, max_events, hist):
     Examples
     --------
     >>> out = rigid2(1.0, 0.0, 100, np.zeros((0, N_HIST)))
-    >>> round(out[OUT_COR], 12), int(out[OUT_NCOL])
+    >>> round(float(out[OUT_COR]), 12), int(out[OUT_NCOL])
     (1.0, 2)
     """
     return _rigid2(alpha, xi, max_events, hist, _V_STICK)
