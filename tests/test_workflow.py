@@ -103,9 +103,11 @@ def test_bad_config_on_the_command_line():
 
 
 def test_default_config_dry_run():
-    result = run_snakemake("-n", "all")
+    # --forceall: list every job even when the figures are up to date (e.g. after make all).
+    result = run_snakemake("-n", "--forceall", "all")
     assert result.returncode == 0, result.stdout + result.stderr
-    assert "render_fig2a" in result.stdout
+    for rule in ("simulate_fig2a", "aggregate_fig2a", "render_fig2a"):
+        assert rule in result.stdout, result.stdout
 
 
 def test_lint_is_clean():

@@ -23,7 +23,8 @@ def draw(sweep: pd.DataFrame, betas, logger):
 
     fig = plotting.new_figure("single", aspect=0.72)
     ax = fig.add_subplot()
-    # Rigid wall in black on top; finite betas in the colour cycle, ordered by beta.
+    # Rigid wall as a broad black line underneath, finite betas thinner on top in the colour
+    # cycle: beta = 1e-3 coincides with the rigid wall almost everywhere and stays visible.
     colours = ["#E69F00", "#56B4E9", "#009E73", "#D55E00", "#CC79A7", "#0072B2", "#F0E442"]
     finite = iter(colours * (1 + len(betas) // len(colours)))
     for beta in sorted(betas):
@@ -38,8 +39,8 @@ def draw(sweep: pd.DataFrame, betas, logger):
             curve["alpha"],
             curve["cor"],
             color="black" if rigid else next(finite),
-            lw=1.0 if rigid else 0.8,
-            zorder=3 if rigid else 2,
+            lw=1.6 if rigid else 0.8,
+            zorder=2 if rigid else 3,
             label=plotting.beta_text(beta),
         )
         logger.info(
