@@ -344,6 +344,11 @@ def _mono_root(a0, a1, a2, a3, lo, hi):
         xn = x - p / dp if dp < 0.0 else 0.5 * (lo + hi)
         if not (lo < xn < hi):
             xn = 0.5 * (lo + hi)
+        elif abs(xn - x) <= 1e-15 * xn:  # Newton has converged (maybe one-sided)
+            xs = min(x, xn) * (1.0 - 4e-15)
+            if xs > lo and _cubic(a0, a1, a2, a3, xs) > 0.0:
+                return xs
+            break
         x = xn
     return lo
 
@@ -375,6 +380,8 @@ def _refine(kind, lo, hi, c0, c1, b, lam, xi, mu, r0, rd0, res):
         xn = x - f / res[1] if res[1] < 0.0 else 0.5 * (lo + hi)
         if not (lo < xn < hi):
             xn = 0.5 * (lo + hi)
+        elif abs(xn - x) <= 2.0 * EPS * abs(x):  # Newton has converged (maybe one-sided)
+            break
         x = xn
     return best
 
