@@ -39,7 +39,7 @@ def draw(sweep: pd.DataFrame, betas, logger):
             curve["alpha"],
             curve["cor"],
             color="black" if rigid else next(finite),
-            lw=1.6 if rigid else 0.8,
+            lw=1.3 if rigid else 0.75,
             zorder=2 if rigid else 3,
             label=plotting.beta_text(beta),
         )
