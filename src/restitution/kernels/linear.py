@@ -20,9 +20,10 @@ done once per scene.
 
 Event location (rigorous)
 -------------------------
-In every phase the monitored gap is f(t) = c0 + c1 t + Re sum_k b_k e^{lambda_k t}, Re lambda <= 0
-(free: f = u1; contact: f = -u1). Hence for s >= t, |f^(m)(s) - [m<=1] c1...| is bounded by
-B_m(t) = sum_k |b_k| |lambda_k|^m e^{Re lambda_k t} (for the scalar N = 2 oscillator the same role
+In every phase the monitored gap is f(t) = c0 + c1 t + Re sum_k b_k (e^{lambda_k t} - 1),
+Re lambda <= 0 (free: f = u1; contact: f = -u1; c0 = its exact start value, 0 after an event).
+Hence for s >= t and m >= 2, |f^(m)(s)| <= B_m(t) = sum_k |b_k| |lambda_k|^m e^{Re lambda_k t},
+and the oscillating part is bounded by B_0 (for the scalar N = 2 oscillator the same role
 is played by the non-increasing energies r^(m)^2 + r^(m+1)^2). From a point with f >= -tol we step
 by the largest h for which the cubic lower bound f + f' h + f'' h^2/2 - B3 h^3/6 stays >= -tol, so
 no step can cross a point where f < -tol; such steps converge quadratically to a transversal root
@@ -262,12 +263,17 @@ def _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res):
     b0 = 0.0
     b2 = 0.0
     b3 = 0.0
+    # f = c0 + c1 t + (osc(t) - osc(0)), so that f(0) = c0 exactly: the modal reconstruction of
+    # u1 at a phase start is only good to eps * |state|, which may exceed the band of f's terms.
+    w0 = 0.0
+    osc = 0.0
     for k in range(b.size):
+        w0 += b[k].real
         lk = lam[k]
         e = b[k] * cmath.exp(lk * t)
         le = lk * e
         l2e = lk * le
-        f += e.real
+        osc += e.real
         f1 += le.real
         f2 += l2e.real
         f3 += (lk * l2e).real
@@ -276,15 +282,15 @@ def _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res):
         b0 += a
         b2 += a * al * al
         b3 += a * al * al * al
-    res[0] = f
+    res[0] = f + (osc - w0)
     res[1] = f1
     res[2] = f2
     res[3] = f3
     res[4] = b0
     res[5] = b2
     res[6] = b3
-    res[7] = abs(c0) + abs(c1 * t) + b0
-    res[8] = c0 + c1 * t
+    res[7] = abs(c0) + abs(c1 * t) + abs(w0) + b0
+    res[8] = c0 - w0 + c1 * t
 
 
 @njit(cache=True)
@@ -435,7 +441,7 @@ def _locate(kind, c0, c1, b, lam, xi, mu, r0, rd0, check_permanent, info):
         info[2] = tmax
         if c1 > 0.0 and res[8] - res[4] > tol:
             return LOC_NEVER
-        if check_permanent and _never_ends(t, b, lam, tol):
+        if check_permanent and _never_ends(t, b, lam, tol + abs(res[8])):
             return LOC_PERMANENT
         if f < -tol:  # only by round-off at a step end: the crossing is here
             info[0] = t
@@ -735,7 +741,7 @@ def _run(alpha, beta, xi, n, max_events, hist, rec):
             for k in range(z.size):
                 bgap[k] = UF[0, k] * z[k]
                 g[k] = (UF[1, k] - UF[0, k]) * lamF[k] * z[k]
-            code = _locate(KIND_MODAL, X0, V, bgap, lamF, xi, mu, 0.0, 0.0, False, info)
+            code = _locate(KIND_MODAL, u[0], V, bgap, lamF, xi, mu, 0.0, 0.0, False, info)
         if code == LOC_NEVER:
             break
         if code != LOC_EVENT:
