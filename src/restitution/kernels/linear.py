@@ -36,9 +36,13 @@ tol = 64 eps * scale and scale = sum of the magnitudes of the terms of f. A gap 
 that round-off band is a graze and changes nothing (its impulse would be O(sqrt(tol))), which keeps
 the COR continuous across the grazing points alpha*_n.
 
-Termination by proof: in free flight with V > 0, once X(t) - B0(t) > tol the gap can never close
-again (X grows, B0 never grows), so the sequence is finished. In a damped contact whose slowest
-term is real, if that term outweighs the sum of all others the contact can never end
+The band never shrinks below its value at the phase start (the phase's data are only that
+accurate), so exponentially small lobes of a decaying approach are grazes, not contacts.
+
+Termination by proof: in free flight with V >= 0, once X(t) - B0(t) > -tol0/2 the gap can never
+go below the band again (X never decreases, B0 never grows), so the sequence is finished. In a
+damped contact whose slowest term is real, if that term outweighs the sum of all others (or if the
+whole motion has decayed into the band without separating) the contact can never end
 (``permanent contact``: the system comes to rest against the wall, COR = 0, omega_t_col = inf,
 all energy dissipated). Every phase has a step budget (STATUS_NONCONVERGED) and every scene an
 event budget (STATUS_EVENT_BUDGET), so nothing hangs.
@@ -425,6 +429,11 @@ def _locate(kind, c0, c1, b, lam, xi, mu, r0, rd0, check_permanent, info):
     t = 0.0
     fmax = -math.inf
     tmax = 0.0
+    _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res)
+    # The phase's data carry absolute errors ~eps * (their size at the phase start), so the band
+    # never shrinks below that even when the motion decays (else exponentially small lobes of a
+    # damped approach, e.g. V = 0, would count as contacts).
+    tol0 = TOL_ULPS * EPS * res[7] + 1e-300
     for it in range(MAX_STEPS):
         _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res)
         f = res[0]
@@ -432,14 +441,15 @@ def _locate(kind, c0, c1, b, lam, xi, mu, r0, rd0, check_permanent, info):
         f2 = res[2]
         b2 = res[5]
         b3 = res[6]
-        tol = TOL_ULPS * EPS * res[7] + 1e-300
+        tol = max(TOL_ULPS * EPS * res[7], tol0)
         info[3] = it
         if f > fmax:
             fmax = f
             tmax = t
         info[1] = fmax
         info[2] = tmax
-        if c1 > 0.0 and res[8] - res[4] > tol:
+        # f(s) >= X(t) - B0(t) for all s >= t when V >= 0: never below the band again.
+        if c1 >= 0.0 and res[8] - res[4] > -0.5 * tol0:
             return LOC_NEVER
         if check_permanent and _never_ends(t, b, lam, tol + abs(res[8])):
             return LOC_PERMANENT
@@ -680,7 +690,7 @@ def _run(alpha, beta, xi, n, max_events, hist, rec):
             if code == LOC_BUDGET:
                 status = STATUS_NONCONVERGED
                 break
-            if code == LOC_PERMANENT:
+            if code == LOC_PERMANENT or code == LOC_NEVER:
                 permanent = True
                 # Dissipation to (numerically) infinite time: beyond 40 e-foldings of the
                 # slowest term the remaining energy is < e^-80 of what it was.
