@@ -124,3 +124,41 @@ def test_event_budget_is_reported_not_hidden():
 
 def test_version_is_exposed():
     assert restitution.__version__ != ""
+
+
+def test_nonlinear_laws_go_through_solve_and_record_their_method():
+    r = solve(alpha=2.0, beta=0.01, contact="plastic", eta=0.5, dr=0.5)
+    assert r.success and r.method == "adaptive" and 0 < r.cor <= math.sqrt(1 - 0.5 / 3.0)
+    assert r.error_estimate > 0  # the adaptive method reports its own error estimate
+    with pytest.raises(SceneError, match="n_masses must be 2"):
+        solve(alpha=2.0, beta=0.01, n_masses=3, structure="scissor")
+    with pytest.raises(SceneError, match="unknown scene parameter"):
+        solve(alpha=2.0, kappa=3.0)
+
+
+def test_numerical_methods_agree_with_exact_on_a_linear_scene():
+    exact = solve(alpha=2.5, beta=0.05)
+    adaptive = solve(alpha=2.5, beta=0.05, method="adaptive", rtol=1e-10)
+    assert adaptive.method == "adaptive" and adaptive.n_collisions == exact.n_collisions
+    assert adaptive.cor == pytest.approx(exact.cor, abs=1e-8)
+
+
+def test_solve_many_mixes_exact_and_numerical_rows():
+    frame = pd.DataFrame(
+        {
+            "alpha": [2.0, 2.0, 2.5, 0.3],
+            "beta": [0.01, 0.01, 0.05, 0.0],
+            "contact": ["plastic", "linear", "linear", None],
+            "eta": [0.5, np.nan, np.nan, np.nan],
+            "dr": [0.5, np.nan, np.nan, np.nan],
+            "method": ["auto", "auto", "adaptive", "auto"],
+        }
+    )
+    out = solve_many(frame)
+    assert list(out["method"]) == ["adaptive", "piecewise", "adaptive", "impulsive"]
+    assert set(out["status"]) == {"ok"}
+    assert out["cor"].iloc[0] == solve(2.0, 0.01, contact="plastic", eta=0.5, dr=0.5).cor
+    assert out["cor"].iloc[2] == pytest.approx(solve(2.5, 0.05).cor, abs=1e-8)
+    assert out["cor"].iloc[3] == pytest.approx(0.7 / 1.3, abs=1e-14)
+    with pytest.raises(SceneError, match=r"n_masses must be 2.*\(row 0\)"):
+        solve_many(pd.DataFrame({"alpha": [1.0], "n_masses": [3], "method": ["verlet"]}))

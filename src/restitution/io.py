@@ -30,6 +30,7 @@ CONTRACT_TYPES = {
     "e_dissipated": pa.float64(),
     "method": pa.string(),
     "status": pa.string(),
+    "error_estimate": pa.float64(),
 }
 
 _LIBRARIES = ("numpy", "scipy", "numba", "pandas", "pyarrow", "matplotlib", "snakemake")

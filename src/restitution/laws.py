@@ -144,8 +144,9 @@ def check_ks_ratio(value, theta0: float = THETA0_DEFAULT) -> float:
 def check_corner(value) -> float:
     x = _num("corner", value, "in (0, 100]")
     if not 0.0 < x <= 100.0:
-        raise SceneError(f"corner (stroke fraction to reach the cap) must be in (0, 100]; "
-                         f"got {value!r}")
+        raise SceneError(
+            f"corner (stroke fraction to reach the cap) must be in (0, 100]; got {value!r}"
+        )
     return x
 
 

@@ -40,8 +40,12 @@ def _pos(name, value, low, high, low_open=True):
         x = float(value)
     except (TypeError, ValueError):
         raise SceneError(f"{name} must be a number in ({low:g}, {high:g}]; got {value!r}") from None
-    if isinstance(value, bool) or not math.isfinite(x) or (x <= low if low_open else x < low) \
-            or x > high:
+    if (
+        isinstance(value, bool)
+        or not math.isfinite(x)
+        or (x <= low if low_open else x < low)
+        or x > high
+    ):
         raise SceneError(f"{name} must be in ({low:g}, {high:g}]; got {value!r}")
     return x
 
@@ -59,8 +63,9 @@ def build_laws(alpha, beta, contact, eta, dr, structure, L_, ks_ratio, theta0, c
     kappa = math.nan
     if contact == "plastic":
         if scene.beta == 0.0:
-            raise SceneError("contact='plastic' needs beta > 0 (its unloading slope is k1 = "
-                             "k2/beta); got beta=0")
+            raise SceneError(
+                "contact='plastic' needs beta > 0 (its unloading slope is k1 = k2/beta); got beta=0"
+            )
         eta = laws.check_eta(eta)
         dr = laws.check_dr(dr, eta)
         kappa = laws.plastic_kappa(dr, eta, scene.k1, v0)
@@ -137,11 +142,15 @@ def solve_nonlinear(
     xi = check_xi(xi)
     v0 = laws.check_v0(v0)
     _choice("method", method, NL_METHODS)
-    cp, sp, kappa = build_laws(alpha, beta, contact, eta, dr, structure, L, ks_ratio, theta0,
-                               corner, v0)
+    cp, sp, kappa = build_laws(
+        alpha, beta, contact, eta, dr, structure, L, ks_ratio, theta0, corner, v0
+    )
     scene = Scene(alpha, beta, xi, 2)
-    if isinstance(max_events, bool) or not isinstance(max_events, (int, np.integer)) \
-            or max_events < 1:
+    if (
+        isinstance(max_events, bool)
+        or not isinstance(max_events, (int, np.integer))
+        or max_events < 1
+    ):
         raise SceneError(f"max_events must be a positive integer; got {max_events!r}")
     rtol = _pos("rtol", rtol, 1e-14, 1e-2, low_open=False)
     step = _pos("step", step, 0.0, 0.25)
@@ -149,8 +158,9 @@ def solve_nonlinear(
         from .api import solve
 
         # linear scenes: the exact kernels (COR does not depend on v0 there)
-        return solve(scene.alpha, scene.beta, scene.xi, 2, history=history,
-                     max_events=int(max_events))
+        return solve(
+            scene.alpha, scene.beta, scene.xi, 2, history=history, max_events=int(max_events)
+        )
     chosen = "adaptive" if method == "auto" else method
     if chosen == "verlet" and scene.beta == 0.0:
         raise SceneError("method='verlet' needs beta > 0 (a finite contact spring); got beta=0")
@@ -160,34 +170,86 @@ def solve_nonlinear(
     if chosen == "reference":
         from .reference import solve_reference
 
-        out, hist = solve_reference(scene.alpha, v0, xi, cp, sp, rtol, max_events, acct,
-                                    energy_tol)
+        out, hist = solve_reference(scene.alpha, v0, xi, cp, sp, rtol, max_events, acct, energy_tol)
         hist = hist if history else None
     else:
         from .kernels.nonlinear import METHOD_ADAPTIVE, METHOD_VERLET, solve_scene
 
         hist = np.zeros((max_events if history else 0, LY.N_HIST))
         if chosen == "verlet":
-            coarse = solve_scene(scene.alpha, v0, xi, cp, sp, METHOD_VERLET, rtol, step, False,
-                                 energy_tol, max_events, np.zeros((0, LY.N_HIST)), acct)
-            out = solve_scene(scene.alpha, v0, xi, cp, sp, METHOD_VERLET, rtol, step / 2, False,
-                              energy_tol, max_events, hist, acct)
+            coarse = solve_scene(
+                scene.alpha,
+                v0,
+                xi,
+                cp,
+                sp,
+                METHOD_VERLET,
+                rtol,
+                step,
+                False,
+                energy_tol,
+                max_events,
+                np.zeros((0, LY.N_HIST)),
+                acct,
+            )
+            out = solve_scene(
+                scene.alpha,
+                v0,
+                xi,
+                cp,
+                sp,
+                METHOD_VERLET,
+                rtol,
+                step / 2,
+                False,
+                energy_tol,
+                max_events,
+                hist,
+                acct,
+            )
             out[LY.OUT_ERR] = abs(out[LY.OUT_COR] - coarse[LY.OUT_COR]) / 3.0
         else:
-            out = solve_scene(scene.alpha, v0, xi, cp, sp, METHOD_ADAPTIVE, rtol, step,
-                              bool(integrate_free), energy_tol, max_events, hist, acct)
+            out = solve_scene(
+                scene.alpha,
+                v0,
+                xi,
+                cp,
+                sp,
+                METHOD_ADAPTIVE,
+                rtol,
+                step,
+                bool(integrate_free),
+                energy_tol,
+                max_events,
+                hist,
+                acct,
+            )
         hist = hist if history else None
     if account is not None:
         account.update(
-            kinetic=acct[0], elastic=acct[1], dissipated_contact=acct[2],
-            dissipated_dashpot=acct[3], residual=acct[4], kappa=kappa,
+            kinetic=acct[0],
+            elastic=acct[1],
+            dissipated_contact=acct[2],
+            dissipated_dashpot=acct[3],
+            residual=acct[4],
+            kappa=kappa,
         )
     return Result.from_row(scene, out, chosen, hist)
 
 
-LAW_DEFAULTS = dict(beta=0.01, xi=0.0, contact="linear", eta=1.0, dr=0.0, structure="linear",
-                    L=1.0, ks_ratio=0.01, theta0=laws.THETA0_DEFAULT,
-                    corner=laws.CORNER_DEFAULT, v0=1.0)
+LAW_DEFAULTS = dict(
+    beta=0.01,
+    xi=0.0,
+    contact="linear",
+    eta=1.0,
+    dr=0.0,
+    structure="linear",
+    L=1.0,
+    ks_ratio=0.01,
+    theta0=laws.THETA0_DEFAULT,
+    corner=laws.CORNER_DEFAULT,
+    v0=1.0,
+)
 
 
 def solve_nonlinear_many(frame, *, method="adaptive", rtol=1e-9, step=0.01, max_events=10_000):
@@ -212,8 +274,10 @@ def solve_nonlinear_many(frame, *, method="adaptive", rtol=1e-9, step=0.01, max_
     if not isinstance(frame, pd.DataFrame) or "alpha" not in frame:
         raise SceneError("expected a pandas DataFrame with a column 'alpha'")
     n = len(frame)
-    cols = {k: (frame[k].to_numpy() if k in frame else np.full(n, v, dtype=object))
-            for k, v in LAW_DEFAULTS.items()}
+    cols = {
+        k: (frame[k].to_numpy() if k in frame else np.full(n, v, dtype=object))
+        for k, v in LAW_DEFAULTS.items()
+    }
     alpha = frame["alpha"].to_numpy()
     cps, sps = np.zeros((n, laws.N_CP)), np.zeros((n, laws.N_SP))
     xi, v0 = np.zeros(n), np.zeros(n)
@@ -222,17 +286,36 @@ def solve_nonlinear_many(frame, *, method="adaptive", rtol=1e-9, step=0.01, max_
             # a missing cell (NaN/None, e.g. from a ragged table) takes the default
             row = {k: (LAW_DEFAULTS[k] if pd.isna(c[i]) else c[i]) for k, c in cols.items()}
             xi[i], v0[i] = check_xi(row["xi"]), laws.check_v0(row["v0"])
-            cps[i], sps[i], _ = build_laws(alpha[i], row["beta"], row["contact"], row["eta"],
-                                           row["dr"], row["structure"], row["L"],
-                                           row["ks_ratio"], row["theta0"], row["corner"],
-                                           v0[i])
+            cps[i], sps[i], _ = build_laws(
+                alpha[i],
+                row["beta"],
+                row["contact"],
+                row["eta"],
+                row["dr"],
+                row["structure"],
+                row["L"],
+                row["ks_ratio"],
+                row["theta0"],
+                row["corner"],
+                v0[i],
+            )
             if method == "verlet" and cps[i][0] == laws.C_RIGID:
                 raise SceneError("method='verlet' needs beta > 0")
         except SceneError as e:
             raise SceneError(f"{e} (row {frame.index[i]!r})") from None
     code = METHOD_VERLET if method == "verlet" else METHOD_ADAPTIVE
-    out = solve_scene_batch(alpha.astype(float), v0, xi, cps, sps, code, rtol, step,
-                            _default_etol(method, rtol, step), int(max_events))
+    out = solve_scene_batch(
+        alpha.astype(float),
+        v0,
+        xi,
+        cps,
+        sps,
+        code,
+        rtol,
+        step,
+        _default_etol(method, rtol, step),
+        int(max_events),
+    )
     result = frame.copy()
     result["cor"] = out[:, LY.OUT_COR]
     result["n_collisions"] = out[:, LY.OUT_NCOL].astype(np.int64)

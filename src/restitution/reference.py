@@ -85,11 +85,22 @@ def solve_reference(alpha, v0, xi, cp, sp, rtol, max_events, acct, etol, t_max=1
                 events = [_event(lambda t, y: -y[2])]
             else:
                 xp, xm = mem["xp"], mem["xmax"]
-                second = (lambda t, y, xm=xm: xm + y[0]) if kind == laws.C_PLASTIC \
+                second = (
+                    (lambda t, y, xm=xm: xm + y[0])
+                    if kind == laws.C_PLASTIC
                     else (lambda t, y: y[2])
+                )
                 events = [_event(lambda t, y, xp=xp: -y[0] - xp), _event(second)]
-            sol = solve_ivp(rhs, (t, t + 1e4), y, method="DOP853", rtol=rtol, atol=atol,
-                            events=events, max_step=dt_contact)
+            sol = solve_ivp(
+                rhs,
+                (t, t + 1e4),
+                y,
+                method="DOP853",
+                rtol=rtol,
+                atol=atol,
+                events=events,
+                max_step=dt_contact,
+            )
             hit = [i for i, te in enumerate(sol.t_events) if len(te)]
             if not hit:
                 status = LY.STATUS_NONCONVERGED
@@ -121,8 +132,16 @@ def solve_reference(alpha, v0, xi, cp, sp, rtol, max_events, acct, etol, t_max=1
                 hist[-1][LY.H_IMPULSE] = (y[2] + alpha * y[3] - p_in) / v0
         else:
             xp = mem["xp"]
-            sol = solve_ivp(rhs, (t, t + 2 * math.pi), y, method="DOP853", rtol=rtol, atol=atol,
-                            events=[_event(lambda t, y, xp=xp: y[0] + xp)], max_step=dt_free)
+            sol = solve_ivp(
+                rhs,
+                (t, t + 2 * math.pi),
+                y,
+                method="DOP853",
+                rtol=rtol,
+                atol=atol,
+                events=[_event(lambda t, y, xp=xp: y[0] + xp)],
+                max_step=dt_free,
+            )
             if not len(sol.t_events[0]):
                 t, y = sol.t[-1], sol.y[:, -1].copy()
                 if _no_contact_possible(y, sp, mem):

@@ -36,6 +36,7 @@ RESULT_COLUMNS = (
     "e_dissipated",
     "method",
     "status",
+    "error_estimate",  # the method's own estimate of its COR error (0: exact up to round-off)
 )
 
 HISTORY_COLUMNS = ("omega_t_start", "omega_t_end", "v1_in", "v1_out", "x_max", "impulse")

@@ -14,7 +14,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-METHODS = ("auto", "impulsive", "piecewise")
+# Exact methods for piecewise-linear scenes, numerical ones for nonlinear laws (and for checks).
+EXACT_METHODS = ("impulsive", "piecewise")
+NUMERICAL_METHODS = ("adaptive", "verlet", "reference")
+METHODS = ("auto", *EXACT_METHODS, *NUMERICAL_METHODS)
 
 
 class SceneError(ValueError):

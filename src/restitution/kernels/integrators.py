@@ -52,25 +52,22 @@ DP_A = np.array(
     ]
 )
 DP_B = np.array([35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84])
-DP_E = np.array(
-    [-71 / 57600, 0.0, 71 / 16695, -71 / 1920, 17253 / 339200, -22 / 525, 1 / 40]
-)
+DP_E = np.array([-71 / 57600, 0.0, 71 / 16695, -71 / 1920, 17253 / 339200, -22 / 525, 1 / 40])
 DP_P = np.array(
     [
         [1.0, -8048581381 / 2820520608, 8663915743 / 2820520608, -12715105075 / 11282082432],
         [0.0, 0.0, 0.0, 0.0],
-        [0.0, 131558114200 / 32700410799, -68118460800 / 10900136933,
-         87487479700 / 32700410799],
+        [0.0, 131558114200 / 32700410799, -68118460800 / 10900136933, 87487479700 / 32700410799],
         [0.0, -1754552775 / 470086768, 14199869525 / 1410260304, -10690763975 / 1880347072],
-        [0.0, 127303824393 / 49829197408, -318862633887 / 49829197408,
-         701980252875 / 199316789632],
+        [0.0, 127303824393 / 49829197408, -318862633887 / 49829197408, 701980252875 / 199316789632],
         [0.0, -282668133 / 205662961, 2019193451 / 616988883, -1453857185 / 822651844],
         [0.0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423],
     ]
 )
 
-_BINOM = np.array([[1.0, 0, 0, 0, 0], [1, 1, 0, 0, 0], [1, 2, 1, 0, 0], [1, 3, 3, 1, 0],
-                   [1, 4, 6, 4, 1]])
+_BINOM = np.array(
+    [[1.0, 0, 0, 0, 0], [1, 1, 0, 0, 0], [1, 2, 1, 0, 0], [1, 3, 3, 1, 0], [1, 4, 6, 4, 1]]
+)
 
 M_PHASE, M_BRANCH, M_XMAX, M_FMAX, M_XP, M_C, M_ALPHA = 0, 1, 2, 3, 4, 5, 6
 N_MEM = 8
@@ -287,8 +284,7 @@ def first_root(c, n, strip):
 
 
 @njit(cache=True)
-def rk_phase(y, t, h, hmax, rtol, atol, cp, sp, mem, W, B, strip, nev, stop, max_steps,
-             err_acc):
+def rk_phase(y, t, h, hmax, rtol, atol, cp, sp, mem, W, B, strip, nev, stop, max_steps, err_acc):
     """Integrate with DP5(4) until the first event (or ``stop``); y is updated in place.
 
     W[k], B[k], strip[k] (k < nev) define the events g_k = W[k].y + B[k] (trigger: > 0 -> <= 0).
@@ -312,7 +308,7 @@ def rk_phase(y, t, h, hmax, rtol, atol, cp, sp, mem, W, B, strip, nev, stop, max
             return EV_FAIL, t, h
         err = dp_step(y, f0, h, rtol, atol, cp, sp, mem, K, ynew, tmp)
         if not err <= 1.0:  # also catches NaN
-            fac = 0.2 if not err == err else max(0.2, 0.9 * err ** -0.2)
+            fac = 0.2 if not err == err else max(0.2, 0.9 * err**-0.2)
             h *= fac
             continue
         # accepted: look for the first event on the dense output

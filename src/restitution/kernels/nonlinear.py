@@ -77,6 +77,7 @@ N_ACCT = 5  # kinetic, elastic, dissipated in contact, dissipated in dashpot, re
 METHOD_ADAPTIVE = 0
 METHOD_VERLET = 1
 
+
 # ---------------------------------------------------------------- closed-form free flight --
 @njit(cache=True)
 def _osc(s, xi, r0, w0):
@@ -237,8 +238,9 @@ def _record(hist, n, col, value):
 
 
 @njit(cache=True)
-def solve_scene(alpha, v0, xi, cp, sp, method, rtol, step_frac, integrate_free, etol,
-                max_events, hist, acct):
+def solve_scene(
+    alpha, v0, xi, cp, sp, method, rtol, step_frac, integrate_free, etol, max_events, hist, acct
+):
     """COR of one two-mass scene; ``out`` in the layout of kernels/layout.py.
 
     method 0 = adaptive DP5(4) (rtol; atol = rtol*v0), 1 = velocity Verlet (step = step_frac of
@@ -289,7 +291,7 @@ def _adaptive(y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, hist, 
     hc = 0.05 / math.sqrt(k1 + 1.0)
     hf = 0.05
     h = hc
-    p_in = (y[2] + alpha * y[3])
+    p_in = y[2] + alpha * y[3]
     _record(hist, 0, H_TSTART, 0.0)
     _record(hist, 0, H_VIN, y[2] / v0)
     xmax_c = 0.0
@@ -309,8 +311,24 @@ def _adaptive(y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, hist, 
     for _ in range(max_switch):
         if mem[M_PHASE] == 1.0:
             nev = _setup_contact_events(cp, mem, W, B, strip, how)
-            code, t, h = rk_phase(y, t, h, 1e300, rtol, atol, cp, sp, mem,
-                                  W, B, strip, nev, STOP_NEVER, 10_000_000, err_acc)
+            code, t, h = rk_phase(
+                y,
+                t,
+                h,
+                1e300,
+                rtol,
+                atol,
+                cp,
+                sp,
+                mem,
+                W,
+                B,
+                strip,
+                nev,
+                STOP_NEVER,
+                10_000_000,
+                err_acc,
+            )
             if code == EV_FAIL or code == EV_STOP:
                 return STATUS_NONCONVERGED, ncol, tcol, err_acc[0]
             rising = mem[M_BRANCH] == 1.0
@@ -355,8 +373,24 @@ def _adaptive(y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, hist, 
                 W[0, 0] = 1.0
                 B[0] = mem[M_XP]
                 strip[0] = 1 if entering else 0
-                code, t, h = rk_phase(y, t, h, 0.5, rtol, atol, cp,
-                                      sp, mem, W, B, strip, 1, STOP_NO_CONTACT, 10_000_000, err_acc)
+                code, t, h = rk_phase(
+                    y,
+                    t,
+                    h,
+                    0.5,
+                    rtol,
+                    atol,
+                    cp,
+                    sp,
+                    mem,
+                    W,
+                    B,
+                    strip,
+                    1,
+                    STOP_NO_CONTACT,
+                    10_000_000,
+                    err_acc,
+                )
                 if code == EV_STOP:
                     return STATUS_OK, ncol, tcol, err_acc[0]
                 if code == EV_FAIL:
@@ -461,6 +495,19 @@ def solve_scene_batch(alpha, v0, xi, cp, sp, method, rtol, step_frac, etol, max_
     for i in prange(n):
         hist = np.zeros((0, 6))
         acct = np.zeros(N_ACCT)
-        out[i] = solve_scene(alpha[i], v0[i], xi[i], cp[i], sp[i], method, rtol, step_frac,
-                             False, etol, max_events, hist, acct)
+        out[i] = solve_scene(
+            alpha[i],
+            v0[i],
+            xi[i],
+            cp[i],
+            sp[i],
+            method,
+            rtol,
+            step_frac,
+            False,
+            etol,
+            max_events,
+            hist,
+            acct,
+        )
     return out
