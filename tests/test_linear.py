@@ -363,3 +363,27 @@ def test_sample_linear_continuous_and_consistent():
     # Final centre-of-mass velocity is the COR.
     m = _system(alpha, beta, xi, n)[0]
     assert (m @ v[-1]) / m.sum() == pytest.approx(out[OUT_COR], abs=1e-12)
+
+
+def test_permanent_contact_is_proven():
+    """A strongly damped contact whose slowest (real) mode presses m1 into the wall never ends;
+    the opposite creep separates. Internal locator, hand-made start states."""
+    from restitution.kernels.linear import (
+        LOC_EVENT,
+        LOC_PERMANENT,
+        _locate,
+        _masses,
+        _modal_model,
+    )
+
+    alpha, beta, xi = 10.0, 0.01, 20.0
+    k2 = alpha / (1 + alpha)
+    lam, U, P, cond = _modal_model(_masses(alpha, 2), k2, k2 / beta, 2 * xi * k2, False)
+    assert cond < 1e3
+    s = -max(lam.real)
+    codes = []
+    for u2 in (0.5, -0.5):  # m2 beyond / inside equilibrium, creeping back in the slow mode
+        z = P @ np.array([0.0, u2, -1e-3, -s * u2], dtype=complex)
+        info = np.zeros(4)
+        codes.append(_locate(0, 0.0, 0.0, -U[0] * z, lam, xi, 0.0, 0.0, 0.0, True, info))
+    assert codes == [LOC_PERMANENT, LOC_EVENT]
