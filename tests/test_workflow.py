@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pyarrow.parquet as pq
 import pytest
 import yaml
@@ -238,3 +239,6 @@ def test_tiny_pipeline_end_to_end(tmp_path):
     assert best["cor"] == pytest.approx(0.178465, abs=2e-5)
     assert best["alpha"] == pytest.approx(0.697123, abs=1e-4)
     assert grid_min > best["cor"] + 0.01
+    minima = pd.read_csv(tmp_path / "results" / "fig2a" / "minima.csv")
+    first = minima[(minima["beta"] == 0.0) & (minima["minimum"] == 1)].iloc[0]
+    assert first["cor"] == pytest.approx(best["cor"]) and first["n_collisions"] == 1

@@ -27,11 +27,12 @@ rule simulate_fig2a:
 
 
 rule aggregate_fig2a:
-    """Concatenate the chunks of every beta into one sweep table (shared boundary rows once)."""
+    """One sweep table from the chunks (shared boundary rows once), and its COR minima as CSV."""
     input:
         chunks=fig2a_chunk_tables(),
     output:
         sweep="results/fig2a/sweep.parquet",
+        minima="results/fig2a/minima.csv",
     log:
         "logs/fig2a/aggregate.log",
     benchmark:

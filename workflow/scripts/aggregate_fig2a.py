@@ -1,12 +1,29 @@
 """Concatenate the Fig. 2(a) chunk tables into one sweep table, sorted by beta then alpha.
 
-Neighbouring chunks share their boundary alpha; the duplicate row is dropped here.
+Neighbouring chunks share their boundary alpha; the duplicate row is dropped here. The local
+minima of each curve (the cusps, where one more contact just grazes the wall) are listed in a
+small CSV, so numbers quoted in prose come from a generated file.
 """
 
+import numpy as np
 import pandas as pd
 
 
-def main(chunks, output_path, params, logger) -> pd.DataFrame:
+def local_minima(sweep: pd.DataFrame) -> pd.DataFrame:
+    """Rows of the sweep (status ok) whose COR is below both neighbours, per beta, numbered."""
+    rows = []
+    for _, curve in sweep[sweep["status"] == "ok"].groupby("beta", sort=True):
+        curve = curve.sort_values("alpha")
+        cor = curve["cor"].to_numpy()
+        inner = np.flatnonzero((cor[1:-1] < cor[:-2]) & (cor[1:-1] <= cor[2:])) + 1
+        found = curve.iloc[inner][["beta", "alpha", "cor", "n_collisions"]].copy()
+        found.insert(1, "minimum", np.arange(1, len(found) + 1))
+        rows.append(found)
+    columns = ["beta", "minimum", "alpha", "cor", "n_collisions"]
+    return pd.concat(rows, ignore_index=True) if rows else pd.DataFrame(columns=columns)
+
+
+def main(chunks, output_path, minima_path, params, logger) -> pd.DataFrame:
     from restitution.io import read_table, write_table
 
     tables = [read_table(path) for path in chunks]
@@ -27,7 +44,15 @@ def main(chunks, output_path, params, logger) -> pd.DataFrame:
             group["cor"].min(),
             group["status"].value_counts().to_dict(),
         )
-    write_table(sweep, output_path, config={"fig2a": params.fig2a, "solver": params.solver})
+    config = {"fig2a": params.fig2a, "solver": params.solver}
+    write_table(sweep, output_path, config=config)
+    minima = local_minima(sweep)
+    write_table(minima, minima_path, config=config)
+    for beta, group in minima.groupby("beta"):
+        first = ", ".join(
+            f"({a:.5f}, {c:.6f})" for a, c in zip(group.alpha, group.cor, strict=True)
+        )
+        logger.info("beta %g: %d minima (alpha, COR): %s", beta, len(group), first[:400])
     return sweep
 
 
@@ -36,4 +61,10 @@ if __name__ == "__main__":
 
     log = setup(snakemake, numba=False)  # noqa: F821 (injected by Snakemake)
     with Timer(log, "aggregate"):
-        main(snakemake.input.chunks, snakemake.output.sweep, snakemake.params, log)  # noqa: F821
+        main(
+            snakemake.input.chunks,  # noqa: F821
+            snakemake.output.sweep,  # noqa: F821
+            snakemake.output.minima,  # noqa: F821
+            snakemake.params,  # noqa: F821
+            log,
+        )
