@@ -67,6 +67,10 @@ BAD_CONFIGS = {
         {"fig2a": {"alpah_min": 0.5}},
         ["fig2a.alpah_min", "0.5", "unknown key", "did you mean 'alpha_min'"],
     ),
+    "method that does not fit the betas": (
+        {"method": "impulsive"},
+        ["method = 'impulsive' needs a rigid wall", "fig2a.betas = [0.0, 0.001"],
+    ),
     "alpha range reversed": (
         {"fig2a": {"alpha_min": 10.0, "alpha_max": 1.0}},
         ["fig2a.alpha_max", "1.0", "greater than fig2a.alpha_min = 10.0"],

@@ -95,6 +95,21 @@ def check_config(config, schema_path=SCHEMA):
         problems.append(
             f"fig2a.alpha_max = {hi!r}: must be greater than fig2a.alpha_min = {lo!r}"
         )
+    betas = fig2a.get("betas", [])
+    numeric = [
+        b for b in betas if isinstance(b, (int, float)) and not isinstance(b, bool)
+    ]
+    method = config.get("method", "auto")
+    if method == "impulsive" and any(b > 0 for b in numeric):
+        problems.append(
+            f"method = 'impulsive' needs a rigid wall, but fig2a.betas = {betas!r} has beta > 0: "
+            "use 'auto' (or 'piecewise' with every beta > 0)"
+        )
+    if method == "piecewise" and any(b == 0 for b in numeric):
+        problems.append(
+            f"method = 'piecewise' needs beta > 0, but fig2a.betas = {betas!r} contains 0: "
+            "use 'auto' (or 'impulsive' with betas [0])"
+        )
     if problems:
         raise WorkflowError(
             "Invalid configuration (config/config.yaml plus any --configfile/--config):\n  "
