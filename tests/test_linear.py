@@ -316,17 +316,14 @@ def test_matches_rigid2():
             if a[OUT_STATUS] == STATUS_EVENT_BUDGET:
                 assert b[OUT_STATUS] == STATUS_EVENT_BUDGET
                 continue
-            if a[OUT_NCOL] > 50:
-                # Dashpot chatter: hundreds of bounces, the last ones with approach speeds ~1e-5
-                # (dips of ~1e-10 lasting ~1e-5) that a sampled reference can miss and that
-                # rigid2 and this kernel may resolve differently; each such bounce moves the COR
-                # by ~2 |v_in| / (1 + alpha). Loose check against the reference only.
-                cor, cnt, _ = reference(alpha, 0.0, xi, 2, max_contacts=5000)
-                assert abs(a[OUT_NCOL] - cnt) <= 3 and abs(a[OUT_COR] - cor) < 2e-5, (alpha, xi)
-                continue
+            # Dashpot chatter included (up to 2000 contacts, before rigid2 would switch to its
+            # sticking limit): two independent exact kernels must agree contact by contact.
             assert a[OUT_NCOL] == b[OUT_NCOL], (alpha, xi)
             assert abs(a[OUT_COR] - b[OUT_COR]) < 1e-13, (alpha, xi)
-            assert abs(a[OUT_TCOL] - b[OUT_TCOL]) < 1e-11 * max(1, b[OUT_TCOL])
+            # The time of a shallow final contact is ill-conditioned (round-off in the gap over
+            # an approach speed ~1e-5 in chatter), its COR effect is not: time to 1e-8 there.
+            t_tol = 1e-11 if a[OUT_NCOL] <= 50 else 1e-8
+            assert abs(a[OUT_TCOL] - b[OUT_TCOL]) < t_tol * max(1, b[OUT_TCOL]), (alpha, xi)
 
 
 def test_batch_is_thread_count_independent():
