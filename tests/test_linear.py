@@ -319,7 +319,8 @@ def test_matches_rigid2():
             # Dashpot chatter included (up to 2000 contacts, before rigid2 would switch to its
             # sticking limit): two independent exact kernels must agree contact by contact.
             assert a[OUT_NCOL] == b[OUT_NCOL], (alpha, xi)
-            assert abs(a[OUT_COR] - b[OUT_COR]) < 1e-13, (alpha, xi)
+            # 1e-13, plus round-off that accumulates with the contacts of a long chatter.
+            assert abs(a[OUT_COR] - b[OUT_COR]) < max(1e-13, 2e-15 * a[OUT_NCOL]), (alpha, xi)
             # The time of a shallow final contact is ill-conditioned (round-off in the gap over
             # an approach speed ~1e-5 in chatter), its COR effect is not: time to 1e-8 there.
             t_tol = 1e-11 if a[OUT_NCOL] <= 50 else 1e-8
