@@ -16,6 +16,7 @@ report: "workflow/report/workflow.rst"
 include: "workflow/rules/common.smk"
 include: "workflow/rules/sweeps.smk"
 include: "workflow/rules/figures.smk"
+include: "workflow/rules/approx.smk"
 
 
 rule all:
@@ -23,3 +24,10 @@ rule all:
     input:
         rules.render_fig2a.output.png,
         rules.render_fig2a.output.pdf,
+        rules.render_fig2b.output.png,
+        rules.render_fig2b.output.pdf,
+        rules.render_fig2c.output.png,
+        rules.render_fig2c.output.pdf,
+        rules.render_fig2d.output.png,
+        rules.render_fig2d.output.pdf,
+        rules.approx_finite_beta.output.table,

@@ -118,6 +118,10 @@ def write_table(frame: pd.DataFrame, path, *, config=None, extra: dict | None = 
             pq.write_table(table.replace_schema_metadata(merged), tmp)
         else:
             raise ValueError(f"{path}: unsupported table format {path.suffix!r} (.parquet or .csv)")
+        # mkstemp creates the file 0600; give it the mode a plain open() would (umask applied).
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
         os.replace(tmp, path)
     finally:
         if os.path.exists(tmp):

@@ -7,7 +7,7 @@
 rule approx_points:
     """Exact beta = 0 special points alpha*_n, e*_n, alpha#_n (n = 1..n_max) by root solving."""
     input:
-        code=package_sources(),
+        code=package_sources(*APPROX_MODULES),
     output:
         table="results/approx/special_points.parquet",
     log:
@@ -26,7 +26,7 @@ rule approx_points:
 rule approx_finite_beta:
     """Finite-beta counterparts: alphas where the contact count changes, and smooth COR minima."""
     input:
-        code=package_sources(),
+        code=package_sources(*APPROX_MODULES),
     output:
         table="results/approx/finite_beta_points.parquet",
     log:
@@ -58,7 +58,7 @@ rule approx_fit:
     """Fits (Eqs. 19, 22, minima law, eta1/eta2, improved shapes) and model errors vs exact."""
     input:
         points=rules.approx_points.output.table,
-        code=package_sources(),
+        code=package_sources(*APPROX_MODULES),
     output:
         fit="results/approx/fit.json",
         residuals="results/approx/law_residuals.parquet",

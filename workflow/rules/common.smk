@@ -137,16 +137,30 @@ def beta_label(beta):
     return short if float(short) == beta else repr(beta)
 
 
-def package_sources():
-    """The package modules a simulation depends on, sorted: editing one reruns simulations.
+# Package modules each stage runs, as rule inputs: editing one reruns exactly what depends on it
+# (Snakemake cannot see imports). Plotting code is never listed, so restyling reruns no simulation.
+EXACT_SOLVER_MODULES = (
+    "__init__.py",
+    "api.py",
+    "io.py",
+    "result.py",
+    "scene.py",
+    "kernels/__init__.py",
+    "kernels/layout.py",
+    "kernels/rigid2.py",
+    "kernels/linear.py",
+)
+APPROX_MODULES = ("special_points.py", "approx.py", "fitting.py")
 
-    Plotting code is left out so a restyled figure never reruns a simulation.
-    """
+
+def package_sources(*extra):
+    """Sorted paths of the exact-solver modules plus ``extra`` (names under src/restitution)."""
     src = Path(workflow.basedir) / "src" / "restitution"
-    files = sorted(src.glob("kernels/*.py")) + sorted(src.glob("*.py"))
-    return [
-        str(f.relative_to(workflow.basedir)) for f in files if f.name != "plotting.py"
-    ]
+    names = sorted(set(EXACT_SOLVER_MODULES) | set(extra))
+    missing = [n for n in names if not (src / n).is_file()]
+    if missing:
+        raise WorkflowError(f"package_sources: no such module(s) {missing} under {src}")
+    return [str((src / n).relative_to(workflow.basedir)) for n in names]
 
 
 def solver_settings():
