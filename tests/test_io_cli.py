@@ -27,6 +27,7 @@ def test_parquet_has_explicit_schema_and_provenance(tmp_path):
     assert meta["config_hash"] == config_hash({"a": [1, 2], "b": 1})
     assert {"numpy", "numba", "pyarrow"} <= set(meta["libraries"])
     assert meta["git_commit"] and meta["package_version"]
+    assert meta["methods"] == {"a": {"rows": 1}, "b": {"rows": 1}}
     assert list(path.parent.iterdir()) == [path]  # no temporary file left behind
 
 
@@ -73,3 +74,26 @@ def test_cli_batch_bad_row_fails_before_writing(tmp_path):
     p = _run("batch", str(src), "-o", str(dst))
     assert p.returncode == 2 and "alpha" in p.stderr and "(row 1)" in p.stderr
     assert not dst.exists()
+
+
+def test_cli_cor_plastic_contact():
+    p = _run(
+        "cor",
+        "--alpha",
+        "2",
+        "--beta",
+        "0.01",
+        "--contact",
+        "plastic",
+        "--eta",
+        "0.5",
+        "--dr",
+        "0.5",
+        "--json",
+    )
+    assert p.returncode == 0, p.stderr
+    d = json.loads(p.stdout)
+    assert d["method"] == "adaptive" and d["status"] == "ok"
+    assert 0 < d["cor"] <= (1 - 0.5 / 3) ** 0.5  # paper Eq. 23 bound
+    p = _run("cor", "--alpha", "2", "--beta", "0.01", "--contact", "plastic", "--eta", "-1")
+    assert p.returncode == 2 and "eta" in p.stderr

@@ -26,6 +26,20 @@ def _parser() -> argparse.ArgumentParser:
     cor.add_argument("--n-masses", type=int, default=2, help="masses in the chain, in [2, 512]")
     cor.add_argument("--method", default="auto", choices=METHODS)
     cor.add_argument("--max-events", type=int, default=100_000, help="contact budget")
+    law = cor.add_argument_group(
+        "nonlinear laws and numerical methods (two masses; see restitution.nonlinear)"
+    )
+    law.add_argument("--contact", choices=("linear", "plastic"), help="contact law")
+    law.add_argument("--eta", type=float, help="plastic loading exponent, in (0, 10]")
+    law.add_argument("--dr", type=float, help="nominal dissipation ratio, in [(1-eta)/2, 1)")
+    law.add_argument("--structure", choices=("linear", "scissor"), help="structural spring")
+    law.add_argument("--L", dest="L", type=float, help="scissor bar length (> 0)")
+    law.add_argument("--ks-ratio", type=float, help="scissor spring ks/k2")
+    law.add_argument("--theta0", type=float, help="scissor rest half angle, in (0, pi/2)")
+    law.add_argument("--corner", type=float, help="scissor corner-stiffening stroke fraction")
+    law.add_argument("--v0", type=float, help="impact speed (nonlinear laws depend on it)")
+    law.add_argument("--rtol", type=float, help="adaptive/reference relative tolerance")
+    law.add_argument("--step", type=float, help="Verlet step, fraction of the shortest period")
     cor.add_argument("--history", action="store_true", help="also print every contact")
     cor.add_argument("--json", action="store_true", help="print one JSON object")
 
@@ -42,6 +56,8 @@ def _parser() -> argparse.ArgumentParser:
 def _cor(args) -> int:
     from .api import solve
 
+    law_keys = ("contact", "eta", "dr", "structure", "L", "ks_ratio", "theta0", "corner", "v0")
+    law = {k: getattr(args, k) for k in (*law_keys, "rtol", "step") if getattr(args, k) is not None}
     r = solve(
         alpha=args.alpha,
         beta=args.beta,
@@ -50,6 +66,7 @@ def _cor(args) -> int:
         method=args.method,
         history=args.history,
         max_events=args.max_events,
+        **law,
     )
     if args.json:
         d = r.to_dict(history=args.history)
@@ -67,6 +84,7 @@ def _cor(args) -> int:
         print(f"e_dissipated     {r.e_dissipated:.15g}")
         print(f"method           {r.method}")
         print(f"status           {r.status}")
+        print(f"error_estimate   {r.error_estimate:.3g}")
         if args.history and r.history is not None:
             print(r.history.to_string())
     return 0 if r.success else 3

@@ -84,6 +84,19 @@ def provenance(config=None) -> dict:
     }
 
 
+def methods_summary(frame: pd.DataFrame) -> dict | None:
+    """Rows and largest error estimate per method used (None for a table without results)."""
+    if "method" not in frame:
+        return None
+    summary = {}
+    for method, rows in frame.groupby("method", sort=True):
+        entry = {"rows": int(len(rows))}
+        if "error_estimate" in rows:
+            entry["max_error_estimate"] = float(rows["error_estimate"].max())
+        summary[str(method)] = entry
+    return summary
+
+
 def schema_for(frame: pd.DataFrame) -> pa.Schema:
     """Explicit types for the contract columns; the others as pandas infers them."""
     inferred = pa.Schema.from_pandas(frame, preserve_index=False)
@@ -108,6 +121,7 @@ def write_table(frame: pd.DataFrame, path, *, config=None, extra: dict | None = 
             frame.to_csv(tmp, index=False)
         elif path.suffix == ".parquet":
             meta = provenance(config)
+            meta["methods"] = methods_summary(frame)
             if extra:
                 meta.update(extra)
             table = pa.Table.from_pandas(
