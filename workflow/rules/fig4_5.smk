@@ -182,7 +182,10 @@ rule fig4c:
             "figures/fig4c.png",
             caption="../report/fig4c.rst",
             category="Fig. 4",
-            labels={"figure": "4(c)", "quantity": "COR vs alpha, several eta, beta = 0.01"},
+            labels={
+                "figure": "4(c)",
+                "quantity": "COR vs alpha, several eta, beta = 0.01",
+            },
         ),
         pdf="figures/fig4c.pdf",
     log:
@@ -209,7 +212,10 @@ rule fig4d:
             "figures/fig4d.png",
             caption="../report/fig4d.rst",
             category="Fig. 4",
-            labels={"figure": "4(d)", "quantity": "COR vs alpha, several eta, beta = 0.1"},
+            labels={
+                "figure": "4(d)",
+                "quantity": "COR vs alpha, several eta, beta = 0.1",
+            },
         ),
         pdf="figures/fig4d.pdf",
     log:
@@ -236,7 +242,10 @@ rule fig5a:
             "figures/fig5a.png",
             caption="../report/fig5a.rst",
             category="Fig. 5",
-            labels={"figure": "5(a)", "quantity": "scissor spring force vs displacement"},
+            labels={
+                "figure": "5(a)",
+                "quantity": "scissor spring force vs displacement",
+            },
         ),
         pdf="figures/fig5a.pdf",
     log:
@@ -264,7 +273,10 @@ rule fig5b:
             "figures/fig5b.png",
             caption="../report/fig5b.rst",
             category="Fig. 5",
-            labels={"figure": "5(b)", "quantity": "COR vs alpha, scissor spring, several L"},
+            labels={
+                "figure": "5(b)",
+                "quantity": "COR vs alpha, scissor spring, several L",
+            },
         ),
         pdf="figures/fig5b.pdf",
     log:

@@ -115,7 +115,7 @@ def draw_sweep(name, sweep, panel, logger):
             ax.plot(bad["alpha"], bad["cor"].clip(0, 1.02), "x", color=RED, ms=3, zorder=5)
         logger.info("%s: %d rows ok, COR min %.5f", label, len(ok), ok["cor"].min())
     if n_bad_total:
-        ax.plot([], [], "x", color=RED, ms=3, label=f"not converged ({n_bad_total})")
+        ax.plot([], [], "x", color=RED, ms=3, label=f"status not ok ({n_bad_total})")
     a = np.geomspace(sweep["alpha"].min(), sweep["alpha"].max(), 400)
     if name in ("c", "d"):
         ax.plot(
@@ -153,9 +153,10 @@ def main(sweep_path, png_path, pdf_path, params, logger):
     else:
         sweep = read_table(sweep_path)
         expected = len(panel["drs"] if name == "b" else panel["etas"]) + 1
-        if sweep["curve"].nunique() != expected or not np.isclose(
-            sweep["beta"].unique(), panel["beta"]
-        ).all():
+        if (
+            sweep["curve"].nunique() != expected
+            or not np.isclose(sweep["beta"].unique(), panel["beta"]).all()
+        ):
             raise ValueError(
                 f"{sweep_path}: {sweep['curve'].nunique()} curves at beta "
                 f"{sorted(sweep['beta'].unique())}, expected {expected} at beta {panel['beta']}"

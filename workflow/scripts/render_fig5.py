@@ -119,7 +119,7 @@ def draw_b(sweep, spring, panel, logger):
             ok.loc[i, "alpha"],
         )
     if n_bad_total:
-        ax.plot([], [], "x", color=RED, ms=3, label=f"not converged ({n_bad_total})")
+        ax.plot([], [], "x", color=RED, ms=3, label=f"status not ok ({n_bad_total})")
     plotting.log_axis(ax, "x")
     ax.set_xlim(sweep["alpha"].min(), sweep["alpha"].max())
     ax.set_ylim(0.0, 1.02)

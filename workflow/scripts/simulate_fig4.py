@@ -18,7 +18,6 @@ so numbers quoted in prose come from a generated file.
 The sweep machinery (``sweep_curve``, ``local_minima``) is shared with ``simulate_fig5.py``.
 """
 
-
 import numpy as np
 import pandas as pd
 
@@ -43,7 +42,9 @@ def refine(table: pd.DataFrame, evaluate, steps: int, logger, label: str) -> pd.
     alpha = table["alpha"].to_numpy()
     count = table["n_collisions"].to_numpy()
     jumps = np.flatnonzero(count[1:] != count[:-1])
-    logger.info("%s: %d changes of the contact count, %d bisection steps each", label, len(jumps), steps)
+    logger.info(
+        "%s: %d changes of the contact count, %d bisection steps each", label, len(jumps), steps
+    )
     if steps == 0 or len(jumps) == 0:
         return table.iloc[:0]
     lo, hi, n_lo = alpha[jumps], alpha[jumps + 1], count[jumps]
@@ -151,7 +152,9 @@ def check_bound(curve: pd.DataFrame, logger, label: str) -> dict:
     excess = ok["cor"].to_numpy() - eq23_bound(ok["alpha"].to_numpy(), ok["dr"].to_numpy())
     above = int((excess > 0).sum())
     if above:
-        logger.warning("%s: %d rows above the Eq. 23 bound (max excess %.3g)", label, above, excess.max())
+        logger.warning(
+            "%s: %d rows above the Eq. 23 bound (max excess %.3g)", label, above, excess.max()
+        )
     tolerance = ok["error_estimate"].fillna(0.0).to_numpy()
     beyond = excess > tolerance
     if beyond.any():
@@ -185,7 +188,9 @@ def main(params, output_path, summary_path, logger) -> pd.DataFrame:
     tables, summary = [], []
     for law in curves(panel):
         label = f"fig4{params.name} {law['contact']} eta={law['eta']:g} DR={law['dr']:g}"
-        curve = sweep_curve(evaluator(law, sweep, solver), alphas, sweep["refine_steps"], logger, label)
+        curve = sweep_curve(
+            evaluator(law, sweep, solver), alphas, sweep["refine_steps"], logger, label
+        )
         row = dict(law, n_rows=len(curve), n_not_ok=log_not_ok(curve, logger, label))
         row.update(minima_columns(curve))
         if law["contact"] == "plastic":

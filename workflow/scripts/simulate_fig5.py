@@ -9,7 +9,6 @@ solver) is added as the reference curve. Cusps refined on the contact count as i
 (``simulate_fig4.sweep_curve``); per-curve minima written as a CSV summary.
 """
 
-
 import math
 
 import numpy as np
@@ -62,8 +61,9 @@ def evaluator(law: dict, panel: dict, solver: dict):
 
 
 def main(params, output_path, summary_path, logger) -> pd.DataFrame:
-    from restitution.io import write_table
     from simulate_fig4 import alpha_grid, log_not_ok, minima_columns, sweep_curve
+
+    from restitution.io import write_table
 
     spring, panel, solver = params.spring, params.panel, params.solver
     alphas = alpha_grid(panel)
