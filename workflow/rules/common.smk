@@ -137,7 +137,7 @@ def beta_label(beta):
     return short if float(short) == beta else repr(beta)
 
 
-# Package modules each stage runs, as rule inputs: editing one reruns exactly what depends on it
+# Package modules each stage runs are inputs of its jobs, so editing one reruns exactly what uses it
 # (Snakemake cannot see imports). Plotting code is never listed, so restyling reruns no simulation.
 EXACT_SOLVER_MODULES = (
     "__init__.py",
