@@ -9,7 +9,14 @@
 
 FIG7_GRID = {
     key: config["fig7"][key]
-    for key in ("beta", "alpha_min", "alpha_max", "n_alpha", "chunk_size", "refine_steps")
+    for key in (
+        "beta",
+        "alpha_min",
+        "alpha_max",
+        "n_alpha",
+        "chunk_size",
+        "refine_steps",
+    )
 }
 FIG7_CHUNK_TABLES = expand(
     "results/fig7/xi~{xi}/chunk_{chunk}.parquet",
