@@ -1,0 +1,102 @@
+"""Render Fig. 6(b): COR of the chain of N masses against x = (N-1)*alpha on a log axis, one
+curve per N, with the first-contact branch e1 = (1 - x)/(1 + x) (Appendix) as a thin grey line.
+
+Only rows with status "ok" are drawn (others are counted in the log). The first minima of each
+curve are written to the log.
+"""
+
+import numpy as np
+import pandas as pd
+
+COLOURS = {2: "#000000", 3: "#E69F00", 5: "#56B4E9", 10: "#D55E00"}
+SPARE = ["#009E73", "#CC79A7", "#0072B2", "#F0E442"]
+
+
+def cusp_minima(curve: pd.DataFrame, count: int = 3) -> list[tuple[float, float]]:
+    """(x, cor) of the first ``count`` local minima of a curve sorted by x."""
+    cor = curve["cor"].to_numpy()
+    inner = np.flatnonzero((cor[1:-1] < cor[:-2]) & (cor[1:-1] <= cor[2:])) + 1
+    x = curve["x"].to_numpy()
+    return [(float(x[i]), float(cor[i])) for i in inner[:count]]
+
+
+def draw(sweep: pd.DataFrame, n_masses, logger):
+    """The Fig. 6(b) figure (a matplotlib Figure on an Agg canvas)."""
+    from restitution import plotting
+
+    fig = plotting.new_figure("onehalf", aspect=0.58)
+    ax = fig.add_subplot()
+    spare = iter(SPARE * (1 + len(n_masses)))
+    x_lo, x_hi = sweep["x"].min(), sweep["x"].max()
+    branch = np.geomspace(x_lo, min(x_hi, 0.95), 200)
+    ax.plot(
+        branch,
+        (1 - branch) / (1 + branch),
+        color="0.6",
+        lw=2.2,
+        zorder=1,
+        label=r"$(1-x)/(1+x)$",
+    )
+    for n in sorted(n_masses):
+        rows = sweep["n_masses"] == n
+        curve = sweep[rows & (sweep["status"] == "ok")].sort_values("x")
+        dropped = int((rows & (sweep["status"] != "ok")).sum())
+        if curve.empty:
+            raise ValueError(f"no rows with status ok for N = {n} in the sweep table")
+        if dropped:
+            logger.warning("N = %d: %d rows not ok, not drawn", n, dropped)
+        ax.plot(
+            curve["x"],
+            curve["cor"],
+            color=COLOURS.get(n) or next(spare),
+            lw=1.1 if n == 2 else 0.8,
+            zorder=3 if n == 2 else 2,
+            label=rf"$N = {n}$",
+        )
+        logger.info(
+            "N = %d: first minima (x, COR) %s",
+            n,
+            ", ".join(f"({a:.4f}, {c:.4f})" for a, c in cusp_minima(curve)),
+        )
+    plotting.log_axis(ax, "x")
+    ax.set_xlim(x_lo, x_hi)
+    ax.set_ylim(0.0, 1.02)
+    ax.set_xlabel(r"rear mass ratio $x = (N-1)\,\alpha$")
+    ax.set_ylabel("coefficient of restitution $e$")
+    ax.legend(loc="lower right")
+    return fig
+
+
+def main(sweep_path, png_path, pdf_path, params, logger):
+    from pathlib import Path
+
+    from restitution import plotting
+    from restitution.io import read_table
+
+    sweep = read_table(sweep_path)
+    for column in ("x", "n_masses", "cor", "status"):
+        if column not in sweep:
+            raise ValueError(f"{sweep_path}: no column {column!r} (not a Fig. 6(b) sweep table)")
+    missing = sorted(set(params.n_masses) - set(sweep["n_masses"].unique()))
+    if missing:
+        raise ValueError(f"{sweep_path}: no rows for N = {missing}")
+    fig = draw(sweep, params.n_masses, logger)
+    stem = Path(png_path).with_suffix("")
+    if Path(pdf_path).with_suffix("") != stem:
+        raise ValueError(f"png and pdf outputs must share a stem: {png_path}, {pdf_path}")
+    for path in plotting.save_figure(fig, stem, formats=("png", "pdf")):
+        logger.info("wrote %s", path)
+
+
+if __name__ == "__main__":
+    from _common import Timer, setup
+
+    log = setup(snakemake, numba=False)  # noqa: F821 (injected by Snakemake)
+    with Timer(log, "render"):
+        main(
+            snakemake.input.sweep,  # noqa: F821
+            snakemake.output.png,  # noqa: F821
+            snakemake.output.pdf,  # noqa: F821
+            snakemake.params,  # noqa: F821
+            log,
+        )

@@ -1,0 +1,284 @@
+"""Fig. 3 simulations (paper Sec. 3.1): the contact stiffness beta = k2/k1 at a fixed mass ratio.
+
+Two rules run this script (chosen by the rule name):
+
+``simulate_fig3a``
+    COR against beta on a log-spaced grid for every alpha of ``fig3.sweep``. The COR minima are
+    cusps at the beta where one more contact just grazes the wall (the contact count changes, the
+    COR is continuous with a kink), so between grid neighbours whose counts differ the beta
+    bracket is bisected ``refine_steps`` times on the count (geometric midpoints, all brackets of
+    one alpha at once) and every point evaluated is kept, as for Fig. 2(a). Writes the sweep and
+    its local COR minima (CSV).
+
+``simulate_fig3b``
+    The contact compression x1 = -u1 (units V0/omega; 0 out of contact) against omega*t for the
+    betas of ``fig3.compression``, sampled in closed form (``sample_linear``) on a uniform grid
+    plus the exact start and end times of every contact; the per-contact history (start, end,
+    largest compression); and the marginal beta: the bracket ``marginal_bracket`` is bisected on
+    the contact count until the round-off, giving the beta at which the last contact appears.
+"""
+
+import numpy as np
+import pandas as pd
+
+
+# ---------------------------------------------------------------------------------------------
+# Fig. 3(a)
+# ---------------------------------------------------------------------------------------------
+def solve_betas(alpha: float, betas, solver: dict, progress: bool = False) -> pd.DataFrame:
+    """One row per beta at mass ratio ``alpha`` (two masses, no dashpot)."""
+    import restitution
+
+    scenes = pd.DataFrame(
+        {
+            "alpha": float(alpha),
+            "beta": np.asarray(betas, dtype=np.float64),
+            "xi": 0.0,
+            "n_masses": 2,
+            "method": solver["method"],
+        }
+    )
+    return restitution.solve_many(scenes, max_events=solver["max_events"], progress=progress)
+
+
+def refine(table: pd.DataFrame, alpha: float, solver: dict, steps: int, logger) -> pd.DataFrame:
+    """Bisect (on log beta) every grid interval whose contact count changes; the new rows."""
+    table = table.sort_values("beta")
+    beta = table["beta"].to_numpy()
+    count = table["n_collisions"].to_numpy()
+    jumps = np.flatnonzero(count[1:] != count[:-1])
+    logger.info(
+        "alpha %g: %d changes of the contact count to refine, %d steps each",
+        alpha,
+        len(jumps),
+        steps,
+    )
+    if steps == 0 or len(jumps) == 0:
+        return table.iloc[:0]
+    lo, hi, n_lo = beta[jumps], beta[jumps + 1], count[jumps]
+    rows = []
+    for _ in range(steps):
+        mid = np.sqrt(lo * hi)
+        new = solve_betas(alpha, mid, solver)
+        rows.append(new)
+        same = new["n_collisions"].to_numpy() == n_lo
+        lo = np.where(same, mid, lo)
+        hi = np.where(same, hi, mid)
+    logger.info(
+        "alpha %g: count changes at beta %s (brackets <= %.2g decades)",
+        alpha,
+        ", ".join(f"{b:.10g}" for b in np.sqrt(lo * hi)),
+        np.log10(hi / lo).max(),
+    )
+    return pd.concat(rows, ignore_index=True)
+
+
+def local_minima(sweep: pd.DataFrame) -> pd.DataFrame:
+    """Rows (status ok) whose COR is below both neighbours along beta, per alpha, numbered."""
+    rows = []
+    for _, curve in sweep[sweep["status"] == "ok"].groupby("alpha", sort=True):
+        curve = curve.sort_values("beta")
+        cor = curve["cor"].to_numpy()
+        inner = np.flatnonzero((cor[1:-1] < cor[:-2]) & (cor[1:-1] <= cor[2:])) + 1
+        found = curve.iloc[inner][["alpha", "beta", "cor", "n_collisions"]].copy()
+        found.insert(1, "minimum", np.arange(1, len(found) + 1))
+        rows.append(found)
+    columns = ["alpha", "minimum", "beta", "cor", "n_collisions"]
+    return pd.concat(rows, ignore_index=True) if rows else pd.DataFrame(columns=columns)
+
+
+def check_sweep(params: dict) -> None:
+    if not params["beta_min"] < params["beta_max"]:
+        raise ValueError(
+            f"fig3.sweep.beta_max = {params['beta_max']!r} must exceed "
+            f"fig3.sweep.beta_min = {params['beta_min']!r}"
+        )
+
+
+def main_sweep(params, sweep_path, minima_path, logger, progress=False) -> pd.DataFrame:
+    from restitution.io import write_table
+
+    sweep, solver = dict(params.sweep), dict(params.solver)
+    check_sweep(sweep)
+    grid = np.geomspace(sweep["beta_min"], sweep["beta_max"], sweep["n_beta"])
+    curves = []
+    for alpha in sweep["alphas"]:
+        table = solve_betas(alpha, grid, solver, progress=progress).assign(refined=False)
+        extra = refine(table, alpha, solver, sweep["refine_steps"], logger).assign(refined=True)
+        curves.append(pd.concat([table, extra], ignore_index=True))
+    result = (
+        pd.concat(curves, ignore_index=True)
+        .drop_duplicates(subset=["alpha", "beta"], keep="first")
+        .sort_values(["alpha", "beta"], ignore_index=True)
+    )
+    bad = result["status"] != "ok"
+    if bad.any():
+        logger.warning(
+            "%d of %d scenes not ok: %s",
+            bad.sum(),
+            len(result),
+            result.loc[bad, "status"].value_counts().to_dict(),
+        )
+    config = {"fig3": {"sweep": sweep}, "solver": solver}
+    write_table(result, sweep_path, config=config)
+    minima = local_minima(result)
+    write_table(minima, minima_path, config=config)
+    for alpha, group in minima.groupby("alpha"):
+        logger.info(
+            "alpha %g: COR minima (beta, COR, contacts) %s",
+            alpha,
+            ", ".join(
+                f"({b:.6g}, {c:.6f}, {n})"
+                for b, c, n in zip(group.beta, group.cor, group.n_collisions, strict=True)
+            ),
+        )
+    return result
+
+
+# ---------------------------------------------------------------------------------------------
+# Fig. 3(b)
+# ---------------------------------------------------------------------------------------------
+def compression_curve(alpha: float, beta: float, t_max: float, n_times: int, history):
+    """(omega*t, compression) with the exact contact start and end times among the samples."""
+    from restitution.kernels.linear import sample_linear
+
+    events = np.concatenate([history["omega_t_start"], history["omega_t_end"]])
+    times = np.union1d(np.linspace(0.0, t_max, n_times), events[events <= t_max])
+    u, _v = sample_linear(alpha, beta, 0.0, 2, times)
+    compression = np.maximum(-u[:, 0], 0.0)
+    # At the exact switching times the closed form leaves |u1| at round-off: make it zero.
+    compression[np.isin(times, events)] = 0.0
+    return times, compression
+
+
+def marginal_beta(alpha: float, bracket, steps: int, solver: dict, logger) -> dict:
+    """Bisect ``bracket`` (geometric midpoints) on the contact count; one row of the CSV."""
+    import restitution
+
+    lo, hi = (float(b) for b in bracket)
+    if not 0 < lo < hi:
+        raise ValueError(
+            f"fig3.compression.marginal_bracket = {list(bracket)!r}: need 0 < low < high"
+        )
+
+    def count(beta):
+        r = restitution.solve(alpha, beta, method=solver["method"], max_events=solver["max_events"])
+        return r.n_collisions, r.cor
+
+    n_lo, cor_lo = count(lo)
+    n_hi, cor_hi = count(hi)
+    if n_lo == n_hi:
+        raise ValueError(
+            f"fig3.compression.marginal_bracket = {list(bracket)!r}: the number of contacts is "
+            f"{n_lo} at both ends (alpha = {alpha}); widen the bracket around the change"
+        )
+    for _ in range(steps):
+        mid = float(np.sqrt(lo * hi))
+        if mid in (lo, hi):
+            break
+        n_mid, cor_mid = count(mid)
+        if n_mid == n_lo:
+            lo, cor_lo = mid, cor_mid
+        else:
+            hi, n_hi, cor_hi = mid, n_mid, cor_mid
+    beta_star = float(np.sqrt(lo * hi))
+    last = restitution.solve(alpha, lo if n_lo > n_hi else hi, history=True).history
+    row = {
+        "alpha": alpha,
+        "beta_marginal": beta_star,
+        "beta_low": lo,
+        "beta_high": hi,
+        "n_collisions_low": n_lo,
+        "n_collisions_high": n_hi,
+        "cor_low": cor_lo,
+        "cor_high": cor_hi,
+        "last_contact_x_max": float(last["x_max"].iloc[-1]),
+        "paper_beta": 0.1,
+        "relative_difference": beta_star / 0.1 - 1.0,
+    }
+    logger.info(
+        "alpha %g: contacts %d -> %d at beta = %.15g (bracket width %.2g), COR %.9f / %.9f, "
+        "the vanishing contact's largest compression %.3g",
+        alpha,
+        n_lo,
+        n_hi,
+        beta_star,
+        hi - lo,
+        cor_lo,
+        cor_hi,
+        row["last_contact_x_max"],
+    )
+    return row
+
+
+def main_compression(params, paths, logger) -> pd.DataFrame:
+    import restitution
+    from restitution.io import write_table
+
+    comp, solver = dict(params.compression), dict(params.solver)
+    alpha = float(comp["alpha"])
+    curves, contacts = [], []
+    for beta in comp["betas"]:
+        result = restitution.solve(
+            alpha, beta, method=solver["method"], max_events=solver["max_events"], history=True
+        )
+        hist = result.history
+        if hist["omega_t_end"].iloc[-1] > comp["t_max"]:
+            logger.warning(
+                "beta %g: the last contact ends at omega*t = %.3f, after t_max = %g",
+                beta,
+                hist["omega_t_end"].iloc[-1],
+                comp["t_max"],
+            )
+        times, x = compression_curve(alpha, beta, comp["t_max"], comp["n_times"], hist)
+        curves.append(
+            pd.DataFrame({"alpha": alpha, "beta": float(beta), "omega_t": times, "compression": x})
+        )
+        contacts.append(
+            hist.assign(
+                alpha=alpha, beta=float(beta), contact=np.arange(1, len(hist) + 1), cor=result.cor
+            )
+        )
+        logger.info(
+            "beta %g: %d contacts, COR %.6f, contacts end at omega*t %s, largest compressions %s",
+            beta,
+            result.n_collisions,
+            result.cor,
+            ", ".join(f"{t:.4f}" for t in hist["omega_t_end"]),
+            ", ".join(f"{v:.4g}" for v in hist["x_max"]),
+        )
+    config = {"fig3": {"compression": comp}, "solver": solver}
+    write_table(pd.concat(curves, ignore_index=True), paths.compression, config=config)
+    columns = [
+        "alpha",
+        "beta",
+        "contact",
+        "omega_t_start",
+        "omega_t_end",
+        "x_max",
+        "impulse",
+        "cor",
+    ]
+    write_table(pd.concat(contacts, ignore_index=True)[columns], paths.contacts, config=config)
+    row = marginal_beta(alpha, comp["marginal_bracket"], comp["marginal_steps"], solver, logger)
+    write_table(pd.DataFrame([row]), paths.marginal, config=config)
+    return pd.DataFrame([row])
+
+
+if __name__ == "__main__":
+    from _common import Timer, setup, show_progress
+
+    log = setup(snakemake)  # noqa: F821 (injected by Snakemake)
+    with Timer(log, snakemake.rule):  # noqa: F821
+        if snakemake.rule == "simulate_fig3a":  # noqa: F821
+            main_sweep(
+                snakemake.params,  # noqa: F821
+                snakemake.output.sweep,  # noqa: F821
+                snakemake.output.minima,  # noqa: F821
+                log,
+                progress=show_progress(),
+            )
+        elif snakemake.rule == "simulate_fig3b":  # noqa: F821
+            main_compression(snakemake.params, snakemake.output, log)  # noqa: F821
+        else:
+            raise ValueError(f"simulate_fig3.py does not serve rule {snakemake.rule!r}")  # noqa: F821
