@@ -61,7 +61,7 @@ def draw_a(panel, logger):
             mutation_scale=6),
         )  # fmt: skip
     ax.set_xlim(0.0, None)
-    ax.set_ylim(0.0, None)
+    ax.set_ylim(0.0, 1.3)  # headroom: the legend sits above the loops (Fmax < 1)
     ax.set_xlabel(r"penetration $x\,\sqrt{k_1/m_1}\,/\,V_0$")
     ax.set_ylabel(r"contact force $F_1 / (V_0\sqrt{m_1 k_1})$")
     ax.legend(loc="upper right", title=rf"$\mathrm{{DR}} = {panel['dr']:g}$")
