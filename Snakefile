@@ -17,6 +17,7 @@ include: "workflow/rules/common.smk"
 include: "workflow/rules/sweeps.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/approx.smk"
+include: "workflow/rules/fig4_5.smk"
 
 
 rule all:
@@ -31,3 +32,15 @@ rule all:
         rules.render_fig2d.output.png,
         rules.render_fig2d.output.pdf,
         rules.approx_finite_beta.output.table,
+        rules.fig4a.output.png,
+        rules.fig4a.output.pdf,
+        rules.fig4b.output.png,
+        rules.fig4b.output.pdf,
+        rules.fig4c.output.png,
+        rules.fig4c.output.pdf,
+        rules.fig4d.output.png,
+        rules.fig4d.output.pdf,
+        rules.fig5a.output.png,
+        rules.fig5a.output.pdf,
+        rules.fig5b.output.png,
+        rules.fig5b.output.pdf,

@@ -110,6 +110,46 @@ def check_config(config, schema_path=SCHEMA):
             f"method = 'piecewise' needs beta > 0, but fig2a.betas = {betas!r} contains 0: "
             "use 'auto' (or 'impulsive' with betas [0])"
         )
+    fig4 = config.get("fig4", {})
+    for name, panel in sorted(fig4.items()):
+        if name == "sweep" or not isinstance(panel, dict):
+            continue
+        etas = panel.get("etas", [panel.get("eta")])
+        drs = panel.get("drs", [panel.get("dr")])
+        for eta in etas:
+            for dr in drs:
+                if isinstance(eta, (int, float)) and isinstance(dr, (int, float)):
+                    if dr < (1 - eta) / 2:
+                        problems.append(
+                            f"fig4.{name}: DR = {dr!r} with eta = {eta!r}: DR must be >= "
+                            f"(1 - eta)/2 = {(1 - eta) / 2:g} (the residual dent would be negative)"
+                        )
+    for key in ("sweep",):
+        grid = fig4.get(key, {})
+        lo, hi = grid.get("alpha_min"), grid.get("alpha_max")
+        if (
+            isinstance(lo, (int, float))
+            and isinstance(hi, (int, float))
+            and not lo < hi
+        ):
+            problems.append(
+                f"fig4.{key}.alpha_max = {hi!r}: must exceed alpha_min = {lo!r}"
+            )
+    fig5 = config.get("fig5", {})
+    spring, grid5 = fig5.get("spring", {}), fig5.get("b", {})
+    try:
+        ratio = spring["ks_over_k1"] / spring["beta"]
+        cap = math.tan(math.radians(spring["theta0_deg"])) ** 2
+        if not ratio < cap:
+            problems.append(
+                f"fig5.spring: ks_over_k1/beta = {ratio:g} must be < tan(theta0)**2 = {cap:g} "
+                "(the scissor's rest slope must stay below the cap k2)"
+            )
+    except (KeyError, TypeError, ZeroDivisionError):
+        pass
+    lo, hi = grid5.get("alpha_min"), grid5.get("alpha_max")
+    if isinstance(lo, (int, float)) and isinstance(hi, (int, float)) and not lo < hi:
+        problems.append(f"fig5.b.alpha_max = {hi!r}: must exceed alpha_min = {lo!r}")
     if problems:
         raise WorkflowError(
             "Invalid configuration (config/config.yaml plus any --configfile/--config):\n  "
