@@ -7,7 +7,7 @@
 
 Rows with status "ok" are drawn as curves. Any other row (aggregate_fig7 has already failed the
 run if there are more than ``max_not_ok_fraction`` of them) is logged and marked with a red cross
-at its value (at the bottom of the axes if the value is not finite), never drawn as data.
+along the bottom of the axes at its alpha, never drawn as data (its values are not final).
 """
 
 import numpy as np
@@ -27,25 +27,25 @@ def xi_text(xi: float) -> str:
     return rf"$\xi = {xi:g}$"
 
 
-def mark_not_ok(ax, rows: pd.DataFrame, column: str, logger, xi: float, first: bool) -> bool:
-    """Red crosses at the rows whose status is not ok; returns True if any were drawn."""
-    if rows.empty:
-        return False
-    logger.warning(
-        "xi %g: %d rows not ok %s, marked (not drawn as data) at alpha %s",
-        xi,
-        len(rows),
-        rows["status"].value_counts().to_dict(),
-        ", ".join(f"{a:.6g}" for a in rows["alpha"].head(20)),
-    )
-    y = rows[column].to_numpy(dtype=float)
-    finite = np.isfinite(y)
-    ax.plot(rows["alpha"][finite], y[finite], "x", color="red", ms=4, mew=0.8, zorder=5,
-            label="status not ok" if first else None)  # fmt: skip
-    if (~finite).any():
-        ax.plot(rows["alpha"][~finite], np.zeros((~finite).sum()), "x", color="red", ms=4,
-                mew=0.8, zorder=5, clip_on=False, transform=ax.get_xaxis_transform())  # fmt: skip
-    return True
+def mark_not_ok(ax, bad: pd.DataFrame, logger) -> None:
+    """Red crosses along the bottom of the axes at the alphas of rows whose status is not ok.
+
+    Their values are not final (e.g. the contact budget ran out), so they are shown where they
+    are, never at a value; the log lists them per xi.
+    """
+    for xi, rows in bad.groupby("xi", sort=True):
+        logger.warning(
+            "xi %g: %d rows not ok %s, marked at the bottom, not drawn as data, at alpha %s",
+            xi,
+            len(rows),
+            rows["status"].value_counts().to_dict(),
+            ", ".join(f"{a:.6g}" for a in rows["alpha"].head(20)),
+        )
+    if bad.empty:
+        return
+    ax.plot(bad["alpha"], np.full(len(bad), 0.03), "x", color="red", ms=4, mew=0.8, zorder=5,
+            clip_on=False, transform=ax.get_xaxis_transform(),
+            label=f"status not ok ({len(bad)} rows)")  # fmt: skip
 
 
 def draw(sweep: pd.DataFrame, panel: str, fig7: dict, logger):
@@ -55,19 +55,18 @@ def draw(sweep: pd.DataFrame, panel: str, fig7: dict, logger):
     column, ylabel = PANELS[panel]
     fig = plotting.new_figure("single", aspect=0.72)
     ax = fig.add_subplot()
-    marked = False
     for i, xi in enumerate(sorted(fig7["xis"])):
         rows = sweep[sweep["xi"] == xi].sort_values("alpha")
         curve = rows[rows["status"] == "ok"]
         if curve.empty:
             raise ValueError(f"no rows with status ok for xi = {xi} in the sweep table")
         colour = COLOURS[i % len(COLOURS)]
+        # Rows not ok become NaN: the curve is broken there instead of bridged across them.
+        y = rows[column].where(rows["status"] == "ok").astype(float)
         if panel == "b":
-            ax.step(curve["alpha"], curve["n_collisions"], where="post", color=colour, lw=0.8,
-                    label=xi_text(xi))  # fmt: skip
+            ax.step(rows["alpha"], y, where="post", color=colour, lw=0.8, label=xi_text(xi))
         else:
-            ax.plot(curve["alpha"], curve[column], color=colour, lw=0.8, label=xi_text(xi))
-        marked |= mark_not_ok(ax, rows[rows["status"] != "ok"], column, logger, xi, not marked)
+            ax.plot(rows["alpha"], y, color=colour, lw=0.8, label=xi_text(xi))
         logger.info(
             "xi %g: %d rows drawn, %s %.5g..%.5g",
             xi,
@@ -76,6 +75,8 @@ def draw(sweep: pd.DataFrame, panel: str, fig7: dict, logger):
             curve[column].min(),
             curve[column].max(),
         )
+    drawn = sweep["xi"].isin([float(xi) for xi in fig7["xis"]])
+    mark_not_ok(ax, sweep[drawn & (sweep["status"] != "ok")], logger)
     plotting.log_axis(ax, "x")
     ax.set_xlim(fig7["alpha_min"], fig7["alpha_max"])
     ax.set_xlabel(r"mass ratio $\alpha = m_2/m_1$")
