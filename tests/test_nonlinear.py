@@ -141,3 +141,17 @@ def test_many_matches_single_scenes_and_names_a_bad_row():
     bad.loc[3, "L"] = -1.0
     with pytest.raises(SceneError, match=r"L .*row 3"):
         solve_nonlinear_many(bad)
+
+
+def test_energy_creating_plastic_reload_is_flagged():
+    # eta = 2 at beta = 0.1: a reload past the earlier maximum climbs a loading curve steeper than
+    # the unloading slope k1, so unloading returns more than loading stored (the paper's law is
+    # not passive there). The result must not pass as good: COR > 1 flagged by the energy check.
+    from restitution import solve
+
+    r = solve(alpha=93.0, beta=0.1, contact="plastic", eta=2.0, dr=0.5)
+    assert r.e_dissipated < 0 and r.cor > 1.0
+    assert r.status == "energy_account_open"
+    # Passive settings of the same scene stay ok and below the Eq. 23 bound.
+    ok = solve(alpha=93.0, beta=0.1, contact="plastic", eta=1.0, dr=0.5)
+    assert ok.status == "ok" and ok.cor <= (1 - 0.5 / 94.0) ** 0.5

@@ -21,7 +21,8 @@ dent), a lower bound: its turn is not an event since the force law does not chan
 
 Energy account (fractions of E0 = (1 + alpha) v0**2/2, at the final separation): e_trans = cor**2,
 e_vib = relative kinetic + structural energy, e_diss = W + D (contact + dashpot, integrated as
-extra ODE components, independent of the other two). |sum - 1| > etol -> STATUS_ENERGY.
+extra ODE components, independent of the other two). |sum - 1| > etol -> STATUS_ENERGY, and so
+does a negative net contact work (a passive contact cannot create energy; see solve_scene).
 """
 
 import math
@@ -268,6 +269,11 @@ def solve_scene(
     out[OUT_NEVENTS] = ncol
     out[OUT_ERR] = err / (m * v0)
     if status == STATUS_OK and not abs(acct[4]) <= etol:
+        status = STATUS_ENERGY
+    # A passive contact returns at most what it absorbed: net contact work < 0 means the law
+    # created energy (the paper's plastic law can, when eta > 1 makes the loading tangent at a
+    # reload steeper than the unloading slope k1), so the result must not pass as good.
+    if status == STATUS_OK and acct[2] < -etol:
         status = STATUS_ENERGY
     out[OUT_STATUS] = status
     return out
