@@ -10,6 +10,8 @@ import numpy as np
 import pandas as pd
 
 BRANCH_TOLERANCE = 1e-9
+# Local minima closer than this (relative x) are one minimum (the one with the lowest COR).
+SAME_MINIMUM = 1e-6
 
 
 def local_minima(sweep: pd.DataFrame) -> pd.DataFrame:
@@ -20,6 +22,10 @@ def local_minima(sweep: pd.DataFrame) -> pd.DataFrame:
         cor = curve["cor"].to_numpy()
         inner = np.flatnonzero((cor[1:-1] < cor[:-2]) & (cor[1:-1] <= cor[2:])) + 1
         found = curve.iloc[inner][["n_masses", "x", "alpha", "cor", "n_collisions"]].copy()
+        # Round-off ripples at the bottom of a bisected cusp: keep the lowest of each cluster.
+        x = found["x"].to_numpy()
+        cluster = np.concatenate([[0], np.cumsum(x[1:] / x[:-1] - 1 > SAME_MINIMUM)])
+        found = found.loc[found.groupby(cluster)["cor"].idxmin().to_numpy()]
         found.insert(1, "minimum", np.arange(1, len(found) + 1))
         rows.append(found)
     columns = ["n_masses", "minimum", "x", "alpha", "cor", "n_collisions"]
