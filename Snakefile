@@ -16,13 +16,17 @@ report: "workflow/report/workflow.rst"
 include: "workflow/rules/common.smk"
 include: "workflow/rules/sweeps.smk"
 include: "workflow/rules/figures.smk"
+include: "workflow/rules/fig1_3_6.smk"
 include: "workflow/rules/approx.smk"
 include: "workflow/rules/fig4_5.smk"
+include: "workflow/rules/fig7.smk"
 
 
 rule all:
     default_target: True
     input:
+        rules.fig1.output.png,
+        rules.fig1.output.pdf,
         rules.render_fig2a.output.png,
         rules.render_fig2a.output.pdf,
         rules.render_fig2b.output.png,
@@ -32,6 +36,11 @@ rule all:
         rules.render_fig2d.output.png,
         rules.render_fig2d.output.pdf,
         rules.approx_finite_beta.output.table,
+        rules.fig3a.output.png,
+        rules.fig3a.output.pdf,
+        rules.fig3b.output.png,
+        rules.fig3b.output.pdf,
+        rules.simulate_fig3b.output.marginal,
         rules.fig4a.output.png,
         rules.fig4a.output.pdf,
         rules.fig4b.output.png,
@@ -44,3 +53,16 @@ rule all:
         rules.fig5a.output.pdf,
         rules.fig5b.output.png,
         rules.fig5b.output.pdf,
+        rules.fig6a.output.png,
+        rules.fig6a.output.pdf,
+        rules.fig6b.output.png,
+        rules.fig6b.output.pdf,
+        rules.aggregate_fig6b.output.minima,
+        rules.fig7a.output.png,
+        rules.fig7a.output.pdf,
+        rules.fig7b.output.png,
+        rules.fig7b.output.pdf,
+        rules.fig7c.output.png,
+        rules.fig7c.output.pdf,
+        rules.fig7d.output.png,
+        rules.fig7d.output.pdf,

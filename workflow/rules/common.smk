@@ -150,6 +150,10 @@ def check_config(config, schema_path=SCHEMA):
     lo, hi = grid5.get("alpha_min"), grid5.get("alpha_max")
     if isinstance(lo, (int, float)) and isinstance(hi, (int, float)) and not lo < hi:
         problems.append(f"fig5.b.alpha_max = {hi!r}: must exceed alpha_min = {lo!r}")
+    fig7 = config.get("fig7", {})
+    lo, hi = fig7.get("alpha_min"), fig7.get("alpha_max")
+    if isinstance(lo, (int, float)) and isinstance(hi, (int, float)) and not lo < hi:
+        problems.append(f"fig7.alpha_max = {hi!r}: must exceed fig7.alpha_min = {lo!r}")
     if problems:
         raise WorkflowError(
             "Invalid configuration (config/config.yaml plus any --configfile/--config):\n  "
