@@ -317,6 +317,29 @@ def test_critical_damping_is_continuous(alpha):
         assert abs(out[OUT_EDISS] - ref[OUT_EDISS]) < 1e-7
 
 
+# Rigid-wall dashpot chatter (hundreds to ~1700 contacts, approach speeds down to ~1e-5, all
+# before _STICK_AFTER) re-run in 50-digit arithmetic (mpmath, same impulsive model: closed-form
+# flight, every contact root bracketed and polished to 1e-42). alpha, xi, COR, contacts, time.
+_CHATTER_REFERENCE = [
+    (8.038352633891236, 2.5, 0.151948700646928112140392964842, 1725, 6.38293979400627069610923787),
+    (7.4868557280431896, 2.5, 0.144886333450798438214916327, 1095, 6.13223091416150493438604440),
+    (18.489369946268294, 1.0, 0.504750799410040946374720221749, 1730, 12.1770027822220422322210771),
+]
+
+
+@pytest.mark.parametrize("alpha, xi, cor, ncol, tcol", _CHATTER_REFERENCE)
+def test_chatter_matches_high_precision_reference(alpha, xi, cor, ncol, tcol):
+    """Exact to the condition of the problem: a 1e-16 relative change of the state at any one
+    contact moves the COR by <= 3.1e-16 and the time by <= 1.6e-12 (measured with the same
+    50-digit re-run), so n contacts of round-off allow n times that (bounds below, with a small
+    safety factor). Measured: COR within 4e-14, time within 2.1e-10 (also at alpha +- 1 ulp)."""
+    out, _ = run(alpha, xi, max_events=2000)
+    assert out[OUT_STATUS] == STATUS_OK and out[OUT_ERR] == 0.0
+    assert out[OUT_NCOL] == ncol
+    assert abs(out[OUT_COR] - cor) < 4e-16 * ncol
+    assert abs(out[OUT_TCOL] - tcol) < 2e-12 * ncol
+
+
 @pytest.mark.parametrize("alpha, xi", [(200.0, 0.3), (30.0, 1.0), (10.0, 3.0), (3.0, 1000.0)])
 def test_sticking_matches_finished_chatter(alpha, xi):
     """Where the pure chatter of the elastic model ends (tens of thousands of contacts), the

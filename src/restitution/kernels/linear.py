@@ -11,6 +11,9 @@ Both phases are linear, homogeneous and time invariant, so every quantity is an 
 N-1 non-rigid modes of (K, M). For N = 2 it is the scalar oscillator r'' + 2 xi r' + r = 0
 (r = u2 - u1) written with C(t) = e^{-xi t} cos / cosh and S(t) = e^{-xi t} sin(wt)/w / sinh(gt)/g,
 switched to their power series when |(1 - xi^2) t^2| < 1/2, so xi = 1 and xi -> 1 lose nothing.
+Early in a flight (t (1 + 2 xi) < 1/2) the gap is u1(0) + v1 t - mu (O(t^2) series terms), with
+v1 m1's own stored velocity, and velocities advance by increments: the shallow flights of
+rigid-wall dashpot chatter (gaps ~1e-8) keep full relative accuracy.
 *Contact phase*: the full N-DOF system with k1 added at m1 (all modes elastic, no rigid mode).
 Undamped phases use real modes (lambda = i omega, eigh of M^-1/2 K M^-1/2); damped phases use the
 complex eigen-decomposition of the modal state matrix [[0, I], [-Omega^2, -D]] (D = c d d^T, the
@@ -231,6 +234,33 @@ def _cs(xi, t):
 
 
 @njit(cache=True)
+def _small_d(xi, t):
+    """(h(t) - t, c(t) - 1) by Taylor series, both O(t^2) and to full relative precision, where
+    h, c solve r'' + 2 xi r' + r = 0 with (h, h') = (0, 1) and (c, c') = (1, 0) at t = 0, so that
+    r(t) - r0 - rd0 t = rd0 (h - t) + r0 (c - 1). Meant for t (1 + 2 xi) < 1/2 (no cancellation
+    in the alternating series there)."""
+    # Taylor coefficients a_k of y: a_{k+2} = -(2 xi (k+1) a_{k+1} + a_k) / ((k+1)(k+2)).
+    h0, h1 = 0.0, 1.0
+    c0, c1 = 1.0, 0.0
+    d1 = 0.0
+    d2 = 0.0
+    tp = t
+    for k in range(80):
+        h2 = -(2.0 * xi * (k + 1.0) * h1 + h0) / ((k + 1.0) * (k + 2.0))
+        c2 = -(2.0 * xi * (k + 1.0) * c1 + c0) / ((k + 1.0) * (k + 2.0))
+        tp *= t
+        th = h2 * tp
+        tc = c2 * tp
+        d1 += th
+        d2 += tc
+        if k >= 2 and abs(th) <= 1e-18 * abs(d1) and abs(tc) <= 1e-18 * abs(d2):
+            break
+        h0, h1 = h1, h2
+        c0, c1 = c1, c2
+    return d1, d2
+
+
+@njit(cache=True)
 def _osc(xi, r0, rd0, t):
     ce, se = _cs(xi, t)
     return r0 * ce + (rd0 + xi * r0) * se, rd0 * ce - (r0 + xi * rd0) * se
@@ -244,7 +274,11 @@ def _osc(xi, r0, rd0, t):
 @njit(cache=True)
 def _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res):
     """res = f, f', f'', f''', B0, B2, B3, scale, X at phase time t: B_m bounds |f^(m)| on
-    [t, inf) (m = 0: the oscillating part f - X only)."""
+    [t, inf) (m = 0: the oscillating part f - X only).
+
+    KIND_SCALAR: c1 = V, (r0, rd0) the relative motion, b = [v1(0)] (m1's own velocity at the
+    phase start, as stored) or empty (then v1(0) = V - mu rd0 is used).
+    """
     f = c0 + c1 * t
     f1 = c1
     if kind == KIND_SCALAR:
@@ -252,8 +286,19 @@ def _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res):
         r2 = -2.0 * xi * rd - r
         r3 = -2.0 * xi * r2 - rd
         r4 = -2.0 * xi * r3 - r2
-        res[0] = f - mu * (r - r0)  # c0 = u1(0): no cancellation against X0 = u1(0) + mu r0
-        res[1] = f1 - mu * rd
+        if t * (1.0 + 2.0 * xi) < 0.5:
+            # Shallow chatter flights: f = c0 + v1 t - mu (rd0 (h - t) + r0 (c - 1)), v1 = m1's
+            # own velocity. The direct form below loses eps mu |r0| to cancellation in r - r0,
+            # far more than a gap ~ v1 t ~ 1e-8 allows; and V - mu rd0 carries the rounding of
+            # V and mu (~eps |V|, the same at every bounce) into a v1 ~ 1e-5. Rigid-wall dashpot
+            # chatter (1725 contacts) lost ~1e-9 in the COR and ~1e-5 in the time to these.
+            v1 = b[0].real if b.size > 0 else c1 - mu * rd0
+            d1, d2 = _small_d(xi, t)
+            res[0] = c0 + v1 * t - mu * (rd0 * d1 + r0 * d2)
+            res[1] = v1 - mu * (rd - rd0)
+        else:
+            res[0] = f - mu * (r - r0)  # c0 = u1(0): no cancellation against X0 = u1(0) + mu r0
+            res[1] = f1 - mu * rd
         res[2] = -mu * r2
         res[3] = -mu * r3
         res[4] = mu * math.sqrt(r * r + rd * rd)
@@ -365,8 +410,8 @@ def _mono_root(a0, a1, a2, a3, lo, hi):
 
 @njit(cache=True)
 def _refine(kind, lo, hi, c0, c1, b, lam, xi, mu, r0, rd0, res):
-    """Root of the gap on [lo, hi] where it is strictly decreasing, f(hi) < 0: safeguarded Newton
-    to machine precision."""
+    """Root of the gap on [lo, hi], f(lo) > 0 > f(hi) (f strictly decreasing on [lo, hi], or at
+    least past its last crossing): safeguarded Newton to machine precision."""
     _eval_gap(kind, lo, c0, c1, b, lam, xi, mu, r0, rd0, res)
     if res[0] <= 0.0:
         return lo
@@ -434,6 +479,7 @@ def _locate(kind, c0, c1, b, lam, xi, mu, r0, rd0, check_permanent, info):
     # never shrinks below that even when the motion decays (else exponentially small lobes of a
     # damped approach, e.g. V = 0, would count as contacts).
     tol0 = TOL_ULPS * EPS * res[7] + 1e-300
+    t_pos = -1.0  # last step end with f > 0 (none yet)
     for it in range(MAX_STEPS):
         _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res)
         f = res[0]
@@ -453,8 +499,13 @@ def _locate(kind, c0, c1, b, lam, xi, mu, r0, rd0, check_permanent, info):
             return LOC_NEVER
         if check_permanent and _never_ends(t, b, lam, tol + abs(res[8])):
             return LOC_PERMANENT
-        if f < -tol:  # only by round-off at a step end: the crossing is here
-            info[0] = t
+        # A step may end just past the root of f (it only keeps f >= -tol): a near-parabolic
+        # shallow flight lands it at f ~ -tol. The root is then in [t_pos, t] (t_pos = the last
+        # step end with f > 0), not at t: polishing from t itself misplaced dashpot-chatter
+        # contacts by tol/|f'| ~ 1e-9 at approach speeds ~1e-5 (COR off by 2e-9 over 1725 contacts).
+        lo = t if (f > 0.0 or t_pos < 0.0) else t_pos
+        if f < -tol:  # only by round-off at a step end: the crossing is in [lo, t]
+            info[0] = _refine(kind, lo, t, c0, c1, b, lam, xi, mu, r0, rd0, res) if lo < t else t
             return LOC_EVENT
         if f1 < 0.0:
             if b2 > 0.0:
@@ -463,9 +514,12 @@ def _locate(kind, c0, c1, b, lam, xi, mu, r0, rd0, check_permanent, info):
             else:
                 reach = 2.0 * (f + tol) / -f1
                 dip = -math.inf
-            if dip < -tol:
-                info[0] = _refine(kind, t, t + reach, c0, c1, b, lam, xi, mu, r0, rd0, res)
+            if dip < -tol:  # f strictly decreasing on [t, t + reach]
+                hi = t if lo < t else t + reach  # the root is behind t if f(t) <= 0
+                info[0] = _refine(kind, lo, hi, c0, c1, b, lam, xi, mu, r0, rd0, res)
                 return LOC_EVENT
+        if f > 0.0:
+            t_pos = t
         h = _safe_step(f + tol, f1, f2, b3)
         if h == math.inf:
             return LOC_NEVER
@@ -527,6 +581,19 @@ def _scalar_state(t, xi, r0, rd0, mu, u10, V, u, v):
     u[1] = u[0] + r
     v[0] = V - mu * rd
     v[1] = V + (1.0 - mu) * rd
+
+
+@njit(cache=True)
+def _scalar_advance(t, xi, r0, rd0, mu, u, v):
+    """Advance a two-mass free flight from (u, v) at its start to phase time t in place, the
+    velocities by increments (v1 - mu dr', v2 + (1 - mu) dr', momentum-conserving): m1's small
+    chatter speeds then carry no rounding of V or mu (see _eval_gap)."""
+    r, rd = _osc(xi, r0, rd0, t)
+    drd = rd - rd0
+    u[0] = u[0] + (v[0] + mu * rd0) * t - mu * (r - r0)
+    u[1] = u[0] + r
+    v[0] = v[0] - mu * drd
+    v[1] = v[1] + (1.0 - mu) * drd
 
 
 @njit(cache=True)
@@ -738,7 +805,9 @@ def _run(alpha, beta, xi, n, max_events, hist, rec):
         if n == 2:
             r0 = u[1] - u[0]
             rd0 = v[1] - v[0]
-            code = _locate(KIND_SCALAR, u[0], V, lamF, lamF, xi, mu, r0, rd0, False, info)
+            v1b = np.empty(1, np.complex128)  # m1's own velocity, for _eval_gap
+            v1b[0] = v[0]
+            code = _locate(KIND_SCALAR, u[0], V, v1b, lamF, xi, mu, r0, rd0, False, info)
         else:
             r0 = 0.0
             rd0 = 0.0
@@ -760,7 +829,7 @@ def _run(alpha, beta, xi, n, max_events, hist, rec):
         te = info[0]
         if n == 2:
             ediss += _diss_scalar(te, xi, r0, rd0, c)
-            _scalar_state(te, xi, r0, rd0, mu, u[0], V, u, v)
+            _scalar_advance(te, xi, r0, rd0, mu, u, v)
         else:
             ediss += _diss_modal(te, g, lamF, c)
             _modal_state(te, z, lamF, UF, X0, V, u, v)
