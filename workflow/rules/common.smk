@@ -189,6 +189,7 @@ EXACT_SOLVER_MODULES = (
     "io.py",
     "result.py",
     "scene.py",
+    "sweeps.py",
     "kernels/__init__.py",
     "kernels/layout.py",
     "kernels/rigid2.py",

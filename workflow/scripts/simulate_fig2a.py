@@ -13,25 +13,18 @@ their boundary alpha, so no change of the count between chunks is missed (aggreg
 duplicate row).
 """
 
+from functools import partial
+
 import numpy as np
 import pandas as pd
 
 
-def alpha_grid(grid: dict) -> np.ndarray:
-    """The full log-spaced grid of config['fig2a']."""
-    return np.geomspace(grid["alpha_min"], grid["alpha_max"], grid["n_alpha"])
-
-
 def chunk_alphas(grid: dict, chunk: int) -> np.ndarray:
-    """Grid alphas of one chunk, the boundary point shared with the next chunk included."""
-    alphas = alpha_grid(grid)
-    size = grid["chunk_size"]
-    start = chunk * size
-    if not 0 <= start < len(alphas) - 1:
-        raise ValueError(
-            f"chunk {chunk} is outside the grid of {len(alphas)} alphas ({size} a chunk)"
-        )
-    return alphas[start : min(start + size, len(alphas) - 1) + 1]
+    """Grid alphas of one chunk of config['fig2a'], the boundary point shared with the next."""
+    from restitution import sweeps
+
+    alphas = sweeps.log_grid(grid["alpha_min"], grid["alpha_max"], grid["n_alpha"])
+    return sweeps.chunk(alphas, grid["chunk_size"], chunk)
 
 
 def solve(alphas: np.ndarray, beta: float, solver: dict, progress: bool = False) -> pd.DataFrame:
@@ -49,32 +42,8 @@ def solve(alphas: np.ndarray, beta: float, solver: dict, progress: bool = False)
     return restitution.solve_many(scenes, max_events=solver["max_events"], progress=progress)
 
 
-def refine(table: pd.DataFrame, beta: float, solver: dict, steps: int, logger, progress=False):
-    """Bisect every grid interval whose contact count changes; return the new rows."""
-    from tqdm.auto import tqdm
-
-    table = table.sort_values("alpha")
-    alpha = table["alpha"].to_numpy()
-    count = table["n_collisions"].to_numpy()
-    jumps = np.flatnonzero(count[1:] != count[:-1])
-    logger.info("%d changes of the contact count to refine, %d steps each", len(jumps), steps)
-    if steps == 0 or len(jumps) == 0:
-        return table.iloc[:0]
-    lo, hi, n_lo = alpha[jumps], alpha[jumps + 1], count[jumps]
-    rows = []
-    for _ in tqdm(range(steps), desc="refine", disable=not progress):
-        mid = np.sqrt(lo * hi)
-        new = solve(mid, beta, solver)
-        rows.append(new)
-        same = new["n_collisions"].to_numpy() == n_lo
-        lo = np.where(same, mid, lo)
-        hi = np.where(same, hi, mid)
-    width = np.log10(hi / lo)
-    logger.info("final brackets: widest %.3g decades of alpha", width.max())
-    return pd.concat(rows, ignore_index=True)
-
-
 def main(params, output_path, beta: float, chunk: int, logger, progress=False) -> pd.DataFrame:
+    from restitution import sweeps
     from restitution.io import write_table
 
     grid, solver = params.grid, params.solver
@@ -87,23 +56,15 @@ def main(params, output_path, beta: float, chunk: int, logger, progress=False) -
         alphas[0],
         alphas[-1],
     )
-    table = solve(alphas, beta, solver, progress=progress)
-    table["refined"] = False
-    extra = refine(table, beta, solver, grid["refine_steps"], logger, progress)
-    extra = extra.assign(refined=True)
-    result = (
-        pd.concat([table, extra], ignore_index=True)
-        .drop_duplicates(subset="alpha", keep="first")
-        .sort_values("alpha", ignore_index=True)
+    result = sweeps.refined_sweep(
+        solve(alphas, beta, solver, progress=progress),
+        partial(solve, beta=beta, solver=solver),
+        "alpha",
+        grid["refine_steps"],
+        logger,
+        progress=progress,
     )
-    bad = result["status"] != "ok"
-    if bad.any():
-        logger.warning(
-            "%d of %d scenes not ok: %s",
-            bad.sum(),
-            len(result),
-            result.loc[bad, "status"].value_counts().to_dict(),
-        )
+    sweeps.log_not_ok(result, logger)
     logger.info(
         "%d rows (%d refined), contacts %d..%d, COR min %.6f",
         len(result),

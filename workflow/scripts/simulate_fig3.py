@@ -18,6 +18,8 @@ Two rules run this script (chosen by the rule name):
     the contact count until the round-off, giving the beta at which the last contact appears.
 """
 
+from functools import partial
+
 import numpy as np
 import pandas as pd
 
@@ -46,38 +48,6 @@ def solve_betas(alpha: float, betas, solver: dict, progress: bool = False) -> pd
         }
     )
     return restitution.solve_many(scenes, max_events=solver["max_events"], progress=progress)
-
-
-def refine(table: pd.DataFrame, alpha: float, solver: dict, steps: int, logger) -> pd.DataFrame:
-    """Bisect (on log beta) every grid interval whose contact count changes; the new rows."""
-    table = table.sort_values("beta")
-    beta = table["beta"].to_numpy()
-    count = table["n_collisions"].to_numpy()
-    jumps = np.flatnonzero(count[1:] != count[:-1])
-    logger.info(
-        "alpha %g: %d changes of the contact count to refine, %d steps each",
-        alpha,
-        len(jumps),
-        steps,
-    )
-    if steps == 0 or len(jumps) == 0:
-        return table.iloc[:0]
-    lo, hi, n_lo = beta[jumps], beta[jumps + 1], count[jumps]
-    rows = []
-    for _ in range(steps):
-        mid = np.sqrt(lo * hi)
-        new = solve_betas(alpha, mid, solver)
-        rows.append(new)
-        same = new["n_collisions"].to_numpy() == n_lo
-        lo = np.where(same, mid, lo)
-        hi = np.where(same, hi, mid)
-    logger.info(
-        "alpha %g: count changes at beta %s (brackets <= %.2g decades)",
-        alpha,
-        ", ".join(f"{b:.10g}" for b in np.sqrt(lo * hi)),
-        np.log10(hi / lo).max(),
-    )
-    return pd.concat(rows, ignore_index=True)
 
 
 def polish_minima(table: pd.DataFrame, alpha: float, solver: dict, steps: int, logger):
@@ -143,25 +113,24 @@ def local_minima(sweep: pd.DataFrame) -> pd.DataFrame:
     return pd.concat(rows, ignore_index=True) if rows else pd.DataFrame(columns=columns)
 
 
-def check_sweep(params: dict) -> None:
-    if not params["beta_min"] < params["beta_max"]:
-        raise ValueError(
-            f"fig3.sweep.beta_max = {params['beta_max']!r} must exceed "
-            f"fig3.sweep.beta_min = {params['beta_min']!r}"
-        )
-
-
 def main_sweep(params, sweep_path, minima_path, logger, progress=False) -> pd.DataFrame:
+    from restitution import sweeps
     from restitution.io import write_table
 
     sweep, solver = dict(params.sweep), dict(params.solver)
-    check_sweep(sweep)
-    grid = np.geomspace(sweep["beta_min"], sweep["beta_max"], sweep["n_beta"])
+    grid = sweeps.log_grid(sweep["beta_min"], sweep["beta_max"], sweep["n_beta"])
     curves = []
     for alpha in sweep["alphas"]:
         table = solve_betas(alpha, grid, solver, progress=progress).assign(refined=False)
-        extra = refine(table, alpha, solver, sweep["refine_steps"], logger).assign(refined=True)
-        curve = pd.concat([table, extra], ignore_index=True)
+        extra = sweeps.refine_count_changes(
+            table,
+            partial(solve_betas, alpha, solver=solver),
+            "beta",
+            sweep["refine_steps"],
+            logger,
+            label=f"alpha {alpha:g}",
+        )
+        curve = pd.concat([table, extra.assign(refined=True)], ignore_index=True)
         steps = min(sweep["refine_steps"], POLISH_STEPS)
         polished = polish_minima(curve, alpha, solver, steps, logger)
         curves.append(pd.concat([curve, polished.assign(refined=True)], ignore_index=True))
@@ -170,14 +139,7 @@ def main_sweep(params, sweep_path, minima_path, logger, progress=False) -> pd.Da
         .drop_duplicates(subset=["alpha", "beta"], keep="first")
         .sort_values(["alpha", "beta"], ignore_index=True)
     )
-    bad = result["status"] != "ok"
-    if bad.any():
-        logger.warning(
-            "%d of %d scenes not ok: %s",
-            bad.sum(),
-            len(result),
-            result.loc[bad, "status"].value_counts().to_dict(),
-        )
+    sweeps.log_not_ok(result, logger)
     config = {"fig3": {"sweep": sweep}, "solver": solver}
     write_table(result, sweep_path, config=config)
     minima = local_minima(result)

@@ -8,14 +8,15 @@ closed-form solver ``restitution.solve_many``) is added as a reference curve.
 
 Cusps: between grid neighbours whose contact counts differ, the alpha bracket is bisected
 ``refine_steps`` times on the count (all brackets of a curve at once, one batch call per step) and
-every evaluated point is kept, so the cusp-shaped minima are drawn to their depth.
+every evaluated point is kept, so the cusp-shaped minima are drawn to their depth
+(``restitution.sweeps``).
 
 Eq. 23 check: no COR may exceed e_pmax = sqrt(1 - DR/(1 + alpha)). Rows above it are counted in
 the log (warning); a row above it by more than its own error estimate fails the job. A per-curve
 summary (first minima, largest COR, smallest margin to the bound, rows not ok) is written as CSV,
 so numbers quoted in prose come from a generated file.
 
-The sweep machinery (``sweep_curve``, ``local_minima``) is shared with ``simulate_fig5.py``.
+The minima summary (``local_minima``, ``minima_columns``) is shared with ``simulate_fig5.py``.
 """
 
 import numpy as np
@@ -25,71 +26,14 @@ V0 = 1.0  # kappa scales as v0**(1 - eta) at fixed DR, so the COR does not depen
 
 
 # ---------------------------------------------------------------------------------------------
-# Generic sweep helpers (also used by simulate_fig5.py)
+# Minima summary (also used by simulate_fig5.py)
 # ---------------------------------------------------------------------------------------------
-def alpha_grid(sweep: dict) -> np.ndarray:
-    """The log-spaced alpha grid of a sweep subtree (alpha_min, alpha_max, n_alpha)."""
-    if not sweep["alpha_min"] < sweep["alpha_max"]:
-        raise ValueError(
-            f"alpha_max = {sweep['alpha_max']!r} must exceed alpha_min = {sweep['alpha_min']!r}"
-        )
-    return np.geomspace(sweep["alpha_min"], sweep["alpha_max"], sweep["n_alpha"])
-
-
-def refine(table: pd.DataFrame, evaluate, steps: int, logger, label: str) -> pd.DataFrame:
-    """Bisect (geometric midpoints) every grid interval whose contact count changes."""
-    table = table.sort_values("alpha")
-    alpha = table["alpha"].to_numpy()
-    count = table["n_collisions"].to_numpy()
-    jumps = np.flatnonzero(count[1:] != count[:-1])
-    logger.info(
-        "%s: %d changes of the contact count, %d bisection steps each", label, len(jumps), steps
-    )
-    if steps == 0 or len(jumps) == 0:
-        return table.iloc[:0]
-    lo, hi, n_lo = alpha[jumps], alpha[jumps + 1], count[jumps]
-    rows = []
-    for _ in range(steps):
-        mid = np.sqrt(lo * hi)
-        new = evaluate(mid)
-        rows.append(new)
-        same = new["n_collisions"].to_numpy() == n_lo
-        lo = np.where(same, mid, lo)
-        hi = np.where(same, hi, mid)
-    logger.info("%s: widest final bracket %.3g decades of alpha", label, np.log10(hi / lo).max())
-    return pd.concat(rows, ignore_index=True)
-
-
-def sweep_curve(evaluate, alphas: np.ndarray, steps: int, logger, label: str) -> pd.DataFrame:
-    """``evaluate(alphas)`` on the grid plus the cusp refinement, sorted by alpha."""
-    table = evaluate(alphas).assign(refined=False)
-    extra = refine(table, evaluate, steps, logger, label).assign(refined=True)
-    return (
-        pd.concat([table, extra], ignore_index=True)
-        .drop_duplicates(subset="alpha", keep="first")
-        .sort_values("alpha", ignore_index=True)
-    )
-
-
 def local_minima(curve: pd.DataFrame, count: int = 3) -> list[tuple[float, float]]:
     """(alpha, cor) of the first ``count`` local minima of a curve (rows sorted by alpha)."""
     cor = curve["cor"].to_numpy()
     inner = np.flatnonzero((cor[1:-1] < cor[:-2]) & (cor[1:-1] <= cor[2:])) + 1
     alpha = curve["alpha"].to_numpy()
     return [(float(alpha[i]), float(cor[i])) for i in inner[:count]]
-
-
-def log_not_ok(table: pd.DataFrame, logger, label: str) -> int:
-    bad = table["status"] != "ok"
-    if bad.any():
-        logger.warning(
-            "%s: %d of %d scenes not ok (drawn as markers, not as the curve): %s",
-            label,
-            bad.sum(),
-            len(table),
-            table.loc[bad, "status"].value_counts().to_dict(),
-        )
-    return int(bad.sum())
 
 
 def minima_columns(curve: pd.DataFrame, count: int = 3) -> dict:
@@ -173,10 +117,11 @@ def check_bound(curve: pd.DataFrame, logger, label: str) -> dict:
 
 
 def main(params, output_path, summary_path, logger) -> pd.DataFrame:
+    from restitution import sweeps
     from restitution.io import write_table
 
     sweep, panel, solver = params.sweep, params.panel, params.solver
-    alphas = alpha_grid(sweep)
+    alphas = sweeps.log_grid(sweep["alpha_min"], sweep["alpha_max"], sweep["n_alpha"])
     logger.info(
         "panel %s: %d grid alphas in [%g, %g], beta %g",
         params.name,
@@ -188,10 +133,11 @@ def main(params, output_path, summary_path, logger) -> pd.DataFrame:
     tables, summary = [], []
     for law in curves(panel):
         label = f"fig4{params.name} {law['contact']} eta={law['eta']:g} DR={law['dr']:g}"
-        curve = sweep_curve(
-            evaluator(law, sweep, solver), alphas, sweep["refine_steps"], logger, label
+        evaluate = evaluator(law, sweep, solver)
+        curve = sweeps.refined_sweep(
+            evaluate(alphas), evaluate, "alpha", sweep["refine_steps"], logger, label
         )
-        row = dict(law, n_rows=len(curve), n_not_ok=log_not_ok(curve, logger, label))
+        row = dict(law, n_rows=len(curve), n_not_ok=sweeps.log_not_ok(curve, logger, label))
         row.update(minima_columns(curve))
         if law["contact"] == "plastic":
             row.update(check_bound(curve, logger, label))

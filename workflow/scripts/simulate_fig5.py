@@ -6,7 +6,7 @@ scissor law makes the response velocity dependent), rest half angle theta0 and t
 stiffening parameter (both left open by the paper; see ``restitution.laws``). Solved by the
 adaptive DP5(4) kernel; the linear structural spring at the same beta (the exact closed-form
 solver) is added as the reference curve. Cusps refined on the contact count as in Fig. 4
-(``simulate_fig4.sweep_curve``); per-curve minima written as a CSV summary.
+(``restitution.sweeps.refined_sweep``); per-curve minima written as a CSV summary.
 """
 
 import math
@@ -61,12 +61,13 @@ def evaluator(law: dict, panel: dict, solver: dict):
 
 
 def main(params, output_path, summary_path, logger) -> pd.DataFrame:
-    from simulate_fig4 import alpha_grid, log_not_ok, minima_columns, sweep_curve
+    from simulate_fig4 import minima_columns
 
+    from restitution import sweeps
     from restitution.io import write_table
 
     spring, panel, solver = params.spring, params.panel, params.solver
-    alphas = alpha_grid(panel)
+    alphas = sweeps.log_grid(panel["alpha_min"], panel["alpha_max"], panel["n_alpha"])
     logger.info(
         "fig5b: %d grid alphas in [%g, %g], law %s, v0 %g",
         len(alphas),
@@ -78,10 +79,11 @@ def main(params, output_path, summary_path, logger) -> pd.DataFrame:
     tables, summary = [], []
     for law in curves(spring, panel):
         label = f"fig5b {law['structure']} L={law['L']:g}"
-        curve = sweep_curve(
-            evaluator(law, panel, solver), alphas, panel["refine_steps"], logger, label
+        evaluate = evaluator(law, panel, solver)
+        curve = sweeps.refined_sweep(
+            evaluate(alphas), evaluate, "alpha", panel["refine_steps"], logger, label
         )
-        row = dict(law, n_rows=len(curve), n_not_ok=log_not_ok(curve, logger, label))
+        row = dict(law, n_rows=len(curve), n_not_ok=sweeps.log_not_ok(curve, logger, label))
         row.update(minima_columns(curve))
         logger.info(
             "%s: %d rows, contacts %d..%d, COR min %.4f at alpha %.4g, max error estimate %.2g",

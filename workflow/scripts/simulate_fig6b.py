@@ -9,6 +9,8 @@ once, one ``solve_many`` call per step) and every point evaluated is kept, so ea
 minimum is drawn down to its depth.
 """
 
+from functools import partial
+
 import numpy as np
 import pandas as pd
 
@@ -32,62 +34,26 @@ def solve_x(x, n: int, beta: float, solver: dict, progress: bool = False) -> pd.
     return result
 
 
-def refine(table, n, beta, solver, steps, logger) -> pd.DataFrame:
-    """Bisect (on log x) every grid interval whose contact count changes; the new rows."""
-    table = table.sort_values("x")
-    x = table["x"].to_numpy()
-    count = table["n_collisions"].to_numpy()
-    jumps = np.flatnonzero(count[1:] != count[:-1])
-    logger.info(
-        "N = %d: %d changes of the contact count to refine, %d steps each", n, len(jumps), steps
-    )
-    if steps == 0 or len(jumps) == 0:
-        return table.iloc[:0]
-    lo, hi, n_lo = x[jumps], x[jumps + 1], count[jumps]
-    rows = []
-    for _ in range(steps):
-        mid = np.sqrt(lo * hi)
-        new = solve_x(mid, n, beta, solver)
-        rows.append(new)
-        same = new["n_collisions"].to_numpy() == n_lo
-        lo = np.where(same, mid, lo)
-        hi = np.where(same, hi, mid)
-    logger.info("N = %d: final brackets, widest %.3g decades of x", n, np.log10(hi / lo).max())
-    return pd.concat(rows, ignore_index=True)
-
-
 def main(params, output_path, n: int, logger, progress=False) -> pd.DataFrame:
+    from restitution import sweeps
     from restitution.io import write_table
 
     sweep, solver = dict(params.sweep), dict(params.solver)
     if n < 2:
         raise ValueError(f"fig6.n_masses: a chain needs N >= 2 masses, got {n}")
-    if not sweep["x_min"] < sweep["x_max"]:
-        raise ValueError(
-            f"fig6.sweep.x_max = {sweep['x_max']!r} must exceed "
-            f"fig6.sweep.x_min = {sweep['x_min']!r}"
-        )
-    grid = np.geomspace(sweep["x_min"], sweep["x_max"], sweep["n_x"])
+    grid = sweeps.log_grid(sweep["x_min"], sweep["x_max"], sweep["n_x"])
     logger.info(
         "N = %d, beta %g: %d grid x in [%g, %g]", n, sweep["beta"], len(grid), grid[0], grid[-1]
     )
-    table = solve_x(grid, n, sweep["beta"], solver, progress=progress).assign(refined=False)
-    extra = refine(table, n, sweep["beta"], solver, sweep["refine_steps"], logger).assign(
-        refined=True
+    result = sweeps.refined_sweep(
+        solve_x(grid, n, sweep["beta"], solver, progress=progress),
+        partial(solve_x, n=n, beta=sweep["beta"], solver=solver),
+        "x",
+        sweep["refine_steps"],
+        logger,
+        label=f"N = {n}",
     )
-    result = (
-        pd.concat([table, extra], ignore_index=True)
-        .drop_duplicates(subset="x", keep="first")
-        .sort_values("x", ignore_index=True)
-    )
-    bad = result["status"] != "ok"
-    if bad.any():
-        logger.warning(
-            "%d of %d scenes not ok: %s",
-            bad.sum(),
-            len(result),
-            result.loc[bad, "status"].value_counts().to_dict(),
-        )
+    sweeps.log_not_ok(result, logger, label=f"N = {n}")
     logger.info(
         "N = %d: %d rows (%d refined), contacts %d..%d, COR min %.6f",
         n,

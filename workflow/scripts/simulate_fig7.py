@@ -13,25 +13,18 @@ Chunk k holds grid indices k*chunk_size .. (k+1)*chunk_size inclusive (shared bo
 dropped again by aggregate_fig7).
 """
 
+from functools import partial
+
 import numpy as np
 import pandas as pd
 
 
-def alpha_grid(grid: dict) -> np.ndarray:
-    """The full log-spaced grid of config['fig7']."""
-    return np.geomspace(grid["alpha_min"], grid["alpha_max"], grid["n_alpha"])
-
-
 def chunk_alphas(grid: dict, chunk: int) -> np.ndarray:
-    """Grid alphas of one chunk, the boundary point shared with the next chunk included."""
-    alphas = alpha_grid(grid)
-    size = grid["chunk_size"]
-    start = chunk * size
-    if not 0 <= start < len(alphas) - 1:
-        raise ValueError(
-            f"chunk {chunk} is outside the grid of {len(alphas)} alphas ({size} a chunk)"
-        )
-    return alphas[start : min(start + size, len(alphas) - 1) + 1]
+    """Grid alphas of one chunk of config['fig7'], the boundary point shared with the next."""
+    from restitution import sweeps
+
+    alphas = sweeps.log_grid(grid["alpha_min"], grid["alpha_max"], grid["n_alpha"])
+    return sweeps.chunk(alphas, grid["chunk_size"], chunk)
 
 
 def solve(alphas, beta: float, xi: float, solver: dict, progress: bool = False) -> pd.DataFrame:
@@ -49,42 +42,8 @@ def solve(alphas, beta: float, xi: float, solver: dict, progress: bool = False) 
     return restitution.solve_many(scenes, max_events=solver["max_events"], progress=progress)
 
 
-def refine(table, beta, xi, solver, steps, logger, progress=False) -> pd.DataFrame:
-    """Bisect every grid interval whose contact count changes; return the new rows."""
-    from tqdm.auto import tqdm
-
-    table = table.sort_values("alpha")
-    alpha = table["alpha"].to_numpy()
-    count = table["n_collisions"].to_numpy()
-    jumps = np.flatnonzero(count[1:] != count[:-1])
-    logger.info("%d changes of the contact count to refine, %d steps each", len(jumps), steps)
-    if steps == 0 or len(jumps) == 0:
-        return table.iloc[:0]
-    lo, hi = alpha[jumps], alpha[jumps + 1]
-    n_lo, n_hi = count[jumps].copy(), count[jumps + 1].copy()
-    rows = []
-    for _ in tqdm(range(steps), desc="refine", disable=not progress):
-        mid = np.sqrt(lo * hi)
-        new = solve(mid, beta, xi, solver)
-        rows.append(new)
-        n_mid = new["n_collisions"].to_numpy()
-        same = n_mid == n_lo
-        lo, hi = np.where(same, mid, lo), np.where(same, hi, mid)
-        n_hi = np.where(same, n_hi, n_mid)
-    width = np.log10(hi / lo)
-    step = np.abs(n_hi - n_lo)
-    logger.info(
-        "final brackets: widest %.3g decades of alpha; %d of %d end on a jump of more than one "
-        "contact (largest %d)",
-        width.max(),
-        int((step > 1).sum()),
-        len(step),
-        int(step.max()),
-    )
-    return pd.concat(rows, ignore_index=True)
-
-
 def main(params, output_path, xi: float, chunk: int, logger, progress=False) -> pd.DataFrame:
+    from restitution import sweeps
     from restitution.io import write_table
 
     grid, solver = params.grid, params.solver
@@ -104,24 +63,15 @@ def main(params, output_path, xi: float, chunk: int, logger, progress=False) -> 
         alphas[0],
         alphas[-1],
     )
-    table = solve(alphas, beta, xi, solver, progress=progress)
-    table["refined"] = False
-    extra = refine(table, beta, xi, solver, grid["refine_steps"], logger, progress)
-    extra = extra.assign(refined=True)
-    result = (
-        pd.concat([table, extra], ignore_index=True)
-        .drop_duplicates(subset="alpha", keep="first")
-        .sort_values("alpha", ignore_index=True)
+    result = sweeps.refined_sweep(
+        solve(alphas, beta, xi, solver, progress=progress),
+        partial(solve, beta=beta, xi=xi, solver=solver),
+        "alpha",
+        grid["refine_steps"],
+        logger,
+        progress=progress,
     )
-    bad = result["status"] != "ok"
-    if bad.any():
-        logger.warning(
-            "%d of %d scenes not ok: %s; first at alpha %s",
-            bad.sum(),
-            len(result),
-            result.loc[bad, "status"].value_counts().to_dict(),
-            result.loc[bad, "alpha"].head(5).tolist(),
-        )
+    sweeps.log_not_ok(result, logger, where="alpha")
     logger.info(
         "%d rows (%d refined), contacts %d..%d, COR min %.6f",
         len(result),
