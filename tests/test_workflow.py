@@ -75,6 +75,14 @@ BAD_CONFIGS = {
         {"fig2a": {"alpha_min": 10.0, "alpha_max": 1.0}},
         ["fig2a.alpha_max", "1.0", "greater than fig2a.alpha_min = 10.0"],
     ),
+    "chain range reversed": (
+        {"fig6": {"sweep": {"x_min": 5.0, "x_max": 1.0}}},
+        ["fig6.sweep.x_max = 1.0: must exceed fig6.sweep.x_min = 5.0"],
+    ),
+    "plastic DR below (1 - eta)/2": (
+        {"fig4": {"b": {"drs": [0.1]}}},
+        ["fig4.b", "DR = 0.1 with eta = 0.5", "(1 - eta)/2 = 0.25"],
+    ),
 }
 
 

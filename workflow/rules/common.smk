@@ -154,6 +154,27 @@ def check_config(config, schema_path=SCHEMA):
     lo, hi = fig7.get("alpha_min"), fig7.get("alpha_max")
     if isinstance(lo, (int, float)) and isinstance(hi, (int, float)) and not lo < hi:
         problems.append(f"fig7.alpha_max = {hi!r}: must exceed fig7.alpha_min = {lo!r}")
+    for where, lo_key, hi_key in (
+        ("fig3.sweep", "beta_min", "beta_max"),
+        ("fig6.sweep", "x_min", "x_max"),
+    ):
+        section = config
+        for part in where.split("."):
+            section = section.get(part, {}) if isinstance(section, dict) else {}
+        lo, hi = section.get(lo_key), section.get(hi_key)
+        if (
+            isinstance(lo, (int, float))
+            and isinstance(hi, (int, float))
+            and not lo < hi
+        ):
+            problems.append(
+                f"{where}.{hi_key} = {hi!r}: must exceed {where}.{lo_key} = {lo!r}"
+            )
+    bracket = config.get("fig3", {}).get("compression", {}).get("marginal_bracket")
+    if isinstance(bracket, list) and len(bracket) == 2 and not bracket[0] < bracket[1]:
+        problems.append(
+            f"fig3.compression.marginal_bracket = {bracket!r}: must be [low, high] with low < high"
+        )
     if problems:
         raise WorkflowError(
             "Invalid configuration (config/config.yaml plus any --configfile/--config):\n  "
