@@ -119,8 +119,32 @@ def test_default_config_dry_run():
     # --forceall: list every job even when the figures are up to date (e.g. after make all).
     result = run_snakemake("-n", "--forceall", "all")
     assert result.returncode == 0, result.stdout + result.stderr
-    for rule in ("simulate_fig2a", "aggregate_fig2a", "render_fig2a"):
-        assert rule in result.stdout, result.stdout
+    for rule in ("simulate_fig2a", "aggregate_fig2a", *PANELS):
+        assert f"rule {rule}:" in result.stdout, rule
+
+
+# One target per panel of the paper, named by the figure (Fig. 1-7).
+PANELS = (
+    "fig1",
+    "fig2a",
+    "fig2b",
+    "fig2c",
+    "fig2d",
+    "fig3a",
+    "fig3b",
+    "fig4a",
+    "fig4b",
+    "fig4c",
+    "fig4d",
+    "fig5a",
+    "fig5b",
+    "fig6a",
+    "fig6b",
+    "fig7a",
+    "fig7b",
+    "fig7c",
+    "fig7d",
+)
 
 
 def test_lint_is_clean():

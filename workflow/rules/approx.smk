@@ -81,7 +81,7 @@ rule approx_fit:
         "../scripts/approx_fit.py"
 
 
-rule render_fig2b:
+rule fig2b:
     """Fig. 2(b): duration and number of contacts vs alpha with Eq. 19; minima with their law."""
     input:
         sweep=rules.aggregate_fig2a.output.sweep,
@@ -108,7 +108,7 @@ rule render_fig2b:
         "../scripts/render_fig2bcd.py"
 
 
-rule render_fig2c:
+rule fig2c:
     """Fig. 2(c): alpha*_n - alpha#_n vs n with Eq. 22 (paper and fitted) and residuals."""
     input:
         residuals=rules.approx_fit.output.residuals,
@@ -134,7 +134,7 @@ rule render_fig2c:
         "../scripts/render_fig2bcd.py"
 
 
-rule render_fig2d:
+rule fig2d:
     """Fig. 2(d): exact, paper-approximate and improved COR, with an error panel."""
     input:
         curves=rules.approx_fit.output.curves,

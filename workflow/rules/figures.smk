@@ -1,7 +1,7 @@
 # Plotting stage: figures from results/ tables only (restyling never reruns a simulation).
 
 
-rule render_fig2a:
+rule fig2a:
     """Draw Fig. 2(a) in the house style (png for the report, pdf for print)."""
     input:
         sweep=rules.aggregate_fig2a.output.sweep,
