@@ -20,6 +20,7 @@ include: "workflow/rules/fig1_3_6.smk"
 include: "workflow/rules/approx.smk"
 include: "workflow/rules/fig4_5.smk"
 include: "workflow/rules/fig7.smk"
+include: "workflow/rules/reproduction.smk"
 
 
 rule all:
@@ -66,3 +67,4 @@ rule all:
         rules.fig7c.output.pdf,
         rules.fig7d.output.png,
         rules.fig7d.output.pdf,
+        rules.reproduction.output.table,
