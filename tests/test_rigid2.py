@@ -297,9 +297,8 @@ def test_reference_damped(alpha, xi):
 @pytest.mark.parametrize("xi", [0.01, 0.1, 0.3, 0.999, 1.0, 1.001, 1.5, 3.0, 10.0])
 @pytest.mark.parametrize("alpha", [0.3, 1.0, 2.5, 7.0, 20.0])
 def test_energy_split_sums_to_one(alpha, xi):
+    # Long chatters end in the sticking limit after 2000 contacts, so all of these finish.
     out, _ = run(alpha, xi, max_events=20_000)
-    if out[OUT_STATUS] == STATUS_EVENT_BUDGET:
-        pytest.skip("chattering sequence longer than the budget")
     assert out[OUT_STATUS] == STATUS_OK
     assert out[OUT_EDISS] > 0.0 or out[OUT_NCOL] == 1
     total = out[OUT_ETRANS] + out[OUT_EVIB] + out[OUT_EDISS]
