@@ -69,6 +69,18 @@ def save_figure(fig: Figure, stem, formats: Iterable[str] = ("png", "pdf")) -> l
     return paths
 
 
+def save_outputs(fig: Figure, png_path, pdf_path, logger=None) -> list[Path]:
+    """Write a rule's png and pdf outputs (which must share a stem) with ``save_figure``."""
+    stem = Path(png_path).with_suffix("")
+    if Path(pdf_path).with_suffix("") != stem:
+        raise ValueError(f"png and pdf outputs must share a stem: {png_path}, {pdf_path}")
+    paths = save_figure(fig, stem, formats=("png", "pdf"))
+    for path in paths:
+        if logger is not None:
+            logger.info("wrote %s", path)
+    return paths
+
+
 def log_axis(ax, which: str = "x") -> None:
     """Log scale with plain-number labels (0.1, 1, 10, 100) and unlabelled minor ticks."""
     from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter

@@ -54,7 +54,6 @@ def draw(sweep: pd.DataFrame, alphas, logger):
 
 
 def main(sweep_path, png_path, pdf_path, params, logger):
-    from pathlib import Path
 
     from restitution import plotting
     from restitution.io import read_table
@@ -67,11 +66,7 @@ def main(sweep_path, png_path, pdf_path, params, logger):
     if missing:
         raise ValueError(f"{sweep_path}: no rows for alpha = {missing}")
     fig = draw(sweep, params.alphas, logger)
-    stem = Path(png_path).with_suffix("")
-    if Path(pdf_path).with_suffix("") != stem:
-        raise ValueError(f"png and pdf outputs must share a stem: {png_path}, {pdf_path}")
-    for path in plotting.save_figure(fig, stem, formats=("png", "pdf")):
-        logger.info("wrote %s", path)
+    plotting.save_outputs(fig, png_path, pdf_path, logger)
 
 
 if __name__ == "__main__":

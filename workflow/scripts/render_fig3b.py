@@ -71,7 +71,6 @@ def draw(compression: pd.DataFrame, contacts: pd.DataFrame, marginal: pd.Series,
 
 
 def main(paths, png_path, pdf_path, params, logger):
-    from pathlib import Path
 
     from restitution import plotting
     from restitution.io import read_table
@@ -95,11 +94,7 @@ def main(paths, png_path, pdf_path, params, logger):
     if absent:
         raise ValueError(f"{paths.compression}: no rows for beta = {absent}")
     fig = draw(compression, contacts, marginal.iloc[0], params.betas, logger)
-    stem = Path(png_path).with_suffix("")
-    if Path(pdf_path).with_suffix("") != stem:
-        raise ValueError(f"png and pdf outputs must share a stem: {png_path}, {pdf_path}")
-    for path in plotting.save_figure(fig, stem, formats=("png", "pdf")):
-        logger.info("wrote %s", path)
+    plotting.save_outputs(fig, png_path, pdf_path, logger)
 
 
 if __name__ == "__main__":

@@ -142,7 +142,6 @@ def draw_sweep(name, sweep, panel, logger):
 
 
 def main(sweep_path, png_path, pdf_path, params, logger):
-    from pathlib import Path
 
     from restitution import plotting
     from restitution.io import read_table
@@ -162,11 +161,7 @@ def main(sweep_path, png_path, pdf_path, params, logger):
                 f"{sorted(sweep['beta'].unique())}, expected {expected} at beta {panel['beta']}"
             )
         fig = draw_sweep(name, sweep, panel, logger)
-    stem = Path(png_path).with_suffix("")
-    if Path(pdf_path).with_suffix("") != stem:
-        raise ValueError(f"png and pdf outputs must share a stem: {png_path}, {pdf_path}")
-    for path in plotting.save_figure(fig, stem, formats=("png", "pdf")):
-        logger.info("wrote %s", path)
+    plotting.save_outputs(fig, png_path, pdf_path, logger)
 
 
 if __name__ == "__main__":

@@ -132,7 +132,6 @@ def draw_b(sweep, spring, panel, logger):
 
 
 def main(sweep_path, png_path, pdf_path, params, logger):
-    from pathlib import Path
 
     from restitution import plotting
     from restitution.io import read_table
@@ -148,11 +147,7 @@ def main(sweep_path, png_path, pdf_path, params, logger):
                 f"(fig5.b.Ls plus the linear spring)"
             )
         fig = draw_b(sweep, params.spring, params.panel, logger)
-    stem = Path(png_path).with_suffix("")
-    if Path(pdf_path).with_suffix("") != stem:
-        raise ValueError(f"png and pdf outputs must share a stem: {png_path}, {pdf_path}")
-    for path in plotting.save_figure(fig, stem, formats=("png", "pdf")):
-        logger.info("wrote %s", path)
+    plotting.save_outputs(fig, png_path, pdf_path, logger)
 
 
 if __name__ == "__main__":

@@ -95,7 +95,6 @@ def draw(sweep: pd.DataFrame, panel: str, fig7: dict, logger):
 
 
 def main(sweep_path, png_path, pdf_path, params, logger):
-    from pathlib import Path
 
     from restitution import plotting
     from restitution.io import read_table
@@ -107,11 +106,7 @@ def main(sweep_path, png_path, pdf_path, params, logger):
     if missing:
         raise ValueError(f"{sweep_path}: no rows for xi = {missing}")
     fig = draw(sweep, params.panel, params.fig7, logger)
-    stem = Path(png_path).with_suffix("")
-    if Path(pdf_path).with_suffix("") != stem:
-        raise ValueError(f"png and pdf outputs must share a stem: {png_path}, {pdf_path}")
-    for path in plotting.save_figure(fig, stem, formats=("png", "pdf")):
-        logger.info("wrote %s", path)
+    plotting.save_outputs(fig, png_path, pdf_path, logger)
 
 
 if __name__ == "__main__":

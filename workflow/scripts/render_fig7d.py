@@ -57,7 +57,6 @@ def draw(traces: pd.DataFrame, contacts: pd.DataFrame, settings: dict, beta: flo
 
 
 def main(traces_path, contacts_path, png_path, pdf_path, params, logger):
-    from pathlib import Path
 
     from restitution import plotting
     from restitution.io import read_table
@@ -65,11 +64,7 @@ def main(traces_path, contacts_path, png_path, pdf_path, params, logger):
     traces = read_table(traces_path)
     contacts = read_table(contacts_path)
     fig = draw(traces, contacts, params.traces, float(params.beta), logger)
-    stem = Path(png_path).with_suffix("")
-    if Path(pdf_path).with_suffix("") != stem:
-        raise ValueError(f"png and pdf outputs must share a stem: {png_path}, {pdf_path}")
-    for path in plotting.save_figure(fig, stem, formats=("png", "pdf")):
-        logger.info("wrote %s", path)
+    plotting.save_outputs(fig, png_path, pdf_path, logger)
 
 
 if __name__ == "__main__":

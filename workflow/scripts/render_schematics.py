@@ -192,18 +192,13 @@ DRAWINGS = {"two_mass": draw_two_mass, "chain": draw_chain}
 
 
 def main(model, png_path, pdf_path, logger):
-    from pathlib import Path
 
     from restitution import plotting
 
     if model not in DRAWINGS:
         raise ValueError(f"unknown schematic {model!r}: one of {sorted(DRAWINGS)}")
     fig = DRAWINGS[model](plotting)
-    stem = Path(png_path).with_suffix("")
-    if Path(pdf_path).with_suffix("") != stem:
-        raise ValueError(f"png and pdf outputs must share a stem: {png_path}, {pdf_path}")
-    for path in plotting.save_figure(fig, stem, formats=("png", "pdf")):
-        logger.info("wrote %s", path)
+    plotting.save_outputs(fig, png_path, pdf_path, logger)
 
 
 if __name__ == "__main__":
