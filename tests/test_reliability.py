@@ -168,3 +168,26 @@ def test_chunk_without_result_columns_is_refused(reference_run, tmp_path):
     assert result.returncode != 0, "a chunk without cor/n_collisions was aggregated"
     log = (work / "logs" / "fig7" / "aggregate.log").read_text()
     assert SIMULATE_OUTPUTS[1][0] in log and "cor" in log and "n_collisions" in log, log
+
+
+def _planned_rules(work: Path, *extra) -> set[str]:
+    """The rules snakemake would run (dry run, default rerun triggers)."""
+    result = run_snakemake("-n", *CONFIG, *extra, *TARGETS, cwd=work)
+    assert result.returncode == 0, result.stdout + result.stderr
+    return {line[5:-1] for line in result.stdout.splitlines() if line.startswith("rule ")}
+
+
+def test_changes_rerun_only_what_depends_on_them(reference_run, tmp_path):
+    work = _damaged_copy(reference_run, tmp_path / "edited")
+    assert _planned_rules(work) == set(), "a no-op rerun would run jobs"
+
+    # One figure's config: only that figure's jobs (fig7.* is passed to the fig7 rules only).
+    changed = tmp_path / "changed.yaml"
+    changed.write_text(SMALL_CONFIG.read_text().replace("xis: [0.3, 1.0]", "xis: [0.3, 1.0, 2.0]"))
+    planned = _planned_rules(work, f"--configfile={changed}")
+    assert planned == {"simulate_fig7", "aggregate_fig7", "fig7a"}, planned
+
+    # Restyling: a render script edited reruns its render job only, never a simulation.
+    script = work / "workflow" / "scripts" / "render_fig2a.py"
+    script.write_text(script.read_text() + "\n# restyled\n")
+    assert _planned_rules(work) == {"fig2a"}
