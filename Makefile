@@ -53,7 +53,8 @@ benchmarks: env
 	$(BIN)/snakemake -c$(CORES) benchmarks
 
 lint: env
-	$(BIN)/ruff check src tests workflow/scripts
+	$(BIN)/ruff check src tests workflow/scripts benchmarks
+	$(BIN)/ruff format --check src tests workflow/scripts benchmarks
 	$(BIN)/snakefmt --check Snakefile workflow/rules
 	$(BIN)/snakemake --lint
 
