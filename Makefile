@@ -56,7 +56,8 @@ report: env
 	$(BIN)/snakemake $(REPORT_TARGETS) --report report.html
 
 # Each notebooks/*.py (jupytext percent format) is converted and executed into notebooks/executed/
-# (git-ignored), reading results/ (first brought up to date: the notebook loads the Fig. 2(a) sweep).
+# (git-ignored), reading results/ (first brought up to date: the notebook loads the Fig. 2(a) sweep);
+# MPLBACKEND is unset so that the kernel draws inline (Agg, exported above, would draw nothing).
 NOTEBOOKS := $(wildcard notebooks/*.py)
 notebooks: env
 	$(BIN)/snakemake -c$(CORES) results/fig2a/sweep.parquet
@@ -64,7 +65,7 @@ notebooks: env
 	for nb in $(NOTEBOOKS); do \
 		out=notebooks/executed/$$(basename $$nb .py).ipynb; \
 		$(BIN)/jupytext --quiet --to ipynb --output $$out $$nb || exit 1; \
-		RESTITUTION_RESULTS=$${RESTITUTION_RESULTS:-$(CURDIR)/results} \
+		RESTITUTION_RESULTS=$${RESTITUTION_RESULTS:-$(CURDIR)/results} env -u MPLBACKEND \
 			$(BIN)/jupyter-execute --inplace --timeout=1800 --kernel_name=python3 $$out || exit 1; \
 		echo "executed: $$out"; \
 	done
