@@ -96,6 +96,8 @@ ZOOM = (0.6, 0.8)  # alpha range of the right panel: the first minimum, alpha*_1
 
 
 def plot_sweep(ax, table, alpha_range=None):
+    # The rigid wall black and broad, each finite beta in its own colour (colour-blind safe).
+    colours = iter(["#E69F00", "#56B4E9", "#009E73", "#D55E00", "#CC79A7", "#0072B2"] * 10)
     for beta, curve in table[table["status"] == "ok"].groupby("beta"):
         curve = curve.sort_values("alpha")
         if alpha_range is not None:
@@ -104,7 +106,7 @@ def plot_sweep(ax, table, alpha_range=None):
             curve["alpha"],
             curve["cor"],
             lw=1.2 if beta == 0 else 0.8,
-            color="black" if beta == 0 else None,
+            color="black" if beta == 0 else next(colours),
             label=plotting.beta_text(beta),
         )
     ax.set_xscale("log")
