@@ -117,7 +117,18 @@ def main(argv=None) -> int:
     if committed is None:
         committed = args.work / "committed"
         committed.mkdir(parents=True)
-        committed_from_git(Path.cwd(), figures.as_posix(), committed)
+        try:
+            committed_from_git(Path.cwd(), figures.as_posix(), committed)
+        except (OSError, subprocess.CalledProcessError) as error:
+            detail = getattr(error, "stderr", None) or ""
+            if isinstance(detail, bytes):
+                detail = detail.decode(errors="replace")
+            print(
+                f"cannot read the committed {figures}/*.png from git HEAD ({error} "
+                f"{detail.strip()}): run in a git checkout or pass --committed DIR",
+                file=sys.stderr,
+            )
+            return 1
     elif not committed.is_dir():
         parser.error(f"--committed = {committed}: no such folder")
 
