@@ -74,13 +74,13 @@ benchmarks: env
 	$(BIN)/snakemake -c$(CORES) benchmarks
 
 lint: env
-	$(BIN)/ruff check src tests workflow/scripts benchmarks
-	$(BIN)/ruff format --check src tests workflow/scripts benchmarks
+	$(BIN)/ruff check src tests workflow/scripts benchmarks notebooks .ci
+	$(BIN)/ruff format --check src tests workflow/scripts benchmarks notebooks .ci
 	$(BIN)/snakefmt --check Snakefile workflow/rules
 	$(BIN)/snakemake --lint
 
 clean:
-	rm -rf results logs .cache .snakemake/incomplete .pytest_cache report.html
+	rm -rf results logs .cache .snakemake/incomplete .pytest_cache report.html notebooks/executed
 
 distclean: clean
 	rm -rf $(VENV) .snakemake
