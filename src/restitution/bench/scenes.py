@@ -1,0 +1,87 @@
+"""The hard-case scene suite (issue #7 item 3): one definition for benchmarks and tests.
+
+Each :class:`Scene` is a declarative scene plus a reference COR and contact count obtained by an
+independent method (never the code under test): ``benchmarks/reference_values.py`` recomputes
+them and prints the constants pasted here, with their source and absolute error bound.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+
+@dataclass(frozen=True)
+class Scene:
+    """One hard scene: parameters of ``restitution.solve`` and its reference result."""
+
+    name: str  # short id for tables and file names
+    title: str  # one line for plot titles
+    alpha: float
+    beta: float = 0.0
+    xi: float = 0.0
+    n_masses: int = 2
+    law: Mapping[str, object] = field(default_factory=dict)  # nonlinear law kwargs; {} if linear
+    reference_cor: float | None = None  # from an independent reference (reference_source)
+    reference_contacts: int | None = None
+    reference_bound: float | None = None  # absolute error bound of reference_cor
+    reference_source: str = ""
+
+    @property
+    def linear(self) -> bool:
+        """True when contact and structure are linear (the exact solvers apply)."""
+        return self.law.get("contact", "linear") == "linear" and (
+            self.law.get("structure", "linear") == "linear"
+        )
+
+    def solve_kwargs(self) -> dict:
+        """Keyword arguments for ``restitution.solve(**kwargs)`` (add ``method=`` as needed)."""
+        return dict(
+            alpha=self.alpha, beta=self.beta, xi=self.xi, n_masses=self.n_masses, **self.law
+        )
+
+
+# Grazing points of the rigid wall (beta = 0), restitution.special_points.alpha_star (Brent
+# root of the closed-form gap minimum, round-off accurate); repr of the float.
+ALPHA_STAR_2 = 2.070074238552194
+ALPHA_STAR_5 = 7.151617494714966
+
+SCENES: tuple[Scene, ...] = (
+    Scene("graze2", "grazing contact at alpha*_2 (beta = 0)", ALPHA_STAR_2),
+    Scene("graze2_past", "just past alpha*_2: alpha*_2 (1 + 1e-6)", ALPHA_STAR_2 * (1 + 1e-6)),
+    Scene("graze5", "grazing contact at alpha*_5 (beta = 0)", ALPHA_STAR_5),
+    Scene("graze5_past", "just past alpha*_5: alpha*_5 (1 + 1e-6)", ALPHA_STAR_5 * (1 + 1e-6)),
+    Scene("stiff", "very stiff contact, beta = 1e-6", 3.0, beta=1e-6),
+    Scene("many", "about a hundred contacts: alpha = 200, beta = 1e-3", 200.0, beta=1e-3),
+    Scene("xi1", "critical dashpot xi = 1, beta = 1e-3", 3.0, beta=1e-3, xi=1.0),
+    Scene("xi3", "overdamped dashpot xi = 3, beta = 1e-3", 3.0, beta=1e-3, xi=3.0),
+    Scene("chain32", "N = 32 chain", 0.1, beta=1e-3, n_masses=32),
+    Scene(
+        "plastic",
+        "plastic contact eta = 0.5 reloading past its maximum",
+        5.0,
+        beta=1e-2,
+        law={"contact": "plastic", "eta": 0.5, "dr": 0.3},
+    ),
+    Scene(
+        "scissor",
+        "scissor spring near its lock angle",
+        1.0,
+        beta=1.0,
+        law={"structure": "scissor", "ks_ratio": 0.01, "L": 1.0},
+    ),
+    Scene("tiny", "tiny mass ratio alpha = 1e-6", 1e-6, beta=1e-3),
+)
+
+_BY_NAME = {s.name: s for s in SCENES}
+
+
+def scene(name: str) -> Scene:
+    """The scene called ``name``; KeyError listing the names otherwise."""
+    try:
+        return _BY_NAME[name]
+    except KeyError:
+        raise KeyError(f"no scene {name!r}; known: {', '.join(_BY_NAME)}") from None
+
+
+__all__ = ["SCENES", "Scene", "scene"]
