@@ -15,13 +15,15 @@ export MPLBACKEND := Agg
 export UV_COMPILE_BYTECODE := 1
 unexport PYTHONDONTWRITEBYTECODE
 
-.PHONY: all test env lock report benchmarks lint clean distclean help
+.PHONY: all test env lock report benchmarks bench-smoke lint clean distclean help
 
 help:
 	@echo "make all        build .venv from requirements.lock, then snakemake -c$(CORES) all"
 	@echo "make test       build .venv, then run the whole test suite"
 	@echo "make lock       re-resolve requirements.lock from pyproject.toml"
 	@echo "make report     build report.html after 'make all'"
+	@echo "make benchmarks work-precision study (results/ and figures/benchmarks/, < 10 min)"
+	@echo "make bench-smoke reduced benchmarks into \$$BENCH_SMOKE_DIR (default results/bench-smoke)"
 	@echo "make lint       ruff, snakefmt --check, snakemake --lint"
 	@echo "make clean      remove results, logs, figures' build caches and the numba cache"
 
@@ -51,6 +53,14 @@ report: env
 
 benchmarks: env
 	$(BIN)/snakemake -c$(CORES) benchmarks
+
+# The reduced benchmarks (config/benchmarks-smoke.yaml, ~1-2 min) in a scratch folder, for CI:
+# proves every rule of the target runs; its timings are not meant to be read.
+BENCH_SMOKE_DIR ?= results/bench-smoke
+bench-smoke: env
+	mkdir -p $(BENCH_SMOKE_DIR)
+	$(BIN)/snakemake -c$(CORES) benchmarks --configfile $(CURDIR)/config/benchmarks-smoke.yaml \
+		--directory $(BENCH_SMOKE_DIR)
 
 lint: env
 	$(BIN)/ruff check src tests workflow/scripts

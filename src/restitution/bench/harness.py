@@ -67,7 +67,7 @@ DEFAULTS = {
     "verlet_steps": [0.05, 0.02, 0.01, 0.005, 0.002, 0.001],
     "ivp_rtols": [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10],
     "ivp_atol_over_rtol": 1.0,
-    "ivp_steps_per_period": None,
+    "ivp_steps_per_period": 0,  # 0: no max_step
     "min_time": 0.2,
     "min_repeats": 3,
     "time_budget": 20.0,
@@ -109,7 +109,8 @@ def _numbers(cfg, key, low, high):
 def check_config(cfg: Mapping | None, scene_names: Iterable[str] = ()) -> dict:
     """The `benchmarks` section with defaults filled in; BenchConfigError naming a bad key."""
     cfg = dict(cfg or {})
-    unknown = sorted(set(cfg) - set(DEFAULTS) - {"scaling", "summary"})
+    # Keys used by the workflow's summary and scaling rules, checked there and by the schema.
+    unknown = sorted(set(cfg) - set(DEFAULTS) - {"scaling", "target_error", "time_limit"})
     if unknown:
         raise BenchConfigError(f"benchmarks: unknown key(s) {unknown}; allowed: {sorted(DEFAULTS)}")
     out = {**DEFAULTS, **{k: v for k, v in cfg.items() if k in DEFAULTS}}
@@ -135,8 +136,10 @@ def check_config(cfg: Mapping | None, scene_names: Iterable[str] = ()) -> dict:
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not low <= v <= high:
             raise BenchConfigError(f"benchmarks.{key} must be a number in [{low:g}, {high:g}]")
     spp = out["ivp_steps_per_period"]
-    if spp is not None and (isinstance(spp, bool) or not isinstance(spp, (int, float)) or spp < 1):
-        raise BenchConfigError("benchmarks.ivp_steps_per_period must be null or a number >= 1")
+    if isinstance(spp, bool) or not isinstance(spp, (int, float)) or not (spp == 0 or spp >= 1):
+        raise BenchConfigError(
+            f"benchmarks.ivp_steps_per_period must be 0 (no max_step) or a number >= 1; got {spp!r}"
+        )
     for key, low in (("min_repeats", 1), ("max_events", 1)):
         v = out[key]
         if isinstance(v, bool) or not isinstance(v, int) or v < low:
@@ -194,7 +197,7 @@ def runner(scene, setting: Setting, cfg: Mapping) -> Callable[[], object]:
         method=setting.family,
         rtol=rtol,
         atol=rtol * cfg["ivp_atol_over_rtol"],
-        steps_per_period=cfg["ivp_steps_per_period"],
+        steps_per_period=cfg["ivp_steps_per_period"] or None,
         time_budget=cfg["time_budget"],
         max_events=max_events,
     )
