@@ -1,0 +1,159 @@
+"""The hard-case suite (issue #7 item 6): every method on every scene of restitution.bench.scenes.
+
+Correctness only (timings are the benchmark's job): right contact count, COR error within the
+method's own stated bound plus the reference's bound, no NaN, an energy account that closes, and
+no hang -- every method stops loudly with ``event_budget_exhausted`` when its contact budget runs
+out. References come from independent methods (``benchmarks/reference_values.py``: mpmath for the
+two-mass linear scenes, scipy for the chain and the nonlinear laws), never from the code tested.
+
+Bounds per method:
+
+* exact (``auto`` on linear scenes: ``impulsive`` / ``piecewise``): round-off. A backward-stable
+  solver's COR error is at most a few ulps of the input times the problem's relative condition
+  number kappa = |d cor / d ln alpha| (``Scene.reference_condition``, mpmath), so the bound is
+  1e-13 + 64 eps kappa. kappa is O(1) except just past a grazing point, where a contact of depth
+  d ~ 1e-5 makes the COR move like sqrt(d) (kappa ~ 1e3).
+* ``adaptive``, ``verlet``, ``reference``: the ``error_estimate`` each Result reports (README,
+  "Solvers": the method's own estimate of its COR error).
+
+Exactly at a grazing point (scenes ``graze2``, ``graze5``, beta = 0) the exact solution of the
+float input has n contacts and misses the (n+1)-th by 4.5e-16 (n = 2) and 1.3e-15 (n = 5): a
+touch inside round-off. The exact kernels' rule (a touch within round-off does not count,
+kernels/linear.py, rigid2.py) gives n, and so must they. A numerical method may register that
+touch: then the count is n + 1 and the COR moves along the cusp by C sqrt(d) for a touch of depth
+d, C = 0.95 (mpmath: alpha 2 ulp above alpha*_2 has a touch of depth 1.7e-15 that moves the COR
+by 3.9e-8). A touch a float solver registers is at most ~1e-12 deep (a few thousand ulps of the
+O(1) gap), so n + 1 contacts are accepted there with a COR error up to C sqrt(1e-12) ~ 1e-6.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import pytest
+
+import restitution
+from restitution.bench.scenes import SCENES, Scene, scene
+
+pytestmark = pytest.mark.hard
+
+EPS = np.finfo(float).eps
+GRAZING_EXACT = ("graze2", "graze5")
+CUSP_C = 0.95  # COR change per sqrt(touch depth) at alpha*_2 (mpmath, see the module docstring)
+MAX_TOUCH = 1e-12  # deepest touch a float64 solver may register where the exact one misses
+
+
+def methods(sc: Scene) -> list[str]:
+    """Methods that apply: all for two masses; Verlet needs a contact spring (beta > 0)."""
+    if sc.n_masses != 2:
+        return ["auto"]
+    return ["auto", "adaptive", "reference"] + (["verlet"] if sc.beta > 0 else [])
+
+
+CASES = [(sc.name, m) for sc in SCENES for m in methods(sc)]
+
+# Method errors measured above their own error estimate (real findings, reported in issue #7;
+# strict: the test turns red once they are fixed). Values: error / estimate at the default
+# setting, and what was measured.
+KNOWN_UNDERESTIMATES = {
+    ("many", "adaptive"): "error 5.7e-8, estimate 3.9e-8 (x1.45) at rtol 1e-9",
+}
+
+
+def _exact_bound(sc: Scene) -> float:
+    kappa = sc.reference_condition if sc.reference_condition is not None else 1.0
+    return 1e-13 + 64 * EPS * kappa
+
+
+def _energy_tol(method: str, linear_exact: bool) -> float:
+    # The tolerances the solvers check their own energy account against (nonlinear.py):
+    # 1e3 rtol (default rtol 1e-9) for adaptive / reference, (2 pi step)**2 for Verlet (step
+    # 0.01). The exact kernels close it to round-off.
+    if linear_exact:
+        return 1e-12
+    return {"adaptive": 1e-6, "reference": 1e-6, "verlet": (2 * math.pi * 0.01) ** 2}[method]
+
+
+@pytest.mark.parametrize("name, method", CASES)
+def test_scene_method(name, method):
+    sc = scene(name)
+    assert sc.reference_cor is not None and sc.reference_bound is not None, sc
+    if (name, method) in KNOWN_UNDERESTIMATES:
+        pytest.xfail(KNOWN_UNDERESTIMATES[(name, method)])
+    r = restitution.solve(**sc.solve_kwargs(), method=method)
+    values = [r.cor, r.omega_t_col, r.e_translational, r.e_vibrational, r.e_dissipated]
+    assert r.status == "ok", r
+    assert all(math.isfinite(v) for v in [*values, r.error_estimate]), r
+    exact = method == "auto" and sc.linear
+    total = r.e_translational + r.e_vibrational + r.e_dissipated
+    assert abs(total - 1.0) <= _energy_tol(method, exact), (total, r)
+    assert abs(r.e_translational - r.cor**2) <= 1e-12, r
+    assert min(r.e_translational, r.e_vibrational) >= 0.0 and r.e_dissipated >= -1e-12, r
+    err = abs(r.cor - sc.reference_cor)
+    if exact:
+        assert r.method in ("impulsive", "piecewise")
+        assert r.n_collisions == sc.reference_contacts, r
+        assert err <= _exact_bound(sc) + sc.reference_bound, (err, r)
+        return
+    bound = r.error_estimate + sc.reference_bound
+    if name in GRAZING_EXACT and r.n_collisions == sc.reference_contacts + 1:
+        # registered the round-off touch: the COR moved along the cusp (module docstring)
+        bound += CUSP_C * math.sqrt(MAX_TOUCH)
+    else:
+        assert r.n_collisions == sc.reference_contacts, r
+    assert err <= bound, (err, bound, r)
+
+
+@pytest.mark.parametrize("name, method", CASES)
+def test_event_budget_fails_loudly(name, method):
+    """A budget smaller than the contacts needed ends with event_budget_exhausted, quickly."""
+    sc = scene(name)
+    restitution.solve(**sc.solve_kwargs(), method=method, max_events=1)  # JIT warm-up
+    if sc.reference_contacts == 1:
+        # one contact: the budget of one is enough, and the result must say so
+        r = restitution.solve(**sc.solve_kwargs(), method=method, max_events=1)
+        assert r.status == "ok" and r.n_collisions == 1
+        return
+    budget = max(1, sc.reference_contacts // 2)
+    t0 = time.perf_counter()
+    r = restitution.solve(**sc.solve_kwargs(), method=method, max_events=budget)
+    elapsed = time.perf_counter() - t0
+    assert r.status == "event_budget_exhausted", r
+    assert not r.success
+    assert r.n_collisions == budget, r
+    # Not a hang: stopping early costs at most what the whole scene costs (seconds for the
+    # scipy reference, milliseconds for the others).
+    assert elapsed < 10.0, elapsed
+
+
+def test_budget_is_checked_for_the_tiny_scene_too():
+    """The one-contact scene cannot exhaust a budget; a budget of zero is refused up front."""
+    sc = scene("tiny")
+    for method in methods(sc):
+        with pytest.raises(restitution.scene.SceneError, match="max_events"):
+            restitution.solve(**sc.solve_kwargs(), method=method, max_events=0)
+
+
+@pytest.mark.parametrize("method", ["auto", "reference"])
+def test_plastic_scene_reloads_past_its_earlier_maximum(method):
+    """The plastic scene really reloads past the previous maximum penetration (Sec. 3.1)."""
+    sc = scene("plastic")
+    r = restitution.solve(**sc.solve_kwargs(), method=method, history=True)
+    xm = r.history["x_max"].to_numpy()
+    assert len(xm) == sc.reference_contacts
+    past = [k for k in range(1, len(xm)) if xm[k] > xm[:k].max() * (1 + 1e-3)]
+    assert past, xm  # at least one later contact goes deeper than every earlier one
+    # measured: contacts 2 and 3 reach 1.64 and 1.73 times the first penetration
+    assert past == [1, 2], xm
+
+
+def test_just_past_grazing_the_shallow_contact_is_found():
+    """alpha*_n (1 + 1e-6) has the (n+1)-th contact the grazing scene lacks, ~1e-5 deep."""
+    for n in (2, 5):
+        at, past = scene(f"graze{n}"), scene(f"graze{n}_past")
+        assert at.reference_contacts == n and past.reference_contacts == n + 1
+        # COR continuous, with the sqrt cusp: the jump over 1e-6 in alpha is ~ C sqrt(d)
+        jump = abs(past.reference_cor - at.reference_cor)
+        assert 1e-4 < jump < 1e-2, jump
