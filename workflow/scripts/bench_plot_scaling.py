@@ -53,7 +53,7 @@ def draw(table, fits):
     ax_a.set_ylabel("time per scene (s)")
     lines = ax_a.get_legend_handles_labels()
     more = twin.get_legend_handles_labels()
-    ax_a.legend(lines[0] + more[0], lines[1] + more[1], fontsize="x-small", loc="upper left")
+    ax_a.legend(lines[0] + more[0], lines[1] + more[1], fontsize="x-small", loc="best")
     c = ok[ok["kind"] == "chain"]
     ax_n.plot(
         c["x"],
@@ -65,7 +65,7 @@ def draw(table, fits):
         label=f"exact{_label(fits, 'chain', 'exact')}",
     )
     ax_n.set_xlabel("number of masses N")
-    ax_n.legend(fontsize="x-small", loc="upper left")
+    ax_n.legend(fontsize="x-small", loc="best")
     s = table[table["kind"] == "sweep"]
     for threads, g in s.groupby("threads"):
         ax_s.plot(
@@ -79,12 +79,11 @@ def draw(table, fits):
         )
     ax_s.set_xlabel("scenes in one solve_many call")
     ax_s.set_ylabel("time per sweep (s)")
-    ax_s.legend(fontsize="x-small", loc="upper left")
+    ax_s.legend(fontsize="x-small", loc="best")
     for ax in (ax_a, ax_n, ax_s):
-        ax.set_xscale("log")
+        plotting.log_axis(ax, "x")
         ax.set_yscale("log")
         ax.grid(True, which="major", lw=0.3, color="0.85")
-    fig.subplots_adjust(wspace=0.45, bottom=0.2)
     return fig
 
 

@@ -7,6 +7,7 @@ below which a measured error only says "at most the bound".
 """
 
 import math
+import textwrap
 
 import numpy as np
 
@@ -30,7 +31,7 @@ def draw(records, titles):
     scenes = list(dict.fromkeys(records["scene"]))
     ncols = 3
     nrows = math.ceil(len(scenes) / ncols)
-    fig = plotting.new_figure("double", aspect=0.3 * nrows + 0.08)
+    fig = plotting.new_figure("double", aspect=0.27 * nrows + 0.1)
     axes = np.atleast_1d(fig.subplots(nrows, ncols, squeeze=False)).ravel()
     ok = records[(records["status"] == "ok") & records["cor_error"].notna()]
     for ax, scene in zip(axes, scenes, strict=False):
@@ -60,7 +61,7 @@ def draw(records, titles):
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlim(FLOOR / 3, 1.0)
-        ax.set_title(titles.get(scene, scene), fontsize="small")
+        ax.set_title(textwrap.fill(titles.get(scene, scene), 44), fontsize="x-small")
         ax.grid(True, which="major", lw=0.3, color="0.85")
     for ax in axes[len(scenes) :]:
         ax.set_visible(False)
@@ -78,15 +79,9 @@ def draw(records, titles):
 
     handles.append(Line2D([], [], ls="none", marker="x", color="red", ms=6))
     labels.append("wrong contact count")
-    fig.legend(
-        handles,
-        labels,
-        loc="lower center",
-        ncol=len(labels),
-        fontsize="small",
-        bbox_to_anchor=(0.5, 0.0),
-    )
-    fig.subplots_adjust(bottom=0.1 if nrows > 2 else 0.16, hspace=0.45, wspace=0.25)
+    # The house style uses constrained layout: "outside" reserves room below the panels.
+    fig.legend(handles, labels, loc="outside lower center", ncol=min(len(labels), 6),
+               fontsize="x-small", frameon=False)  # fmt: skip
     return fig
 
 
