@@ -21,7 +21,7 @@ Methods (none of them calls the numba kernels):
   two sign changes of v1 within one step unless v1 and its derivative nearly vanish together
   (h |lambda|max = 0.1); the run reports the shallowest contact and the nearest miss so that
   such a case would show. Bound: the result is recomputed at dps and dps + 10 digits; the bound
-  is 10 x their difference plus 1e-25, far below the float64 round-off of any solver.
+  is 10 x their difference plus half an ulp (rounding to float64).
 * N-mass chain: scipy ``solve_ivp`` DOP853 per phase with a small ``max_step`` (1/125 of the
   fastest period) and terminal events, at rtol 1e-11, 1e-12, 1e-13 (atol 1e-2 x rtol); the value
   at 1e-13 is the reference, bound = 10 x its largest difference to the other two (a tolerance
@@ -241,7 +241,7 @@ def two_mass_reference(alpha, beta, xi, dps):
     if lo["contacts"] != hi["contacts"]:
         raise RuntimeError(f"contact count depends on precision: {lo} vs {hi}")
     diff = abs(float(lo["cor"] - hi["cor"]))
-    bound = 10 * diff + 1e-25
+    bound = 10 * diff + 0.5 * math.ulp(float(hi["cor"]))  # + rounding to float64
     # Relative condition |d cor / d ln alpha|, one-sided from below (at a grazing point the
     # branch below is the smooth one): sets the round-off bound of float64 solvers.
     delta = 1e-10
