@@ -359,6 +359,30 @@ def nonlinear_run(sc, rtol):
     return r.cor, r.n_collisions
 
 
+def scissor_peak_ratio(sc):
+    """Peak compression of the scissor spring / its lock extension (linear elastic contact).
+
+    Checks the scene's claim "near its lock angle"; a plain solve_ivp of the two-mass equations
+    with the scissor force of ``laws.structure_force`` (max_step 0.02, rtol 1e-10).
+    """
+    from restitution import laws
+
+    law = dict(sc.law)
+    k2 = sc.alpha / (1 + sc.alpha)
+    k1 = k2 / sc.beta
+    theta0 = law.get("theta0", laws.THETA0_DEFAULT)
+    sp = laws.scissor_params(k2, law["ks_ratio"] * k2, law["L"], theta0)
+
+    def f(t, y):
+        f2 = laws.structure_force(sp, y[1] - y[0])
+        return [y[2], y[3], k1 * max(0.0, -y[0]) + f2, -f2 / sc.alpha]
+
+    sol = solve_ivp(
+        f, (0, 120), [0, 0, -1, -1], method="DOP853", rtol=1e-10, atol=1e-12, max_step=0.02
+    )
+    return float(np.min(sol.y[1] - sol.y[0]) / sp[laws.SP_XLOCK])
+
+
 # ------------------------------------------------------------------------------------------------
 
 
@@ -385,6 +409,8 @@ def main(argv=None):
         else:
             cor, n, bound, info = sweep_reference(lambda r, sc=sc: nonlinear_run(sc, r))
             source = "restitution.reference (scipy DOP853), rtol 1e-13"
+            if sc.law.get("structure") == "scissor":
+                info += f"; peak compression / x_lock = {scissor_peak_ratio(sc):.4f}"
         print(f"# {sc.name}: {info}", file=sys.stderr)
         print(
             f"{sc.name}: reference_cor={cor!r}, reference_contacts={n}, "

@@ -63,7 +63,13 @@ KNOWN_FAILURES = {
     "contacts, COR error 2.1e-3",
     ("graze5_past", "reference"): "restitution.reference misses the 1.2e-5 deep sixth contact: "
     "5 contacts, COR error 1.3e-3",
-    ("many", "adaptive"): "error 5.7e-8, estimate 3.9e-8 (x1.45) at rtol 1e-9",
+    ("many", "adaptive"): "error 5.7e-8 above its estimate 3.9e-8 (x1.45) at rtol 1e-9",
+    ("plastic", "reference"): "error 3.6e-9 above its estimate 1e-9 (= rtol; x3.6)",
+    # Verlet's step-halving estimate |cor(h/2) - cor(h)|/3 assumes second-order convergence;
+    # event location at step granularity is not, and the error is erratic in the step.
+    ("stiff", "verlet"): "error 7.5e-6 above its estimate 4.8e-6 (x1.6) at step 0.01",
+    ("plastic", "verlet"): "error 4.2e-4 above its estimate 1.8e-4 (x2.3) at step 0.01",
+    ("scissor", "verlet"): "error 1.2e-5 above its estimate 4.9e-6 (x2.5) at step 0.01",
 }
 
 
@@ -78,6 +84,7 @@ def _energy_tol(method: str, linear_exact: bool) -> float:
     # 0.01). The exact kernels close it to round-off.
     if linear_exact:
         return 1e-12
+    method = "adaptive" if method == "auto" else method  # auto on a nonlinear law
     return {"adaptive": 1e-6, "reference": 1e-6, "verlet": (2 * math.pi * 0.01) ** 2}[method]
 
 
@@ -167,3 +174,32 @@ def test_just_past_grazing_the_shallow_contact_is_found():
         # COR continuous, with the sqrt cusp: the jump over 1e-6 in alpha is ~ C sqrt(d)
         jump = abs(past.reference_cor - at.reference_cor)
         assert 1e-4 < jump < 1e-2, jump
+
+
+# ------------------------------------------------------------------------------------------------
+# Minimal reproducers of real problems found by this suite and tests/test_properties.py (strict
+# xfails: they turn red when fixed, so the marker can go).
+# ------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.xfail(strict=True, reason="not validated: the law creates energy (see docstring)")
+def test_plastic_law_that_creates_energy_is_refused():
+    """eta > 1 with DR < (eta - 1)/(2 eta): the unloading line (slope k1) is shallower than the
+    loading curve's tangent at xmax (eta Fmax/xmax = 2 eta (1 - DR) k1/(eta + 1) > k1), so
+    loading and unloading from any xmax at or past the nominal one returns more than it stored.
+    Measured at alpha = 1, beta = 1, eta = 2, DR = 0: e_dissipated = -0.043 with adaptive (status
+    energy_account_open) and with reference (status "ok"). Bad input should be refused before
+    any work, like DR < (1 - eta)/2 for eta < 1 already is."""
+    with pytest.raises(restitution.scene.SceneError, match="dr"):
+        restitution.solve(1.0, 1.0, contact="plastic", eta=2.0, dr=0.0)
+
+
+@pytest.mark.xfail(strict=True, reason="adaptive error 4.0e-7 above its estimate 7.5e-8 (x5.3)")
+def test_adaptive_estimate_covers_its_error_on_a_soft_scissor():
+    """Scissor spring, alpha = 1, beta = 0.01, L = 1, ks_ratio = 0.01, default rtol 1e-9: COR
+    = 1 + 4.0e-7 (an elastic system gaining energy). Reference COR = 1 - 2.684e-9
+    (restitution.reference at rtol 1e-13; 1e-11 gives 1 - 2.233e-9, adaptive at 1e-13
+    1 - 2.641e-9)."""
+    r = restitution.solve(1.0, 0.01, structure="scissor", L=1.0, ks_ratio=0.01)
+    assert r.status == "ok"
+    assert abs(r.cor - (1 - 2.684e-9)) <= r.error_estimate + 1e-10

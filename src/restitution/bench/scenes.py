@@ -55,6 +55,7 @@ ALPHA_STAR_2 = 2.070074238552193
 ALPHA_STAR_5 = 7.151617494714965
 
 SCENES: tuple[Scene, ...] = (
+    # Exactly at a grazing point: the exact solution misses the next contact by round-off.
     Scene(
         "graze2",
         "grazing contact at alpha*_2 (beta = 0)",
@@ -65,6 +66,8 @@ SCENES: tuple[Scene, ...] = (
         reference_source="mpmath 50 digits",
         reference_condition=0.86,
     ),
+    # Just past it: the extra contact is 5e-6 deep and lasts 0.006 (period 6.3); sign-change
+    # event detection at step ends misses it.
     Scene(
         "graze2_past",
         "just past alpha*_2: alpha*_2 (1 + 1e-6)",
@@ -75,6 +78,7 @@ SCENES: tuple[Scene, ...] = (
         reference_source="mpmath 50 digits",
         reference_condition=1100.0,
     ),
+    # The fifth grazing point: a longer sequence before the tangent touch.
     Scene(
         "graze5",
         "grazing contact at alpha*_5 (beta = 0)",
@@ -85,6 +89,7 @@ SCENES: tuple[Scene, ...] = (
         reference_source="mpmath 50 digits",
         reference_condition=1.1,
     ),
+    # Just past alpha*_5: the sixth contact is 1.2e-5 deep.
     Scene(
         "graze5_past",
         "just past alpha*_5: alpha*_5 (1 + 1e-6)",
@@ -95,6 +100,8 @@ SCENES: tuple[Scene, ...] = (
         reference_source="mpmath 50 digits",
         reference_condition=660.0,
     ),
+    # Very stiff contact: contact frequency sqrt(k1/m1) = 870 omega, so an explicit step must
+    # shrink 870-fold in contact. alpha = 3 (between alpha*_2 and alpha*_3): 3 contacts.
     Scene(
         "stiff",
         "very stiff contact, beta = 1e-6",
@@ -106,24 +113,57 @@ SCENES: tuple[Scene, ...] = (
         reference_source="mpmath 50 digits",
         reference_condition=0.82,
     ),
-    Scene("many", "about a hundred contacts: alpha = 200, beta = 1e-3", 200.0, beta=1e-3),
+    # Fig. 7(d)'s long sequence: alpha = 200, beta = 1e-3, undamped (the most contacts: 68,
+    # fewer than the issue's "about a hundred"), ending in a long last contact (omega t = 43).
+    Scene("many", "many contacts: alpha = 200, beta = 1e-3", 200.0, beta=1e-3),
+    # xi = 1 exactly: the free phase is critically damped (a double eigenvalue, no eigenbasis).
+    # alpha = 3 is in the multiple-contact range of Fig. 7(b): 7 contacts.
     Scene("xi1", "critical dashpot xi = 1, beta = 1e-3", 3.0, beta=1e-3, xi=1.0),
+    # Overdamped, yet 12 contacts at alpha = 3 (Fig. 7(a): minima persist for xi > 1).
     Scene("xi3", "overdamped dashpot xi = 3, beta = 1e-3", 3.0, beta=1e-3, xi=3.0),
-    Scene("chain32", "N = 32 chain", 0.1, beta=1e-3, n_masses=32),
+    # 64 state variables. alpha = 0.1 puts the rear mass (N - 1) alpha = 3.1 in the
+    # multiple-contact range of Fig. 6(b) (8 contacts) while a scipy reference stays affordable.
+    Scene(
+        "chain32",
+        "N = 32 chain, alpha = 0.1, beta = 1e-3",
+        0.1,
+        beta=1e-3,
+        n_masses=32,
+        reference_cor=0.743662336970728,
+        reference_contacts=8,
+        reference_bound=1.0e-12,
+        reference_source="scipy DOP853 per phase, rtol 1e-13, max_step 1/125 period",
+    ),
+    # Plastic contact, eta = 0.5, DR = 0.3, beta = 0.01 (Fig. 4(c)), alpha = 5: 5 contacts, of
+    # which the 2nd and 3rd load 1.64 and 1.73 times deeper than the 1st (reloads past the
+    # earlier maximum, continuing on the power law; tests/test_hard.py checks it).
     Scene(
         "plastic",
         "plastic contact eta = 0.5 reloading past its maximum",
         5.0,
         beta=1e-2,
         law={"contact": "plastic", "eta": 0.5, "dr": 0.3},
+        reference_cor=0.8544527913392974,
+        reference_contacts=5,
+        reference_bound=3.6e-10,
+        reference_source="restitution.reference (scipy DOP853), rtol 1e-13",
     ),
+    # Scissor spring of Fig. 5(b) (beta = 1, ks = k1/100), alpha = 1, L = 54: the peak
+    # compression is 1.01 times the lock extension x_lock (where the slope vanishes and the
+    # corner pads take over; reference_values.py prints the ratio). 2 contacts.
     Scene(
         "scissor",
         "scissor spring near its lock angle",
         1.0,
         beta=1.0,
         law={"structure": "scissor", "ks_ratio": 0.01, "L": 54.0},
+        reference_cor=0.9997647062622237,
+        reference_contacts=2,
+        reference_bound=4.1e-11,
+        reference_source="restitution.reference (scipy DOP853), rtol 1e-13",
     ),
+    # Tiny mass ratio: m2 vibrates 30 times faster than m1 bounces on the contact spring
+    # (beta = 1e-3, so every method applies); one contact, 1 - COR = 1.4e-12.
     Scene("tiny", "tiny mass ratio alpha = 1e-6", 1e-6, beta=1e-3),
 )
 
