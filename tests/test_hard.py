@@ -65,11 +65,16 @@ KNOWN_FAILURES = {
     "5 contacts, COR error 1.3e-3",
     ("many", "adaptive"): "error 5.7e-8 above its estimate 3.9e-8 (x1.45) at rtol 1e-9",
     ("plastic", "reference"): "error 3.6e-9 above its estimate 1e-9 (= rtol; x3.6)",
+    ("xi3", "reference"): "error 6.1e-6 above its estimate 1e-9 (= rtol; x6000); 2.6e-12 at "
+    "rtol 1e-11",
     # Verlet's step-halving estimate |cor(h/2) - cor(h)|/3 assumes second-order convergence;
     # event location at step granularity is not, and the error is erratic in the step.
     ("stiff", "verlet"): "error 7.5e-6 above its estimate 4.8e-6 (x1.6) at step 0.01",
     ("plastic", "verlet"): "error 4.2e-4 above its estimate 1.8e-4 (x2.3) at step 0.01",
     ("scissor", "verlet"): "error 1.2e-5 above its estimate 4.9e-6 (x2.5) at step 0.01",
+    ("xi1", "verlet"): "error 1.1e-4 above its estimate 4.0e-5 (x2.8) at step 0.01",
+    ("xi3", "verlet"): "error 2.9e-8 above its estimate 1.8e-8 (x1.6) at step 0.01",
+    ("tiny", "verlet"): "error 1.0e-7 above its estimate 4.6e-8 (x2.2) at step 0.01; COR > 1",
 }
 
 

@@ -115,12 +115,44 @@ SCENES: tuple[Scene, ...] = (
     ),
     # Fig. 7(d)'s long sequence: alpha = 200, beta = 1e-3, undamped (the most contacts: 68,
     # fewer than the issue's "about a hundred"), ending in a long last contact (omega t = 43).
-    Scene("many", "many contacts: alpha = 200, beta = 1e-3", 200.0, beta=1e-3),
+    Scene(
+        "many",
+        "many contacts: alpha = 200, beta = 1e-3",
+        200.0,
+        beta=1e-3,
+        reference_cor=0.9954729953128181,
+        reference_contacts=68,
+        reference_bound=5.6e-17,
+        reference_source="mpmath 50 digits",
+        reference_condition=0.63,
+    ),
     # xi = 1 exactly: the free phase is critically damped (a double eigenvalue, no eigenbasis).
     # alpha = 3 is in the multiple-contact range of Fig. 7(b): 7 contacts.
-    Scene("xi1", "critical dashpot xi = 1, beta = 1e-3", 3.0, beta=1e-3, xi=1.0),
+    Scene(
+        "xi1",
+        "critical dashpot xi = 1, beta = 1e-3",
+        3.0,
+        beta=1e-3,
+        xi=1.0,
+        reference_cor=0.20984782963703066,
+        reference_contacts=7,
+        reference_bound=1.4e-17,
+        reference_source="mpmath 50 digits",
+        reference_condition=1.8,
+    ),
     # Overdamped, yet 12 contacts at alpha = 3 (Fig. 7(a): minima persist for xi > 1).
-    Scene("xi3", "overdamped dashpot xi = 3, beta = 1e-3", 3.0, beta=1e-3, xi=3.0),
+    Scene(
+        "xi3",
+        "overdamped dashpot xi = 3, beta = 1e-3",
+        3.0,
+        beta=1e-3,
+        xi=3.0,
+        reference_cor=0.05666619272174521,
+        reference_contacts=12,
+        reference_bound=3.5e-18,
+        reference_source="mpmath 50 digits",
+        reference_condition=0.045,
+    ),
     # 64 state variables. alpha = 0.1 puts the rear mass (N - 1) alpha = 3.1 in the
     # multiple-contact range of Fig. 6(b) (8 contacts) while a scipy reference stays affordable.
     Scene(
@@ -164,7 +196,17 @@ SCENES: tuple[Scene, ...] = (
     ),
     # Tiny mass ratio: m2 vibrates 30 times faster than m1 bounces on the contact spring
     # (beta = 1e-3, so every method applies); one contact, 1 - COR = 1.4e-12.
-    Scene("tiny", "tiny mass ratio alpha = 1e-6", 1e-6, beta=1e-3),
+    Scene(
+        "tiny",
+        "tiny mass ratio alpha = 1e-6",
+        1e-6,
+        beta=1e-3,
+        reference_cor=0.9999999999986209,
+        reference_contacts=1,
+        reference_bound=5.6e-17,
+        reference_source="mpmath 50 digits",
+        reference_condition=4.2e-11,
+    ),
 )
 
 _BY_NAME = {s.name: s for s in SCENES}
