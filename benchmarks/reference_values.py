@@ -1,6 +1,6 @@
 """Reference values of the hard scenes (``restitution.bench.scenes``), from independent methods.
 
-Usage: .venv/bin/python benchmarks/reference_values.py [--only NAME ...] [--dps 40]
+Usage: .venv/bin/python benchmarks/reference_values.py [--only NAME ...] [--dps 40] [--grazing]
 
 Needs ``mpmath`` (``pip install mpmath``; only this script uses it, the tests use the pasted
 constants). Prints, per scene, the reference COR, contact count, absolute bound and source, and
@@ -392,7 +392,14 @@ def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--only", nargs="*", help="scene names (default: all)")
     p.add_argument("--dps", type=int, default=40, help="mpmath digits (the check uses dps + 10)")
+    p.add_argument(
+        "--grazing", action="store_true", help="also recompute ALPHA_STAR_2 and ALPHA_STAR_5"
+    )
     args = p.parse_args(argv)
+    if args.grazing:
+        for n, lo, hi in ((2, 2.0700, 2.0701), (5, 7.1516, 7.1517)):
+            a = grazing_alpha(n, lo, hi, args.dps)
+            print(f"ALPHA_STAR_{n} = {float_below(a)!r}  # alpha*_{n} = {a}", flush=True)
     for sc in SCENES:
         if args.only and sc.name not in args.only:
             continue

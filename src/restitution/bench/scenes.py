@@ -3,6 +3,24 @@
 Each :class:`Scene` is a declarative scene plus a reference COR and contact count obtained by an
 independent method (never the code under test): ``benchmarks/reference_values.py`` recomputes
 them and prints the constants pasted here, with their source and absolute error bound.
+
+* Two-mass linear scenes: the exact piecewise-linear motion in 40 and 50 digits (mpmath matrix
+  exponentials, contacts found from u1's sign and from its local minima, roots polished to
+  1e-32); bound = 10 x the 40/50-digit difference + half an ulp for the rounding to float64.
+  ``reference_condition`` = |d cor / d ln alpha| (mpmath), which sets a float64 solver's
+  round-off bound.
+* N = 32 chain: scipy DOP853 per phase (max_step 1/125 of the fastest period), rtol 1e-11..1e-13;
+  bound = 10 x the spread of the sweep, at least 1e-12.
+* Nonlinear laws: ``restitution.reference`` (scipy, independent of the numba integrators) at
+  rtol 1e-11..1e-13; bound as for the chain.
+
+Contact count at a grazing point. At alpha*_n the (n+1)-th contact is a tangency with zero
+depth and zero impulse: not a contact interval. The scene's alpha is the largest float64 below
+alpha*_n, whose exact solution misses the tangency by 4.5e-16 (n = 2) and 1.3e-15 (n = 5), so the
+reference count is n. That is also the exact kernels' rule (a touch within round-off of the gap's
+scale does not count). A float solver may register the round-off touch instead; the COR is
+continuous there but has a square-root cusp, so that costs ~C sqrt(depth), C = 0.95
+(tests/test_hard.py accepts n + 1 for the numerical methods with that allowance).
 """
 
 from __future__ import annotations
