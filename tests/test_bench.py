@@ -8,6 +8,7 @@ the first reversal m1 is back at the wall at -V0 and m2 moves at +V0); just past
 alpha*_2 a third contact appears (definition of alpha*_n).
 """
 
+import dataclasses
 import math
 import os
 import subprocess
@@ -19,6 +20,7 @@ import pandas as pd
 import pytest
 import yaml
 
+from restitution import solve
 from restitution.bench import harness
 from restitution.bench.harness import BenchConfigError, Setting, check_config, run_scene_family
 from restitution.bench.ivp import TIME_BUDGET_STATUS, solve_ivp_scene
@@ -126,13 +128,26 @@ def test_missed_shallow_contact_is_recorded():
     assert missed["status"] == "ok" and missed["n_collisions"] == 2 and not missed["contacts_ok"]
 
 
-def test_time_budget_failure_recorded_and_tighter_settings_skipped():
-    conf = cfg(ivp_rtols=[1e-8, 1e-10], time_budget=0.05)
+def test_time_budget_failure_recorded_not_rerun():
+    conf = cfg(ivp_rtols=[1e-8], time_budget=0.05)
     many = Scene("many", "alpha = 200, beta = 1e-3", 200.0, beta=1e-3)
     rows = run_scene_family(many, "Radau", conf)
-    assert [r["status"] for r in rows] == [TIME_BUDGET_STATUS, "skipped"]
+    assert rows[0]["status"] == TIME_BUDGET_STATUS and rows[0]["repeats"] == 1
     assert math.isnan(rows[0]["cor_error"]) and not rows[0]["contacts_ok"]
     assert "time budget" in rows[0]["message"]
+
+
+def test_tighter_settings_skipped_only_after_a_looser_one_finished(monkeypatch):
+    done = solve(alpha=1.0)
+    # rtol 1e-2 times out, 1e-4 finishes, 1e-6 times out, 1e-8 is skipped
+    status = {1e-2: TIME_BUDGET_STATUS, 1e-4: "ok", 1e-6: TIME_BUDGET_STATUS, 1e-8: "ok"}
+    monkeypatch.setattr(
+        harness,
+        "runner",
+        lambda scene, s, conf: lambda: dataclasses.replace(done, status=status[s.setting]),
+    )
+    rows = run_scene_family(EQUAL, "RK45", cfg(ivp_rtols=[1e-2, 1e-4, 1e-6, 1e-8]))
+    assert [r["status"] for r in rows] == [*list(status.values())[:3], "skipped"]
 
 
 def test_crashing_method_recorded_as_error(monkeypatch):

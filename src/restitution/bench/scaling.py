@@ -128,10 +128,14 @@ def fit_exponents(
     """Fitted exponents p of y = A x**p for time (and contacts) against alpha, N, n scenes."""
     rows = []
     ok = table[table["status"] == "ok"]
+    ok = ok.assign(time_per_contact_s=ok["time_s"] / ok["n_collisions"].clip(lower=1))
     groups = [
         ("alpha", alpha_fit_min, "time_s", "time per scene vs alpha"),
         ("alpha", alpha_fit_min, "n_collisions", "contacts vs alpha"),
+        ("alpha", alpha_fit_min, "time_per_contact_s", "time per contact vs alpha"),
         ("chain", chain_fit_min, "time_s", "time per scene vs N"),
+        ("chain", chain_fit_min, "n_collisions", "contacts vs N"),
+        ("chain", chain_fit_min, "time_per_contact_s", "time per contact vs N"),
         ("sweep", sweep_fit_min, "time_s", "sweep time vs number of scenes"),
     ]
     for kind, x_min, quantity, what in groups:
