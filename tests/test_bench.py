@@ -231,7 +231,22 @@ def test_summary_and_headline_pick_the_right_rows():
     assert cheap.loc["DOP853", "setting"] == 1e-7  # most accurate within 10 ms (count ignored)
     assert cheap.loc["RK45", "note"] == "no setting that fast"
     head = headline(records, 1e-6).iloc[0]
-    assert head["ivp_method"] == "RK45" and head["speedup"] == pytest.approx(3e-2 / 1e-5)
+    assert head["ours"] == "exact" and head["ivp_method"] == "RK45"
+    assert head["speedup"] == pytest.approx(3e-2 / 1e-5)
+    nonlinear = records[records["family"] != "exact"].assign(scene="n")
+    nonlinear = pd.concat(
+        [
+            nonlinear,
+            pd.DataFrame(
+                [
+                    _rec("n", "adaptive", 1e-6, 1e-4, True, 1e-5),
+                    _rec("n", "adaptive", 1e-9, 1e-9, True, 1e-4),
+                ]
+            ),
+        ]
+    )
+    head = headline(nonlinear, 1e-6).iloc[0]  # no exact solver: the adaptive setting reaching 1e-6
+    assert head["ours"] == "adaptive" and head["ours_setting"] == 1e-9
 
 
 def test_fit_exponents_recovers_a_power_law():
