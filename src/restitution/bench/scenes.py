@@ -107,7 +107,7 @@ SCENES: tuple[Scene, ...] = (
         reference_source="mpmath 50 digits",
         reference_condition=1.1,
     ),
-    # Just past alpha*_5: the sixth contact is 1.2e-5 deep.
+    # Just past alpha*_5: the sixth contact is 1.2e-5 deep, its dip 0.009 long.
     Scene(
         "graze5_past",
         "just past alpha*_5: alpha*_5 (1 + 1e-6)",
