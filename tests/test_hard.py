@@ -187,16 +187,27 @@ def test_just_past_grazing_the_shallow_contact_is_found():
 # ------------------------------------------------------------------------------------------------
 
 
-@pytest.mark.xfail(strict=True, reason="not validated: the law creates energy (see docstring)")
-def test_plastic_law_that_creates_energy_is_refused():
-    """eta > 1 with DR < (eta - 1)/(2 eta): the unloading line (slope k1) is shallower than the
-    loading curve's tangent at xmax (eta Fmax/xmax = 2 eta (1 - DR) k1/(eta + 1) > k1), so
-    loading and unloading from any xmax at or past the nominal one returns more than it stored.
-    Measured at alpha = 1, beta = 1, eta = 2, DR = 0: e_dissipated = -0.043 with adaptive (status
-    energy_account_open) and with reference (status "ok"). Bad input should be refused before
-    any work, like DR < (1 - eta)/2 for eta < 1 already is."""
-    with pytest.raises(restitution.scene.SceneError, match="dr"):
-        restitution.solve(1.0, 1.0, contact="plastic", eta=2.0, dr=0.0)
+@pytest.mark.parametrize(
+    "method",
+    [
+        "adaptive",
+        pytest.param(
+            "reference",
+            marks=pytest.mark.xfail(
+                strict=True, reason="reference reports status ok with e_dissipated = -0.043"
+            ),
+        ),
+    ],
+)
+def test_plastic_law_that_creates_energy_is_never_ok(method):
+    """eta > 1: the loading slope kappa eta x**(eta-1) grows past the unloading slope k1, and a
+    linear unloading from there returns more than the loading stored (known: config.yaml, fig4
+    comment). It depends on the depth reached, so no input check can exclude it; the energy
+    account must. alpha = 1, beta = 1, eta = 2, DR = 0: e_dissipated = -0.043 with both methods;
+    adaptive says energy_account_open, reference says ok."""
+    r = restitution.solve(1.0, 1.0, contact="plastic", eta=2.0, dr=0.0, method=method)
+    assert r.e_dissipated < -0.04  # the law did create energy here
+    assert r.status != "ok", r
 
 
 @pytest.mark.xfail(strict=True, reason="adaptive error 4.0e-7 above its estimate 7.5e-8 (x5.3)")

@@ -130,6 +130,20 @@ def test_eq23_bound_with_plastic_contact(alpha, beta, eta, dr):
     assert r.cor <= bound + r.error_estimate + 1e-12, (r.cor, bound, r)
 
 
+def test_eq23_is_not_a_bound_for_convex_loading():
+    """Counterexample found by a scan (eta in [1, 3], DR >= (eta - 1)/(2 eta), 300 draws: 5 above
+    the bound, rtol 1e-12): with eta > 1 a first contact deeper than m1's nominal one (m2 pushes)
+    dissipates *less* than DR, since the loading curve steepens. One contact, x_max = 1.80,
+    dissipated 0.36 % instead of DR = 35.7 %; both the adaptive method and the scipy reference
+    (agree to 2e-12). Eq. 23 is the paper's conjecture ("we conceive"), checked above for eta <= 1.
+    """
+    alpha, beta, eta, dr = 3.6233525845960837, 0.2718110996317248, 2.900494847386333, 0.357035
+    r = restitution.solve(alpha, beta, contact="plastic", eta=eta, dr=dr, **NL)
+    assert r.status == "ok" and r.n_collisions == 1
+    assert 0.0 < r.e_dissipated < 0.01
+    assert r.cor > math.sqrt(1.0 - dr / (1.0 + alpha)) + 0.02  # 0.9868 > 0.9606
+
+
 # ------------------------------------------------------------------------------------------------
 # Units: a dimensional integration of the raw equations of motion (independent of the package)
 # ------------------------------------------------------------------------------------------------
