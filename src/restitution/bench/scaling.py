@@ -5,7 +5,8 @@
 * ``chain_scaling``: the exact chain solver against the number of masses N.
 * ``sweep_scaling``: ``restitution.solve_many`` over n scenes on 1 and 2 numba threads.
 
-Times use ``harness.time_call`` (median of repeats filling ``min_time``) after a warm-up call.
+Times use ``harness.time_call`` (median of repeats filling ``min_time``) after an untimed warm-up
+call at every point (a new chain length or sweep size can reach kernel code not yet compiled).
 ``fit_exponents`` fits log(y) = log(A) + p log(x) by least squares (numpy.polyfit, standard error
 from its covariance) and returns one row per (kind, family, quantity).
 """
@@ -33,6 +34,11 @@ SCALING_COLUMNS = (
 )
 
 
+def _timed(fn, min_time, min_repeats):
+    fn()  # warm-up, untimed
+    return time_call(fn, min_time, min_repeats)
+
+
 def _row(kind, family, x, threads, n_scenes, ncol, seconds, status):
     return dict(
         kind=kind,
@@ -56,10 +62,10 @@ def alpha_scaling(
     solve(alpha=1.0, beta=beta)  # warm-up: compile or load the kernel
     rows = []
     for a in alphas:
-        r, t, _, _ = time_call(lambda a=a: solve(alpha=a, beta=beta), min_time, min_repeats)
+        r, t, _, _ = _timed(lambda a=a: solve(alpha=a, beta=beta), min_time, min_repeats)
         rows.append(_row("alpha", "exact", a, 1, 1, r.n_collisions, t, r.status))
     for a in (a for a in alphas if a <= ivp_alpha_max):
-        r, t, _, _ = time_call(
+        r, t, _, _ = _timed(
             lambda a=a: solve_ivp_scene(
                 a, beta, method=ivp_method, rtol=ivp_rtol, time_budget=time_budget
             ),
@@ -77,7 +83,7 @@ def chain_scaling(ns, alpha, beta, min_time, min_repeats):
     solve(alpha=alpha, beta=beta, n_masses=3)  # warm-up
     rows = []
     for n in ns:
-        r, t, _, _ = time_call(
+        r, t, _, _ = _timed(
             lambda n=n: solve(alpha=alpha, beta=beta, n_masses=int(n)), min_time, min_repeats
         )
         rows.append(_row("chain", "exact", n, 1, 1, r.n_collisions, t, r.status))
@@ -97,7 +103,7 @@ def sweep_scaling(counts, threads, alpha_min, alpha_max, beta, min_time, min_rep
         for n in counts:
             grid = np.geomspace(alpha_min, alpha_max, int(n))
             scenes = pd.DataFrame({"alpha": grid, "beta": beta})
-            out, sec, _, _ = time_call(lambda f=scenes: solve_many(f), min_time, min_repeats)
+            out, sec, _, _ = _timed(lambda f=scenes: solve_many(f), min_time, min_repeats)
             bad = int((out["status"] != "ok").sum())
             status = "ok" if bad == 0 else f"{bad} rows not ok"
             rows.append(
