@@ -131,8 +131,9 @@ SCENES: tuple[Scene, ...] = (
         reference_source="mpmath 50 digits",
         reference_condition=0.82,
     ),
-    # Fig. 7(d)'s long sequence: alpha = 200, beta = 1e-3, undamped (the most contacts: 68,
-    # fewer than the issue's "about a hundred"), ending in a long last contact (omega t = 43).
+    # Fig. 7(d)'s alpha = 200, beta = 1e-3, undamped: the most contacts at this alpha (68 over
+    # omega t = 43, each ~0.1 long; fewer than the issue's "about a hundred"). The long last
+    # contact of Fig. 7(d) needs its dashpot (xi = 0.3: 22 contacts, the last one 36 long).
     Scene(
         "many",
         "many contacts: alpha = 200, beta = 1e-3",
