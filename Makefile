@@ -15,7 +15,7 @@ export MPLBACKEND := Agg
 export UV_COMPILE_BYTECODE := 1
 unexport PYTHONDONTWRITEBYTECODE
 
-.PHONY: all test env lock report benchmarks bench-smoke lint clean distclean help
+.PHONY: all test env lock report benchmarks bench-report bench-smoke lint clean distclean help
 
 help:
 	@echo "make all        build .venv from requirements.lock, then snakemake -c$(CORES) all"
@@ -23,6 +23,7 @@ help:
 	@echo "make lock       re-resolve requirements.lock from pyproject.toml"
 	@echo "make report     build report.html after 'make all'"
 	@echo "make benchmarks work-precision study (results/ and figures/benchmarks/, < 10 min)"
+	@echo "make bench-report  results/benchmarks/report.html after 'make benchmarks'"
 	@echo "make bench-smoke reduced benchmarks into \$$BENCH_SMOKE_DIR (default results/bench-smoke)"
 	@echo "make lint       ruff, snakefmt --check, snakemake --lint"
 	@echo "make clean      remove results, logs, figures' build caches and the numba cache"
@@ -53,6 +54,10 @@ report: env
 
 benchmarks: env
 	$(BIN)/snakemake -c$(CORES) benchmarks
+
+# The benchmarks' own report (the main report covers target `all` only).
+bench-report: env
+	$(BIN)/snakemake -c$(CORES) benchmarks --report results/benchmarks/report.html
 
 # The reduced benchmarks (config/benchmarks-smoke.yaml, ~1-2 min) in a scratch folder, for CI:
 # proves every rule of the target runs; its timings are not meant to be read.
