@@ -15,7 +15,7 @@ export MPLBACKEND := Agg
 export UV_COMPILE_BYTECODE := 1
 unexport PYTHONDONTWRITEBYTECODE
 
-.PHONY: all test env lock report notebooks benchmarks lint clean distclean help
+.PHONY: all test env lock report notebooks benchmarks bench-report bench-smoke lint clean distclean help
 
 help:
 	@echo "make all        build .venv from requirements.lock, then snakemake -c$(CORES) all"
@@ -23,6 +23,9 @@ help:
 	@echo "make lock       re-resolve requirements.lock from pyproject.toml"
 	@echo "make report     build report.html: figures, tables, captions (runs 'all' first)"
 	@echo "make notebooks  execute notebooks/*.py into notebooks/executed/ (after 'make all')"
+	@echo "make benchmarks work-precision study (results/ and figures/benchmarks/, < 10 min)"
+	@echo "make bench-report  results/benchmarks/report.html after 'make benchmarks'"
+	@echo "make bench-smoke reduced benchmarks into \$$BENCH_SMOKE_DIR (default results/bench-smoke)"
 	@echo "make lint       ruff, snakefmt --check, snakemake --lint"
 	@echo "make clean      remove results, logs, figures' build caches and the numba cache"
 
@@ -72,6 +75,18 @@ notebooks: env
 
 benchmarks: env
 	$(BIN)/snakemake -c$(CORES) benchmarks
+
+# The benchmarks' own report (the main report covers target `all` only).
+bench-report: env
+	$(BIN)/snakemake -c$(CORES) benchmarks --report results/benchmarks/report.html
+
+# The reduced benchmarks (config/benchmarks-smoke.yaml, ~1-2 min) in a scratch folder, for CI:
+# proves every rule of the target runs; its timings are not meant to be read.
+BENCH_SMOKE_DIR ?= results/bench-smoke
+bench-smoke: env
+	mkdir -p $(BENCH_SMOKE_DIR)
+	$(BIN)/snakemake -c$(CORES) benchmarks --configfile $(CURDIR)/config/benchmarks-smoke.yaml \
+		--directory $(BENCH_SMOKE_DIR)
 
 lint: env
 	$(BIN)/ruff check src tests workflow/scripts benchmarks notebooks .ci
