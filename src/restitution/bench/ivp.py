@@ -130,6 +130,7 @@ def _two_masses(scene, method, rtol, atol, steps_per_period, deadline, max_event
         atol=atol * v0,
         steps_per_period=steps_per_period,
         deadline=deadline,
+        minima=False,  # plain sign-change events, as solve_ivp is usually used
     )
     return out
 
