@@ -5,9 +5,9 @@
 #
 #   .ci/slurm_test.sh
 #
-# Steps: install Debian's slurmctld slurmd slurm-client munge if missing; start munged (unless
-# one already answers), slurmctld and slurmd on localhost with a private slurm.conf (SLURM_CONF,
-# nothing written under /etc/slurm); wait for the node to be idle; run the targets through
+# Steps: install Debian's slurmctld slurmd slurm-client munge if missing; write
+# /etc/slurm/slurm.conf (removed again on exit); start munged (unless one already answers),
+# slurmctld and slurmd on localhost; wait for the node to be idle; run the targets through
 # workflow/profiles/slurm in one scratch copy of the repository and with the default profile in
 # another; compare (.ci/slurm_compare.py), check the jobs (.ci/slurm_jobs.py); stop exactly the
 # daemons it started, by PID, on every exit. Every wait is bounded; a failure names what did not
@@ -87,6 +87,11 @@ fi
 state=$(mktemp -d /tmp/restitution-slurm.XXXXXX)
 started=()    # "name:pid" of every daemon this script started, stopped in this order reversed
 exit_ok=false # set just before a successful exit
+# The default path, not SLURM_CONF: the executor's job step removes SLURM_* variables before its
+# nested srun, which then finds no configuration (plugin 2.8.0 with jobstep 0.6.1).
+conf=/etc/slurm/slurm.conf
+marker="# One-node test cluster of .ci/slurm_test.sh"
+wrote_conf=false
 
 stop_daemons() {
     local i entry name pid
@@ -114,7 +119,7 @@ cleanup() {
     trap - EXIT INT TERM
     if [ "$exit_ok" != true ]; then
         status=$((status == 0 ? 1 : status))
-        if [ -n "${SLURM_CONF:-}" ] && [ -f "$SLURM_CONF" ] && command -v squeue >/dev/null; then
+        if [ "$wrote_conf" = true ]; then
             say "jobs known to the test cluster:"
             timeout 10 squeue -t all -o '%i %k %T %R' 2>&1 | sed 's/^/    /'
             # Running job steps outlive slurmd: cancel them while the controller still answers.
@@ -128,6 +133,11 @@ cleanup() {
         done
     fi
     stop_daemons
+    # A slurm.conf naming a controller that is gone makes every SLURM client call, and so every
+    # snakemake start with the executor plugin installed, wait ~9 s (notes/cluster-slurm.md).
+    if [ "$wrote_conf" = true ]; then
+        rm -f "$conf"
+    fi
     if [ "$exit_ok" = true ] && [ "${SLURM_TEST_KEEP:-0}" != 1 ]; then
         rm -rf "$state"
     else
@@ -145,9 +155,15 @@ cpus=$(nproc)
 mem_total=$(awk '/^MemTotal:/ { printf "%d", $2 / 1024 }' /proc/meminfo)
 real_memory=$((mem_total / 2 < 8000 ? mem_total / 2 : 8000))
 mkdir -p "$state/ctld" "$state/spool"
-export SLURM_CONF=$state/slurm.conf
-cat >"$SLURM_CONF" <<EOF
-# One-node test cluster of .ci/slurm_test.sh (notes/cluster-slurm.md): no cgroups, no accounting.
+# Never overwrite a site's configuration; one left by an interrupted run of this script is fine.
+if [ -e "$conf" ] && ! head -n 1 "$conf" | grep -qF "$marker"; then
+    fail "$conf exists and was not written by this script: not touching a real SLURM set-up"
+fi
+mkdir -p "$(dirname "$conf")"
+wrote_conf=true
+cat >"$conf" <<EOF
+$marker (removed when it exits).
+# notes/cluster-slurm.md: no cgroups, no accounting.
 ClusterName=restitution-test
 SlurmctldHost=$node(127.0.0.1)
 SlurmUser=root
@@ -204,10 +220,10 @@ fi
 
 # --- slurmctld, slurmd ---------------------------------------------------------------------------
 # In the foreground (-D) as children of this script, so $! is the daemon's own PID.
-slurmctld -D -f "$SLURM_CONF" >"$state/slurmctld.out" 2>&1 &
+slurmctld -D -f "$conf" >"$state/slurmctld.out" 2>&1 &
 started+=("slurmctld:$!")
 wait_for 60 "slurmctld (scontrol ping)" bash -c 'scontrol ping | grep -q "is UP"'
-slurmd -D -f "$SLURM_CONF" >"$state/slurmd.out" 2>&1 &
+slurmd -D -f "$conf" >"$state/slurmd.out" 2>&1 &
 started+=("slurmd:$!")
 wait_for 60 "node $node idle in partition $partition (sinfo)" \
     bash -c '[ "$(sinfo -h -n "$1" -o %t)" = idle ]' _ "$node"
