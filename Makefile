@@ -33,7 +33,7 @@ all: env
 	$(BIN)/snakemake -c$(CORES) all
 
 test: env
-	$(BIN)/python -m pytest -n $(CORES)
+	$(BIN)/python -m pytest -n $(CORES) --dist loadgroup
 
 env: $(STAMP)
 

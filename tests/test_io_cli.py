@@ -41,6 +41,14 @@ def test_truncated_parquet_names_the_file(tmp_path):
         read_table(tmp_path / "missing.parquet")
 
 
+@pytest.mark.parametrize("suffix", [".parquet", ".csv"])
+def test_required_columns_are_checked(tmp_path, suffix):
+    path = write_table(pd.DataFrame({"alpha": [1.0], "cor": [0.5]}), tmp_path / f"t{suffix}")
+    assert list(read_table(path, columns=("alpha", "cor")).columns) == ["alpha", "cor"]
+    with pytest.raises(TableError, match=r"t\.\w+: missing column\(s\) \['n_collisions'\]"):
+        read_table(path, columns=("alpha", "n_collisions"))
+
+
 def test_cli_cor_json():
     p = _run("cor", "--alpha", "1", "--json")
     assert p.returncode == 0, p.stderr

@@ -419,3 +419,24 @@ def test_permanent_contact_is_proven():
         info = np.zeros(4)
         codes.append(_locate(0, 0.0, 0.0, -U[0] * z, lam, xi, 0.0, 0.0, 0.0, True, info))
     assert codes == [LOC_PERMANENT, LOC_EVENT]
+
+
+@pytest.mark.parametrize(
+    "alpha, beta, xi",
+    [(100.0, 1e-3, 0.3), (200.0, 1e-3, 0.3), (200.0, 1e-3, 0.1), (30.0, 0.01, 1.0)],
+)
+def test_history_x_max_is_the_largest_compression(alpha, beta, xi):
+    # The last contact of these rings for tens of periods; x_max was once 2% low there (a Newton
+    # climb from the best locator sample stopped on a lower local maximum). Reference: the
+    # closed-form trajectory sampled densely, then again around its best sample.
+    from restitution import solve
+    from restitution.kernels.linear import sample_linear
+
+    history = solve(alpha, beta, xi, history=True).history
+    for row in history.itertuples():
+        ts = np.linspace(row.omega_t_start, row.omega_t_end, 100_001)
+        x = -sample_linear(alpha, beta, xi, 2, ts)[0][:, 0]
+        i = int(np.argmax(x))
+        fine = np.linspace(ts[max(i - 1, 0)], ts[min(i + 1, ts.size - 1)], 10_001)
+        top = max(x.max(), (-sample_linear(alpha, beta, xi, 2, fine)[0][:, 0]).max())
+        assert row.x_max == pytest.approx(top, rel=1e-12), row.Index

@@ -7,10 +7,6 @@ chain on a tiny configuration in a temporary copy of the workflow.
 
 import importlib.util
 import json
-import os
-import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -19,28 +15,7 @@ import pyarrow.parquet as pq
 import pytest
 import yaml
 
-REPO = Path(__file__).resolve().parents[1]
-SNAKEMAKE = [sys.executable, "-m", "snakemake"]
-
-
-def _env():
-    env = dict(os.environ)
-    # Without .pyc files every snakemake start recompiles the stack (notes/setup.md).
-    env.pop("PYTHONDONTWRITEBYTECODE", None)
-    env.setdefault("NUMBA_CACHE_DIR", str(REPO / ".cache" / "numba"))
-    env.setdefault("MPLBACKEND", "Agg")
-    return env
-
-
-def run_snakemake(*args, cwd=REPO, timeout=600):
-    return subprocess.run(
-        [*SNAKEMAKE, *args],
-        cwd=cwd,
-        env=_env(),
-        capture_output=True,
-        text=True,
-        timeout=timeout,
-    )
+from conftest import REPO, copy_workflow, run_snakemake
 
 
 def write_config(path: Path, config: dict) -> Path:
@@ -232,10 +207,7 @@ TINY = {
 
 def run_tiny_pipeline(work: Path):
     """The workflow copied to ``work`` (package code shared through a symlink), run on TINY."""
-    shutil.copy(REPO / "Snakefile", work / "Snakefile")
-    for folder in ("workflow", "config"):
-        shutil.copytree(REPO / folder, work / folder, ignore=shutil.ignore_patterns("__pycache__"))
-    (work / "src").symlink_to(REPO / "src", target_is_directory=True)
+    copy_workflow(work)
     tiny = write_config(work / "tiny.yaml", TINY)
     profile = ("--workflow-profile", "workflow/profiles/default")
     return run_snakemake("-c2", *profile, "--configfile", str(tiny), cwd=work, timeout=1200)

@@ -143,14 +143,17 @@ def write_table(frame: pd.DataFrame, path, *, config=None, extra: dict | None = 
     return path
 
 
-def read_table(path, *, require_provenance: bool = False) -> pd.DataFrame:
-    """Read a .parquet or .csv table; raise TableError naming the file when it is unusable."""
+def read_table(path, *, require_provenance: bool = False, columns=()) -> pd.DataFrame:
+    """Read a .parquet or .csv table; raise TableError naming the file when it is unusable.
+
+    ``columns``: names the table must have (a readable file of another kind is refused by name).
+    """
     path = Path(path)
     if not path.is_file():
         raise TableError(f"{path}: no such results file")
     try:
         if path.suffix == ".csv":
-            return pd.read_csv(path)
+            return _require(path, pd.read_csv(path), columns)
         if path.suffix != ".parquet":
             raise TableError(f"{path}: unsupported table format {path.suffix!r}")
         table = pq.read_table(path)
@@ -158,7 +161,14 @@ def read_table(path, *, require_provenance: bool = False) -> pd.DataFrame:
         raise TableError(f"{path}: unreadable or truncated table ({e})") from e
     if require_provenance and PROVENANCE_KEY not in (table.schema.metadata or {}):
         raise TableError(f"{path}: no '{PROVENANCE_KEY.decode()}' provenance in its metadata")
-    return table.to_pandas()
+    return _require(path, table.to_pandas(), columns)
+
+
+def _require(path: Path, frame: pd.DataFrame, columns) -> pd.DataFrame:
+    missing = [c for c in columns if c not in frame.columns]
+    if missing:
+        raise TableError(f"{path}: missing column(s) {missing}; it has {list(frame.columns)}")
+    return frame
 
 
 def read_provenance(path) -> dict:

@@ -25,8 +25,9 @@ def local_minima(sweep: pd.DataFrame) -> pd.DataFrame:
 
 def main(chunks, output_path, minima_path, params, logger) -> pd.DataFrame:
     from restitution.io import read_table, write_table
+    from restitution.result import RESULT_COLUMNS
 
-    tables = [read_table(path) for path in chunks]
+    tables = [read_table(path, columns=("beta", "alpha", *RESULT_COLUMNS)) for path in chunks]
     sweep = (
         pd.concat(tables, ignore_index=True)
         .drop_duplicates(subset=["beta", "alpha"], keep="first")

@@ -1,0 +1,57 @@
+"""Per-rule cost of the last workflow run, from Snakemake's `benchmark:` files, as a Markdown table.
+
+Usage: python benchmarks/rule_timings.py [logs/benchmarks]
+
+Jobs of one rule (wildcards such as beta~0.1 or chunk_3 in the path) are grouped; per group the
+table gives the job count, the summed and the longest wall time, the summed CPU time and the
+largest resident memory. Wall times include each job's start-up (Python, package, numba cache).
+"""
+
+import re
+import sys
+from pathlib import Path
+
+import pandas as pd
+
+WILDCARD = re.compile(r"[^/]*~[^/]*|chunk_\d+")
+
+
+def load(root: Path) -> pd.DataFrame:
+    rows = []
+    for path in sorted(root.rglob("*.tsv")):
+        # Snakemake appends one line per run of the job: the last one is the latest run.
+        last = pd.read_csv(path, sep="\t").iloc[-1]
+        group = WILDCARD.sub("*", str(path.relative_to(root).with_suffix("")))
+        rows.append(
+            {"jobs": group, "s": last["s"], "cpu_s": last["cpu_time"], "rss": last["max_rss"]}
+        )
+    if not rows:
+        raise SystemExit(f"{root}: no benchmark files (run the workflow first)")
+    return pd.DataFrame(rows)
+
+
+def table(frame: pd.DataFrame) -> str:
+    grouped = frame.groupby("jobs").agg(
+        n=("s", "size"),
+        wall=("s", "sum"),
+        longest=("s", "max"),
+        cpu=("cpu_s", "sum"),
+        rss=("rss", "max"),
+    )
+    lines = [
+        "| jobs | n | wall s (sum) | wall s (longest) | CPU s (sum) | max RSS MB |",
+        "|---|---:|---:|---:|---:|---:|",
+    ]
+    for name, r in grouped.sort_values("wall", ascending=False).iterrows():
+        lines.append(
+            f"| `{name}` | {int(r.n)} | {r.wall:.1f} | {r.longest:.1f} | {r.cpu:.1f} | {r.rss:.0f} |"
+        )
+    lines.append(
+        f"| **all jobs** | {grouped.n.sum()} | {grouped.wall.sum():.1f} | "
+        f"{grouped.longest.max():.1f} | {grouped.cpu.sum():.1f} | {grouped.rss.max():.0f} |"
+    )
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":
+    print(table(load(Path(sys.argv[1] if len(sys.argv) > 1 else "logs/benchmarks"))))

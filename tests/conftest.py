@@ -1,0 +1,41 @@
+"""Shared helpers of the workflow tests: a scratch copy of the workflow and snakemake runs in it."""
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+SNAKEMAKE = [sys.executable, "-m", "snakemake"]
+SMALL_CONFIG = REPO / "config" / "small.yaml"
+
+
+def snakemake_env() -> dict:
+    env = dict(os.environ)
+    # Without .pyc files every snakemake start recompiles the stack (notes/setup.md).
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    env.setdefault("NUMBA_CACHE_DIR", str(REPO / ".cache" / "numba"))
+    env.setdefault("MPLBACKEND", "Agg")
+    return env
+
+
+def copy_workflow(work: Path) -> Path:
+    """Snakefile, workflow/ and config/ copied to ``work``; the package shared through a symlink."""
+    work.mkdir(parents=True, exist_ok=True)
+    shutil.copy(REPO / "Snakefile", work / "Snakefile")
+    for folder in ("workflow", "config"):
+        shutil.copytree(REPO / folder, work / folder, ignore=shutil.ignore_patterns("__pycache__"))
+    (work / "src").symlink_to(REPO / "src", target_is_directory=True)
+    return work
+
+
+def run_snakemake(*args, cwd=REPO, timeout=600) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [*SNAKEMAKE, *args],
+        cwd=cwd,
+        env=snakemake_env(),
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+    )
