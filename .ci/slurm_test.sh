@@ -17,7 +17,8 @@
 # "fig2a fig7a": both sweeps run in chunks, so several simulate jobs go to SLURM),
 # SLURM_TEST_TIMEOUT (seconds for the SLURM run, default 900), SLURM_TEST_POLL (seconds between
 # the executor's status checks, default 5: a private cluster, not the shared one the profile's
-# 40 s is meant for), SLURM_TEST_KEEP=1 keeps the scratch directory.
+# 40 s is meant for), SLURM_TEST_ARGS (more options for the SLURM run's snakemake),
+# SLURM_TEST_KEEP=1 keeps the scratch directory.
 set -euo pipefail
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -26,6 +27,7 @@ config=${SLURM_TEST_CONFIG:-config/small.yaml}
 read -r -a targets <<<"${SLURM_TEST_TARGETS:-fig2a fig7a}"
 run_timeout=${SLURM_TEST_TIMEOUT:-900}
 poll=${SLURM_TEST_POLL:-5}
+read -r -a extra_args <<<"${SLURM_TEST_ARGS:-}"
 packages=(slurmctld slurmd slurm-client munge)
 unset PYTHONDONTWRITEBYTECODE # byte-compiled imports: snakemake starts in ~2 s, not ~15 s
 export MPLBACKEND=Agg
@@ -92,6 +94,7 @@ exit_ok=false # set just before a successful exit
 conf=/etc/slurm/slurm.conf
 marker="# One-node test cluster of .ci/slurm_test.sh"
 wrote_conf=false
+child="" # PID of the `timeout` running a snakemake, while one runs
 
 stop_daemons() {
     local i entry name pid
@@ -117,6 +120,11 @@ cleanup() {
     local status=$?
     set +e
     trap - EXIT INT TERM
+    if [ -n "$child" ] && kill -0 "$child" 2>/dev/null; then
+        say "interrupted: stopping the running snakemake (timeout PID $child, SIGKILL after 20 s)"
+        kill -TERM "$child"
+        wait "$child"
+    fi
     if [ "$exit_ok" != true ]; then
         status=$((status == 0 ? 1 : status))
         if [ "$wrote_conf" = true ]; then
@@ -243,14 +251,28 @@ copy_repo() {
 copy_repo "$state/slurm"
 copy_repo "$state/local"
 
+# bounded LOG COMMAND...: run COMMAND in the background under `timeout`, output to LOG, and wait
+# for it. In the background because bash runs a signal's trap only after a foreground command
+# ends: `wait` returns at once, and cleanup stops the run. -k: without accounting, a
+# misconfigured status command makes snakemake ignore SIGTERM.
+bounded() {
+    local log=$1
+    shift
+    NUMBA_CACHE_DIR=$PWD/.cache/numba timeout -k 20 "$run_timeout" "$@" >"$log" 2>&1 &
+    child=$!
+    local status=0
+    wait "$child" || status=$?
+    child=""
+    return "$status"
+}
+
 say "SLURM run: snakemake --workflow-profile workflow/profiles/slurm ${targets[*]} (--configfile $config)"
 cd "$state/slurm"
 t0=$SECONDS
-# -k: without accounting a misconfigured status command makes snakemake ignore SIGTERM.
-NUMBA_CACHE_DIR=$PWD/.cache/numba timeout -k 20 "$run_timeout" \
-    "$repo/.venv-cluster/bin/snakemake" --workflow-profile workflow/profiles/slurm \
-    --slurm-init-seconds-before-status-checks "$poll" "${targets[@]}" \
-    --configfile "$config" >"$state/slurm-run.log" 2>&1 || {
+bounded "$state/slurm-run.log" "$repo/.venv-cluster/bin/snakemake" \
+    --workflow-profile workflow/profiles/slurm \
+    --slurm-init-seconds-before-status-checks "$poll" "${extra_args[@]}" "${targets[@]}" \
+    --configfile "$config" || {
     status=$?
     tail -n 60 "$state/slurm-run.log" | sed 's/^/    /'
     if [ "$status" -eq 124 ] || [ "$status" -eq 137 ]; then
@@ -268,9 +290,7 @@ say "SLURM run done in ${slurm_seconds} s"
 say "local run: snakemake ${targets[*]} (default profile, -c2)"
 cd "$state/local"
 t0=$SECONDS
-NUMBA_CACHE_DIR=$PWD/.cache/numba timeout -k 20 "$run_timeout" \
-    "$repo/.venv/bin/snakemake" "${targets[@]}" --configfile "$config" \
-    >"$state/local-run.log" 2>&1 ||
+bounded "$state/local-run.log" "$repo/.venv/bin/snakemake" "${targets[@]}" --configfile "$config" ||
     fail "the local run failed with status $? (log: $state/local-run.log)"
 local_seconds=$((SECONDS - t0))
 say "local run done in ${local_seconds} s"
