@@ -132,6 +132,10 @@ cleanup() {
             timeout 10 squeue -t all -o '%i %k %T %R' 2>&1 | sed 's/^/    /'
             # Running job steps outlive slurmd: cancel them while the controller still answers.
             timeout 10 scancel --partition "$partition" 2>/dev/null
+            for _ in $(seq 30); do
+                [ -z "$(timeout 5 squeue -h -t running,completing -o %i 2>/dev/null)" ] && break
+                sleep 0.5
+            done
         fi
         for log in "$state"/slurmctld.log "$state"/slurmctld.out "$state"/slurmd.log \
             "$state"/slurmd.out /var/log/munge/munged.log; do
