@@ -15,14 +15,18 @@ export MPLBACKEND := Agg
 export UV_COMPILE_BYTECODE := 1
 unexport PYTHONDONTWRITEBYTECODE
 
-.PHONY: all test env lock report benchmarks lint clean distclean help cluster-env cluster-lock \
-	slurm-test
+.PHONY: all test env lock report notebooks benchmarks bench-report bench-smoke lint clean distclean help
+.PHONY: cluster-env cluster-lock slurm-test
 
 help:
 	@echo "make all        build .venv from requirements.lock, then snakemake -c$(CORES) all"
 	@echo "make test       build .venv, then run the whole test suite"
 	@echo "make lock       re-resolve requirements.lock from pyproject.toml"
-	@echo "make report     build report.html after 'make all'"
+	@echo "make report     build report.html: figures, tables, captions (runs 'all' first)"
+	@echo "make notebooks  execute notebooks/*.py into notebooks/executed/ (after 'make all')"
+	@echo "make benchmarks work-precision study (results/ and figures/benchmarks/, < 10 min)"
+	@echo "make bench-report  results/benchmarks/report.html after 'make benchmarks'"
+	@echo "make bench-smoke reduced benchmarks into \$$BENCH_SMOKE_DIR (default results/bench-smoke)"
 	@echo "make lint       ruff, snakefmt --check, snakemake --lint"
 	@echo "make clean      remove results, logs, figures' build caches and the numba cache"
 	@echo "make cluster-env    build .venv-cluster (.venv + SLURM executor plugin) from its lock"
@@ -71,19 +75,52 @@ cluster-lock: env
 slurm-test: env cluster-env
 	.ci/slurm_test.sh
 
+# --report never runs a job and fails on a missing output, so the targets are brought up to date
+# first (nothing runs after `make all`). REPORT_TARGETS="all benchmarks" adds the work-precision
+# study. Open report.html in a browser (self-contained; JavaScript on).
+REPORT_TARGETS ?= all
 report: env
-	$(BIN)/snakemake -c$(CORES) all --report report.html
+	$(BIN)/snakemake -c$(CORES) $(REPORT_TARGETS)
+	$(BIN)/snakemake $(REPORT_TARGETS) --report report.html
+
+# Each notebooks/*.py (jupytext percent format) is converted and executed into notebooks/executed/
+# (git-ignored), reading results/ (first brought up to date: the notebook loads the Fig. 2(a) sweep);
+# MPLBACKEND is unset so that the kernel draws inline (Agg, exported above, would draw nothing).
+NOTEBOOKS := $(wildcard notebooks/*.py)
+notebooks: env
+	$(BIN)/snakemake -c$(CORES) results/fig2a/sweep.parquet
+	mkdir -p notebooks/executed
+	for nb in $(NOTEBOOKS); do \
+		out=notebooks/executed/$$(basename $$nb .py).ipynb; \
+		$(BIN)/jupytext --quiet --to ipynb --output $$out $$nb || exit 1; \
+		RESTITUTION_RESULTS=$${RESTITUTION_RESULTS:-$(CURDIR)/results} env -u MPLBACKEND \
+			$(BIN)/jupyter-execute --inplace --timeout=1800 --kernel_name=python3 $$out || exit 1; \
+		echo "executed: $$out"; \
+	done
 
 benchmarks: env
 	$(BIN)/snakemake -c$(CORES) benchmarks
 
+# The benchmarks' own report (the main report covers target `all` only).
+bench-report: env
+	$(BIN)/snakemake -c$(CORES) benchmarks --report results/benchmarks/report.html
+
+# The reduced benchmarks (config/benchmarks-smoke.yaml, ~1-2 min) in a scratch folder, for CI:
+# proves every rule of the target runs; its timings are not meant to be read.
+BENCH_SMOKE_DIR ?= results/bench-smoke
+bench-smoke: env
+	mkdir -p $(BENCH_SMOKE_DIR)
+	$(BIN)/snakemake -c$(CORES) benchmarks --configfile $(CURDIR)/config/benchmarks-smoke.yaml \
+		--directory $(BENCH_SMOKE_DIR)
+
 lint: env
-	$(BIN)/ruff check src tests workflow/scripts
+	$(BIN)/ruff check src tests workflow/scripts benchmarks notebooks .ci
+	$(BIN)/ruff format --check src tests workflow/scripts benchmarks notebooks .ci
 	$(BIN)/snakefmt --check Snakefile workflow/rules
 	$(BIN)/snakemake --lint
 
 clean:
-	rm -rf results logs .cache .snakemake/incomplete .pytest_cache report.html
+	rm -rf results logs .cache .snakemake/incomplete .pytest_cache report.html notebooks/executed
 
 distclean: clean
 	rm -rf $(VENV) $(CLUSTER_VENV) .snakemake

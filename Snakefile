@@ -21,6 +21,7 @@ include: "workflow/rules/approx.smk"
 include: "workflow/rules/fig4_5.smk"
 include: "workflow/rules/fig7.smk"
 include: "workflow/rules/reproduction.smk"
+include: "workflow/rules/benchmarks.smk"
 
 
 rule all:

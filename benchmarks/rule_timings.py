@@ -43,9 +43,8 @@ def table(frame: pd.DataFrame) -> str:
         "|---|---:|---:|---:|---:|---:|",
     ]
     for name, r in grouped.sort_values("wall", ascending=False).iterrows():
-        lines.append(
-            f"| `{name}` | {int(r.n)} | {r.wall:.1f} | {r.longest:.1f} | {r.cpu:.1f} | {r.rss:.0f} |"
-        )
+        cells = f"{int(r.n)} | {r.wall:.1f} | {r.longest:.1f} | {r.cpu:.1f} | {r.rss:.0f}"
+        lines.append(f"| `{name}` | {cells} |")
     lines.append(
         f"| **all jobs** | {grouped.n.sum()} | {grouped.wall.sum():.1f} | "
         f"{grouped.longest.max():.1f} | {grouped.cpu.sum():.1f} | {grouped.rss.max():.0f} |"

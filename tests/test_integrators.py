@@ -46,16 +46,24 @@ def _exact(alpha, beta, xi=0.0):
     return solve_linear(alpha, beta, xi, 2, 10_000, H0)
 
 
-LINEAR = [(0.5, 0.1, 0.0), (2.2, 0.1, 0.0), (3.0, 0.05, 0.05), (6.0, 0.01, 0.0),
-          (1.0, 1.0, 0.2), (0.8, 0.0, 0.0), (2.5, 0.0, 0.1)]
+LINEAR = [
+    (0.5, 0.1, 0.0),
+    (2.2, 0.1, 0.0),
+    (3.0, 0.05, 0.05),
+    (6.0, 0.01, 0.0),
+    (1.0, 1.0, 0.2),
+    (0.8, 0.0, 0.0),
+    (2.5, 0.0, 0.1),
+]
 
 
 @pytest.mark.parametrize("alpha, beta, xi", LINEAR)
 @pytest.mark.parametrize("integrate_free", [False, True])
 def test_adaptive_matches_exact_on_linear_scenes(alpha, beta, xi, integrate_free):
     o = _exact(alpha, beta, xi)
-    r = solve_nonlinear(alpha, beta=beta, xi=xi, rtol=1e-10, integrate_free=integrate_free,
-                        method="adaptive")
+    r = solve_nonlinear(
+        alpha, beta=beta, xi=xi, rtol=1e-10, integrate_free=integrate_free, method="adaptive"
+    )
     assert r.status == "ok" and r.method == "adaptive"
     assert r.n_collisions == int(o[1])
     assert abs(r.cor - o[0]) < 1e-8
@@ -71,8 +79,9 @@ def test_adaptive_at_the_grazing_alpha1_rigid_wall(d, integrate_free):
     # ~ eps/sqrt(d) in COR: the tolerance follows that conditioning (1e-8 at |d| = 1e-4).
     o = _exact(ALPHA1 + d, 0.0)
     assert int(o[1]) == (2 if d > 0 else 1)
-    r = solve_nonlinear(ALPHA1 + d, beta=0.0, rtol=1e-10, integrate_free=integrate_free,
-                        method="adaptive")
+    r = solve_nonlinear(
+        ALPHA1 + d, beta=0.0, rtol=1e-10, integrate_free=integrate_free, method="adaptive"
+    )
     assert r.n_collisions == int(o[1])
     tol = 1e-8 * max(1.0, 2.0 * math.sqrt(1e-4 / abs(d))) if integrate_free else 1e-10
     assert abs(r.cor - o[0]) < tol
@@ -108,8 +117,9 @@ def test_verlet_converges_at_second_order(alpha, beta, xi):
     errs = []
     for f in fracs:
         acct = np.zeros(5)
-        out = solve_scene(alpha, 1.0, float(xi), cp, sp, METHOD_VERLET, 1e-9, f, False, 1.0,
-                          10_000, H0, acct)
+        out = solve_scene(
+            alpha, 1.0, float(xi), cp, sp, METHOD_VERLET, 1e-9, f, False, 1.0, 10_000, H0, acct
+        )
         assert int(out[1]) == int(o[1])
         errs.append(abs(out[0] - o[0]))
     # least-squares slope: the contact kink inside a step makes single ratios jitter

@@ -33,8 +33,9 @@ def test_kappa_linear_limit():
 def test_single_mass_rebound_is_sqrt_one_minus_dr(eta, dr):
     # alpha -> 0 leaves m1 alone on the contact (k1 = k2/beta = 1 here): v_out = sqrt(1 - DR)
     a = 1e-5
-    r = solve_nonlinear(a, beta=a / (1 + a), contact="plastic", eta=eta, dr=dr, rtol=1e-11,
-                        history=True)
+    r = solve_nonlinear(
+        a, beta=a / (1 + a), contact="plastic", eta=eta, dr=dr, rtol=1e-11, history=True
+    )
     assert r.history["v1_out"].iloc[0] == pytest.approx(math.sqrt(1 - dr), abs=1e-4)
 
 
@@ -45,7 +46,8 @@ def test_hysteretic_contact_keeps_dent_and_reloads_on_power_law():
     dent = xm - fm / 10.0
     assert laws.contact_hysteretic(cp, xm, fm, dent * 0.999)[0] == 0.0  # dent persists
     assert laws.contact_hysteretic(cp, xm, fm, 0.5 * (dent + xm))[0] == pytest.approx(
-        fm - 10.0 * (xm - 0.5 * (dent + xm)))
+        fm - 10.0 * (xm - 0.5 * (dent + xm))
+    )
     f2, xm2, _ = laws.contact_hysteretic(cp, xm, fm, 0.16)  # past the maximum: power law again
     assert (f2, xm2) == (pytest.approx(2.0 * 0.4), 0.16)
 
@@ -67,8 +69,13 @@ def test_scissor_matches_eq24_slope_cap_and_continuity(theta0, L):  # noqa: N803
     got = np.array([laws.structure_force(sp, v) for v in x[inside]])
     np.testing.assert_allclose(got, f_eq24[inside], rtol=1e-10, atol=1e-14 * L)
     # whole curve: finite, continuous, slope in [0, k2] and the cap k2 is reached
-    xs = np.concatenate([np.linspace(-6 * L, 3 * L, 20001),
-                         sp[[laws.SP_XLOCK, laws.SP_XCAP]], [sp[laws.SP_XLOCK] - sp[laws.SP_DC]]])
+    xs = np.concatenate(
+        [
+            np.linspace(-6 * L, 3 * L, 20001),
+            sp[[laws.SP_XLOCK, laws.SP_XCAP]],
+            [sp[laws.SP_XLOCK] - sp[laws.SP_DC]],
+        ]
+    )
     xs.sort()
     f = np.array([laws.structure_force(sp, v) for v in xs])
     u = np.array([laws.structure_energy(sp, v) for v in xs])
@@ -84,12 +91,20 @@ def test_scissor_matches_eq24_slope_cap_and_continuity(theta0, L):  # noqa: N803
         for fun in (laws.structure_force, laws.structure_energy, laws.structure_slope):
             assert fun(sp, x0 - e) == pytest.approx(fun(sp, x0 + e), abs=1e-7 * max(1, L))
     # the closed-form potential integrates the force
-    brk = sorted(sp[[laws.SP_XLOCK, laws.SP_XCAP]].tolist()
-                 + [sp[laws.SP_XLOCK] - sp[laws.SP_DC], 0.0])
+    brk = sorted(
+        sp[[laws.SP_XLOCK, laws.SP_XCAP]].tolist() + [sp[laws.SP_XLOCK] - sp[laws.SP_DC], 0.0]
+    )
     for xe in (-5 * L, 1.5 * sp[laws.SP_XLOCK], 0.5 * sp[laws.SP_XCAP], 2 * L):
         pts = [b for b in brk if min(0, xe) < b < max(0, xe)]
-        w, _ = quad(lambda v: laws.structure_force(sp, v), 0.0, xe, points=pts or None,
-                    epsabs=1e-13, epsrel=1e-11, limit=200)
+        w, _ = quad(
+            lambda v: laws.structure_force(sp, v),
+            0.0,
+            xe,
+            points=pts or None,
+            epsabs=1e-13,
+            epsrel=1e-11,
+            limit=200,
+        )
         assert laws.structure_energy(sp, xe) == pytest.approx(w, rel=1e-8, abs=1e-12)
     assert abs(laws.structure_force(sp, 0.0)) < 1e-15
     assert laws.structure_slope(sp, 0.0) == pytest.approx(ks / math.tan(theta0) ** 2)
@@ -103,7 +118,8 @@ def test_scissor_robust_near_lock_angle():
         assert abs(laws.structure_slope(sp, x)) < 1e-6
     assert laws.structure_force(sp, xl) == pytest.approx(sp[laws.SP_FLOCK])
     assert math.isfinite(laws.structure_force(sp, -1e6)) and math.isfinite(
-        laws.structure_force(sp, 1e6))
+        laws.structure_force(sp, 1e6)
+    )
 
 
 BAD = [

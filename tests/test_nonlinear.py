@@ -17,8 +17,16 @@ SCENES = [
     dict(alpha=2.0, beta=1.0, L=2.0, **SCISSOR),
     dict(alpha=3.0, beta=1.0, L=5.0, xi=0.02, **SCISSOR),
     dict(alpha=1.0, beta=1.0, L=0.5, v0=2.0, **SCISSOR),
-    dict(alpha=2.0, beta=0.05, eta=0.7, dr=0.4, structure="scissor", L=1.0, ks_ratio=0.2,
-         contact="plastic"),
+    dict(
+        alpha=2.0,
+        beta=0.05,
+        eta=0.7,
+        dr=0.4,
+        structure="scissor",
+        L=1.0,
+        ks_ratio=0.2,
+        contact="plastic",
+    ),
 ]
 
 
@@ -82,15 +90,19 @@ def test_dr_zero_eta_one_is_the_linear_contact(alpha, beta):
     assert abs(r.cor - o[0]) < 1e-5  # continuous in DR
 
 
-@pytest.mark.parametrize("scene", SCENES + [dict(alpha=3.0, beta=0.05, xi=0.05)],
-                         ids=lambda s: "-".join(f"{k}{v}" for k, v in s.items()))
+@pytest.mark.parametrize(
+    "scene",
+    SCENES + [dict(alpha=3.0, beta=0.05, xi=0.05)],
+    ids=lambda s: "-".join(f"{k}{v}" for k, v in s.items()),
+)
 @pytest.mark.parametrize("method", ["adaptive", "verlet"])
 def test_energy_account_closes(scene, method):
     acct = {}
     r = solve_nonlinear(**scene, method=method, account=acct)
     assert r.status == "ok", acct
-    parts = acct["kinetic"] + acct["elastic"] + acct["dissipated_contact"] + \
-        acct["dissipated_dashpot"]
+    parts = (
+        acct["kinetic"] + acct["elastic"] + acct["dissipated_contact"] + acct["dissipated_dashpot"]
+    )
     assert parts - 1.0 == pytest.approx(acct["residual"], abs=1e-12)
     tol = 1e-6 if method == "adaptive" else 2e-3
     assert abs(acct["residual"]) < tol

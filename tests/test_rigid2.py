@@ -115,8 +115,9 @@ def reference(alpha, xi=0.0, max_contacts=2000, h=0.004, window=25.0):
             # local minima of the samples before the first negative sample
             for j in range(1, min(i_neg, len(s) - 1)):
                 if g[j] <= g[j - 1] and g[j] <= g[j + 1]:
-                    res = minimize_scalar(gap, bounds=(s[j - 1], s[j + 1]), method="bounded",
-                                          options={"xatol": 1e-13})
+                    res = minimize_scalar(
+                        gap, bounds=(s[j - 1], s[j + 1]), method="bounded", options={"xatol": 1e-13}
+                    )
                     if res.fun < -1e-13:
                         hit = brentq(gap, s[j - 1], res.x, xtol=1e-15, rtol=1e-15)
                         break
@@ -129,8 +130,17 @@ def reference(alpha, xi=0.0, max_contacts=2000, h=0.004, window=25.0):
         if hit is None:
             break
         if c > 0:
-            diss += c * quad(lambda x, rel=rel: rel.dr(x) ** 2, 0.0, hit, limit=500,
-                             epsabs=1e-15, epsrel=1e-13)[0]
+            diss += (
+                c
+                * quad(
+                    lambda x, rel=rel: rel.dr(x) ** 2,
+                    0.0,
+                    hit,
+                    limit=500,
+                    epsabs=1e-15,
+                    epsrel=1e-13,
+                )[0]
+            )
         r, dr = float(rel.r(hit)), float(rel.dr(hit))
         v1 = V - mu * dr  # u1 = X - mu r
         v2 = V + (1.0 - mu) * dr

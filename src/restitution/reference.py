@@ -5,11 +5,16 @@ with the force laws of ``laws.py`` evaluated in Python. ``max_step`` is 1/50 of 
 period, so a contact or a reload shallower than that is still seen by scipy's sign-change event
 detection (scipy only checks signs at step ends). Same phase machine and projections as
 ``kernels/nonlinear.py``; same output layout.
+
+The benchmark harness (``restitution.bench.ivp``) reuses ``solve_reference`` with another scipy
+``method``, its own ``atol``, no ``max_step`` (``steps_per_period=None``: plain sign-change event
+detection, as a researcher would first write it) and a wall-clock ``deadline``.
 """
 
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -18,10 +23,17 @@ from . import laws
 from .kernels import layout as LY
 
 
-def _rhs_factory(cp, sp, mem):
+class DeadlineExceeded(RuntimeError):
+    """Raised from inside the right-hand side when a run passes its wall-clock deadline."""
+
+
+def _rhs_factory(cp, sp, mem, deadline=None):
     alpha, c = mem["alpha"], mem["c"]
 
     def rhs(t, y):
+        # Checked at every evaluation: one solve_ivp call can otherwise run for minutes.
+        if deadline is not None and time.perf_counter() > deadline:
+            raise DeadlineExceeded("wall-clock budget exhausted")
         x = -y[0]
         fc = 0.0
         if mem["phase"] == 1:
@@ -52,17 +64,41 @@ def _no_contact_possible(y, sp, mem):
     return (y[0] + a * y[1]) / m + mem["xp"] - mu * rhi > 0.0
 
 
-def solve_reference(alpha, v0, xi, cp, sp, rtol, max_events, acct, etol, t_max=1e5):
-    """Reference solution of one two-mass scene; returns (out, hist) in the kernel layout."""
+def solve_reference(
+    alpha,
+    v0,
+    xi,
+    cp,
+    sp,
+    rtol,
+    max_events,
+    acct,
+    etol,
+    t_max=1e5,
+    *,
+    method="DOP853",
+    atol=None,
+    steps_per_period=50,
+    deadline=None,
+):
+    """Reference solution of one two-mass scene; returns (out, hist) in the kernel layout.
+
+    ``method`` is any ``solve_ivp`` method; ``atol`` defaults to ``rtol * v0``; ``max_step`` is
+    the shortest local period / ``steps_per_period`` (``None``: no max_step); ``deadline`` (a
+    ``time.perf_counter()`` value) makes the run raise ``DeadlineExceeded`` once passed.
+    """
     kind = int(cp[0])
     k1, k2 = cp[1], sp[laws.SP_K2]
     mem = dict(phase=1, branch=1, xmax=0.0, fmax=0.0, xp=0.0, c=2.0 * xi * k2, alpha=alpha)
-    rhs = _rhs_factory(cp, sp, mem)
-    atol = rtol * v0
+    rhs = _rhs_factory(cp, sp, mem, deadline)
+    atol = rtol * v0 if atol is None else atol
     tr = k1 + k2 + k2 / alpha
     lam = 0.5 * tr + math.sqrt(max(0.25 * tr * tr - k1 * k2 / alpha, 0.0))
-    dt_contact = 2 * math.pi / math.sqrt(lam) / 50 if kind != laws.C_RIGID else 0.0
-    dt_free = 2 * math.pi / math.sqrt(k2 + k2 / alpha) / 50
+    dt_contact, dt_free = math.inf, math.inf  # solve_ivp's default max_step
+    if steps_per_period is not None:
+        if kind != laws.C_RIGID:
+            dt_contact = 2 * math.pi / math.sqrt(lam) / steps_per_period
+        dt_free = 2 * math.pi / math.sqrt(k2 + k2 / alpha) / steps_per_period
     y = np.array([0.0, 0.0, -v0, -v0, 0.0, 0.0])
     t, tcol, ncol = 0.0, 0.0, 1
     hist = [[0.0, 0.0, -1.0, 0.0, 0.0, 0.0]]
@@ -95,7 +131,7 @@ def solve_reference(alpha, v0, xi, cp, sp, rtol, max_events, acct, etol, t_max=1
                 rhs,
                 (t, t + 1e4),
                 y,
-                method="DOP853",
+                method=method,
                 rtol=rtol,
                 atol=atol,
                 events=events,
@@ -136,7 +172,7 @@ def solve_reference(alpha, v0, xi, cp, sp, rtol, max_events, acct, etol, t_max=1
                 rhs,
                 (t, t + 2 * math.pi),
                 y,
-                method="DOP853",
+                method=method,
                 rtol=rtol,
                 atol=atol,
                 events=[_event(lambda t, y, xp=xp: y[0] + xp)],

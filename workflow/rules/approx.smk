@@ -9,7 +9,16 @@ rule approx_points:
     input:
         code=package_sources(*APPROX_MODULES),
     output:
-        table="results/approx/special_points.parquet",
+        table=report(
+            "results/approx/special_points.parquet",
+            caption="../report/approx_points.rst",
+            category="Sect. 2: two-mass model, rigid and elastic contact",
+            subcategory="Fig. 2",
+            labels={
+                "figure": "2(b)-(d)",
+                "quantity": "table: exact special points, beta = 0",
+            },
+        ),
     log:
         "logs/approx/points.log",
     benchmark:
@@ -31,7 +40,13 @@ rule approx_finite_beta:
     input:
         code=package_sources(*APPROX_MODULES),
     output:
-        table="results/approx/finite_beta_points.parquet",
+        table=report(
+            "results/approx/finite_beta_points.parquet",
+            caption="../report/approx_finite_beta.rst",
+            category="Sect. 2: two-mass model, rigid and elastic contact",
+            subcategory="Fig. 2",
+            labels={"figure": "2(a)", "quantity": "table: special points, beta > 0"},
+        ),
     log:
         "logs/approx/finite_beta.log",
     benchmark:
@@ -64,9 +79,24 @@ rule approx_fit:
         points=rules.approx_points.output.table,
         code=package_sources(*APPROX_MODULES),
     output:
-        fit="results/approx/fit.json",
+        fit=report(
+            "results/approx/fit.json",
+            caption="../report/approx_fit.rst",
+            category="Sect. 2: two-mass model, rigid and elastic contact",
+            subcategory="Fig. 2",
+            labels={"figure": "2(b)-(d)", "quantity": "table: fits and model errors"},
+        ),
         residuals="results/approx/law_residuals.parquet",
-        errors="results/approx/errors.parquet",
+        errors=report(
+            "results/approx/errors.parquet",
+            caption="../report/approx_errors.rst",
+            category="Sect. 2: two-mass model, rigid and elastic contact",
+            subcategory="Fig. 2",
+            labels={
+                "figure": "2(d)",
+                "quantity": "table: errors of the approximate models",
+            },
+        ),
         shapes="results/approx/shape_table.parquet",
         curves="results/approx/cor_curves.parquet",
     log:
@@ -100,7 +130,8 @@ rule fig2b:
         png=report(
             "figures/fig2b.png",
             caption="../report/fig2b.rst",
-            category="Fig. 2",
+            category="Sect. 2: two-mass model, rigid and elastic contact",
+            subcategory="Fig. 2",
             labels={"figure": "2(b)", "quantity": "t_col and contacts vs alpha"},
         ),
         pdf="figures/fig2b.pdf",
@@ -126,7 +157,8 @@ rule fig2c:
         png=report(
             "figures/fig2c.png",
             caption="../report/fig2c.rst",
-            category="Fig. 2",
+            category="Sect. 2: two-mass model, rigid and elastic contact",
+            subcategory="Fig. 2",
             labels={"figure": "2(c)", "quantity": "alpha* - alpha# vs n"},
         ),
         pdf="figures/fig2c.pdf",
@@ -153,7 +185,8 @@ rule fig2d:
         png=report(
             "figures/fig2d.png",
             caption="../report/fig2d.rst",
-            category="Fig. 2",
+            category="Sect. 2: two-mass model, rigid and elastic contact",
+            subcategory="Fig. 2",
             labels={"figure": "2(d)", "quantity": "approximate COR"},
         ),
         pdf="figures/fig2d.pdf",

@@ -3,11 +3,15 @@
 
 import difflib
 import math
+import mimetypes
 from pathlib import Path
 
 import yaml
 from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate
+
+# The report attaches parquet tables; without a registered type it warns "assuming text/plain".
+mimetypes.add_type("application/vnd.apache.parquet", ".parquet")
 
 SCHEMA = Path(workflow.basedir) / "workflow" / "schemas" / "config.schema.yaml"
 

@@ -13,7 +13,13 @@ rule simulate_fig3a:
         code=package_sources(),
     output:
         sweep="results/fig3/sweep.parquet",
-        minima="results/fig3/minima.csv",
+        minima=report(
+            "results/fig3/minima.csv",
+            caption="../report/fig3a_minima.rst",
+            category="Sect. 3.1: contact stiffness and plastic contact",
+            subcategory="Fig. 3",
+            labels={"figure": "3(a)", "quantity": "table: COR minima per alpha"},
+        ),
     log:
         "logs/fig3/simulate_fig3a.log",
     benchmark:
@@ -41,7 +47,8 @@ rule fig3a:
         png=report(
             "figures/fig3a.png",
             caption="../report/fig3a.rst",
-            category="Fig. 3",
+            category="Sect. 3.1: contact stiffness and plastic contact",
+            subcategory="Fig. 3",
             labels={"figure": "3(a)", "quantity": "COR vs beta"},
         ),
         pdf="figures/fig3a.pdf",
@@ -66,8 +73,20 @@ rule simulate_fig3b:
         code=package_sources(),
     output:
         compression="results/fig3/compression.parquet",
-        contacts="results/fig3/contacts.csv",
-        marginal="results/fig3/marginal_beta.csv",
+        contacts=report(
+            "results/fig3/contacts.csv",
+            caption="../report/fig3b_contacts.rst",
+            category="Sect. 3.1: contact stiffness and plastic contact",
+            subcategory="Fig. 3",
+            labels={"figure": "3(b)", "quantity": "table: contacts per beta"},
+        ),
+        marginal=report(
+            "results/fig3/marginal_beta.csv",
+            caption="../report/fig3b_marginal.rst",
+            category="Sect. 3.1: contact stiffness and plastic contact",
+            subcategory="Fig. 3",
+            labels={"figure": "3(b)", "quantity": "table: marginal beta"},
+        ),
     log:
         "logs/fig3/simulate_fig3b.log",
     benchmark:
@@ -97,7 +116,8 @@ rule fig3b:
         png=report(
             "figures/fig3b.png",
             caption="../report/fig3b.rst",
-            category="Fig. 3",
+            category="Sect. 3.1: contact stiffness and plastic contact",
+            subcategory="Fig. 3",
             labels={"figure": "3(b)", "quantity": "contact compression vs omega t"},
         ),
         pdf="figures/fig3b.pdf",
@@ -147,7 +167,13 @@ rule aggregate_fig6b:
         tables=expand("results/fig6/n~{n}.parquet", n=config["fig6"]["n_masses"]),
     output:
         sweep="results/fig6/sweep.parquet",
-        minima="results/fig6/minima.csv",
+        minima=report(
+            "results/fig6/minima.csv",
+            caption="../report/fig6b_minima.rst",
+            category="Sect. 3.3: chains of N masses",
+            subcategory="Fig. 6",
+            labels={"figure": "6(b)", "quantity": "table: COR minima per N"},
+        ),
     log:
         "logs/fig6/aggregate.log",
     benchmark:
@@ -170,7 +196,8 @@ rule fig6b:
         png=report(
             "figures/fig6b.png",
             caption="../report/fig6b.rst",
-            category="Fig. 6",
+            category="Sect. 3.3: chains of N masses",
+            subcategory="Fig. 6",
             labels={"figure": "6(b)", "quantity": "COR vs (N-1) alpha"},
         ),
         pdf="figures/fig6b.pdf",
@@ -198,7 +225,8 @@ rule fig1:
         png=report(
             "figures/fig1.png",
             caption="../report/fig1.rst",
-            category="Fig. 1",
+            category="Sect. 2: two-mass model, rigid and elastic contact",
+            subcategory="Fig. 1",
             labels={"figure": "1", "quantity": "two-mass model"},
         ),
         pdf="figures/fig1.pdf",
@@ -223,7 +251,8 @@ rule fig6a:
         png=report(
             "figures/fig6a.png",
             caption="../report/fig6a.rst",
-            category="Fig. 6",
+            category="Sect. 3.3: chains of N masses",
+            subcategory="Fig. 6",
             labels={"figure": "6(a)", "quantity": "chain of N masses"},
         ),
         pdf="figures/fig6a.pdf",

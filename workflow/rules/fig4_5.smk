@@ -19,7 +19,13 @@ rule simulate_fig4b:
         code=package_sources(*FIG45_NONLINEAR_MODULES),
     output:
         table="results/fig4/b/sweep.parquet",
-        summary="results/fig4/b/summary.csv",
+        summary=report(
+            "results/fig4/b/summary.csv",
+            caption="../report/fig4_summary.rst",
+            category="Sect. 3.1: contact stiffness and plastic contact",
+            subcategory="Fig. 4",
+            labels={"figure": "4(b)", "quantity": "table: minima per curve"},
+        ),
     log:
         "logs/fig4/simulate_b.log",
     benchmark:
@@ -45,7 +51,16 @@ rule simulate_fig4c:
         code=package_sources(*FIG45_NONLINEAR_MODULES),
     output:
         table="results/fig4/c/sweep.parquet",
-        summary="results/fig4/c/summary.csv",
+        summary=report(
+            "results/fig4/c/summary.csv",
+            caption="../report/fig4_summary.rst",
+            category="Sect. 3.1: contact stiffness and plastic contact",
+            subcategory="Fig. 4",
+            labels={
+                "figure": "4(c)",
+                "quantity": "table: minima and Eq. 23 margin per curve",
+            },
+        ),
     log:
         "logs/fig4/simulate_c.log",
     benchmark:
@@ -71,7 +86,16 @@ rule simulate_fig4d:
         code=package_sources(*FIG45_NONLINEAR_MODULES),
     output:
         table="results/fig4/d/sweep.parquet",
-        summary="results/fig4/d/summary.csv",
+        summary=report(
+            "results/fig4/d/summary.csv",
+            caption="../report/fig4_summary.rst",
+            category="Sect. 3.1: contact stiffness and plastic contact",
+            subcategory="Fig. 4",
+            labels={
+                "figure": "4(d)",
+                "quantity": "table: minima and Eq. 23 margin per curve",
+            },
+        ),
     log:
         "logs/fig4/simulate_d.log",
     benchmark:
@@ -98,7 +122,13 @@ rule simulate_fig5b:
         helpers="workflow/scripts/simulate_fig4.py",
     output:
         table="results/fig5/b/sweep.parquet",
-        summary="results/fig5/b/summary.csv",
+        summary=report(
+            "results/fig5/b/summary.csv",
+            caption="../report/fig5b_summary.rst",
+            category="Sect. 3.2: scissor structural spring",
+            subcategory="Fig. 5",
+            labels={"figure": "5(b)", "quantity": "table: minima per curve"},
+        ),
     log:
         "logs/fig5/simulate_b.log",
     benchmark:
@@ -127,7 +157,8 @@ rule fig4a:
         png=report(
             "figures/fig4a.png",
             caption="../report/fig4a.rst",
-            category="Fig. 4",
+            category="Sect. 3.1: contact stiffness and plastic contact",
+            subcategory="Fig. 4",
             labels={"figure": "4(a)", "quantity": "contact force vs penetration"},
         ),
         pdf="figures/fig4a.pdf",
@@ -154,7 +185,8 @@ rule fig4b:
         png=report(
             "figures/fig4b.png",
             caption="../report/fig4b.rst",
-            category="Fig. 4",
+            category="Sect. 3.1: contact stiffness and plastic contact",
+            subcategory="Fig. 4",
             labels={"figure": "4(b)", "quantity": "COR vs alpha, several DR"},
         ),
         pdf="figures/fig4b.pdf",
@@ -181,7 +213,8 @@ rule fig4c:
         png=report(
             "figures/fig4c.png",
             caption="../report/fig4c.rst",
-            category="Fig. 4",
+            category="Sect. 3.1: contact stiffness and plastic contact",
+            subcategory="Fig. 4",
             labels={
                 "figure": "4(c)",
                 "quantity": "COR vs alpha, several eta, beta = 0.01",
@@ -211,7 +244,8 @@ rule fig4d:
         png=report(
             "figures/fig4d.png",
             caption="../report/fig4d.rst",
-            category="Fig. 4",
+            category="Sect. 3.1: contact stiffness and plastic contact",
+            subcategory="Fig. 4",
             labels={
                 "figure": "4(d)",
                 "quantity": "COR vs alpha, several eta, beta = 0.1",
@@ -241,7 +275,8 @@ rule fig5a:
         png=report(
             "figures/fig5a.png",
             caption="../report/fig5a.rst",
-            category="Fig. 5",
+            category="Sect. 3.2: scissor structural spring",
+            subcategory="Fig. 5",
             labels={
                 "figure": "5(a)",
                 "quantity": "scissor spring force vs displacement",
@@ -272,7 +307,8 @@ rule fig5b:
         png=report(
             "figures/fig5b.png",
             caption="../report/fig5b.rst",
-            category="Fig. 5",
+            category="Sect. 3.2: scissor structural spring",
+            subcategory="Fig. 5",
             labels={
                 "figure": "5(b)",
                 "quantity": "COR vs alpha, scissor spring, several L",

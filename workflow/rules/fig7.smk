@@ -60,8 +60,23 @@ rule aggregate_fig7:
         chunks=FIG7_CHUNK_TABLES,
     output:
         sweep="results/fig7/sweep.parquet",
-        summary="results/fig7/summary.csv",
-        minima="results/fig7/minima.csv",
+        summary=report(
+            "results/fig7/summary.csv",
+            caption="../report/fig7_summary.rst",
+            category="Sect. 3.4: dashpot between the masses",
+            subcategory="Fig. 7",
+            labels={
+                "figure": "7(a)-(c)",
+                "quantity": "table: contact-count peak per xi",
+            },
+        ),
+        minima=report(
+            "results/fig7/minima.csv",
+            caption="../report/fig7_minima.rst",
+            category="Sect. 3.4: dashpot between the masses",
+            subcategory="Fig. 7",
+            labels={"figure": "7(a)", "quantity": "table: COR minima per xi"},
+        ),
     log:
         "logs/fig7/aggregate.log",
     benchmark:
@@ -89,7 +104,8 @@ rule fig7a:
         png=report(
             "figures/fig7a.png",
             caption="../report/fig7a.rst",
-            category="Fig. 7",
+            category="Sect. 3.4: dashpot between the masses",
+            subcategory="Fig. 7",
             labels={"figure": "7(a)", "quantity": "COR vs alpha, dashpot"},
         ),
         pdf="figures/fig7a.pdf",
@@ -116,7 +132,8 @@ rule fig7b:
         png=report(
             "figures/fig7b.png",
             caption="../report/fig7b.rst",
-            category="Fig. 7",
+            category="Sect. 3.4: dashpot between the masses",
+            subcategory="Fig. 7",
             labels={"figure": "7(b)", "quantity": "contacts vs alpha, dashpot"},
         ),
         pdf="figures/fig7b.pdf",
@@ -143,7 +160,8 @@ rule fig7c:
         png=report(
             "figures/fig7c.png",
             caption="../report/fig7c.rst",
-            category="Fig. 7",
+            category="Sect. 3.4: dashpot between the masses",
+            subcategory="Fig. 7",
             labels={"figure": "7(c)", "quantity": "omega t_col vs alpha, dashpot"},
         ),
         pdf="figures/fig7c.pdf",
@@ -167,7 +185,13 @@ rule simulate_fig7d:
     output:
         traces="results/fig7/traces.parquet",
         contacts="results/fig7/contacts.parquet",
-        summary="results/fig7/last_contact.csv",
+        summary=report(
+            "results/fig7/last_contact.csv",
+            caption="../report/fig7d_last_contact.rst",
+            category="Sect. 3.4: dashpot between the masses",
+            subcategory="Fig. 7",
+            labels={"figure": "7(d)", "quantity": "table: last contact per trace"},
+        ),
     log:
         "logs/fig7/simulate_fig7d.log",
     benchmark:
@@ -197,7 +221,8 @@ rule fig7d:
         png=report(
             "figures/fig7d.png",
             caption="../report/fig7d.rst",
-            category="Fig. 7",
+            category="Sect. 3.4: dashpot between the masses",
+            subcategory="Fig. 7",
             labels={"figure": "7(d)", "quantity": "contact compression vs time"},
         ),
         pdf="figures/fig7d.pdf",

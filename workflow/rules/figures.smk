@@ -11,7 +11,8 @@ rule fig2a:
         png=report(
             "figures/fig2a.png",
             caption="../report/fig2a.rst",
-            category="Fig. 2",
+            category="Sect. 2: two-mass model, rigid and elastic contact",
+            subcategory="Fig. 2",
             labels={"figure": "2(a)", "quantity": "COR vs alpha"},
         ),
         pdf="figures/fig2a.pdf",

@@ -15,6 +15,7 @@ rule reproduction:
             "results/reproduction.csv",
             caption="../report/reproduction.rst",
             category="Reproduction",
+            labels={"figure": "-", "quantity": "paper vs ours"},
         ),
     log:
         "logs/reproduction.log",

@@ -32,7 +32,13 @@ rule aggregate_fig2a:
         chunks=fig2a_chunk_tables(),
     output:
         sweep="results/fig2a/sweep.parquet",
-        minima="results/fig2a/minima.csv",
+        minima=report(
+            "results/fig2a/minima.csv",
+            caption="../report/fig2a_minima.rst",
+            category="Sect. 2: two-mass model, rigid and elastic contact",
+            subcategory="Fig. 2",
+            labels={"figure": "2(a)", "quantity": "table: COR minima per beta"},
+        ),
     log:
         "logs/fig2a/aggregate.log",
     benchmark:

@@ -1,0 +1,221 @@
+"""The hard-case suite (issue #7 item 6): every method on every scene of restitution.bench.scenes.
+
+Correctness only (timings are the benchmark's job): right contact count, COR error within the
+method's own stated bound plus the reference's bound, no NaN, an energy account that closes, and
+no hang -- every method stops loudly with ``event_budget_exhausted`` when its contact budget runs
+out. References come from independent methods (``benchmarks/reference_values.py``: mpmath for the
+two-mass linear scenes, scipy for the chain and the nonlinear laws), never from the code tested.
+
+Bounds per method:
+
+* exact (``auto`` on linear scenes: ``impulsive`` / ``piecewise``): round-off. A backward-stable
+  solver's COR error is at most a few ulps of the input times the problem's relative condition
+  number kappa = |d cor / d ln alpha| (``Scene.reference_condition``, mpmath), so the bound is
+  1e-13 + 64 eps kappa. kappa is O(1) except just past a grazing point, where a contact of depth
+  d ~ 1e-5 makes the COR move like sqrt(d) (kappa ~ 1e3).
+* ``adaptive``, ``verlet``, ``reference``: the ``error_estimate`` each Result reports (README,
+  "Solvers": the method's own estimate of its COR error), plus the same round-off bound.
+
+Exactly at a grazing point (scenes ``graze2``, ``graze5``, beta = 0) the exact solution of the
+float input has n contacts and misses the (n+1)-th by 4.5e-16 (n = 2) and 1.3e-15 (n = 5): a
+touch inside round-off. The exact kernels' rule (a touch within round-off does not count,
+kernels/linear.py, rigid2.py) gives n, and so must they. A numerical method may register that
+touch: then the count is n + 1 and the COR moves along the cusp by C sqrt(d) for a touch of depth
+d, C = 0.95 (mpmath: alpha 2 ulp above alpha*_2 has a touch of depth 1.7e-15 that moves the COR
+by 3.9e-8). A touch a float solver registers is at most ~1e-12 deep (a few thousand ulps of the
+O(1) gap), so n + 1 contacts are accepted there with a COR error up to C sqrt(1e-12) ~ 1e-6.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import pytest
+
+import restitution
+from restitution.bench.scenes import SCENES, Scene, scene
+
+pytestmark = pytest.mark.hard
+
+EPS = np.finfo(float).eps
+GRAZING_EXACT = ("graze2", "graze5")
+CUSP_C = 0.95  # COR change per sqrt(touch depth) at alpha*_2 (mpmath, see the module docstring)
+MAX_TOUCH = 1e-12  # deepest touch a float64 solver may register where the exact one misses
+
+
+def methods(sc: Scene) -> list[str]:
+    """Methods that apply: all for two masses; Verlet needs a contact spring (beta > 0)."""
+    if sc.n_masses != 2:
+        return ["auto"]
+    return ["auto", "adaptive", "reference"] + (["verlet"] if sc.beta > 0 else [])
+
+
+CASES = [(sc.name, m) for sc in SCENES for m in methods(sc)]
+
+# Real failures, measured and reported (issue #7): a missed contact, or an error above the
+# method's own estimate at its default setting. They are xfailed by name (not by a looser bound),
+# so every other case keeps its full check.
+KNOWN_FAILURES = {
+    ("graze2_past", "reference"): "restitution.reference misses the 5e-6 deep third contact (its "
+    "sign-change events with max_step = period/50 = 0.13 cannot see a 0.006-long dip): 2 "
+    "contacts, COR error 2.1e-3 (found with max_step = period/500)",
+    ("graze5_past", "reference"): "restitution.reference misses the 1.2e-5 deep, 0.009 long "
+    "sixth contact: 5 contacts, COR error 1.3e-3 (found with max_step = period/500)",
+    ("many", "adaptive"): "error 5.7e-8 above its estimate 3.9e-8 (x1.45) at rtol 1e-9",
+    ("plastic", "reference"): "error 3.6e-9 above its estimate 1e-9 (= rtol; x3.6)",
+    ("xi3", "reference"): "error 6.1e-6 above its estimate 1e-9 (= rtol; x6000); 2.6e-12 at "
+    "rtol 1e-11",
+    # Verlet's step-halving estimate |cor(h/2) - cor(h)|/3 assumes second-order convergence;
+    # event location at step granularity is not, and the error is erratic in the step.
+    ("stiff", "verlet"): "error 7.5e-6 above its estimate 4.8e-6 (x1.6) at step 0.01",
+    ("plastic", "verlet"): "error 4.2e-4 above its estimate 1.8e-4 (x2.3) at step 0.01",
+    ("scissor", "verlet"): "error 1.2e-5 above its estimate 4.9e-6 (x2.5) at step 0.01",
+    ("xi1", "verlet"): "error 1.1e-4 above its estimate 4.0e-5 (x2.8) at step 0.01",
+    ("xi3", "verlet"): "error 2.9e-8 above its estimate 1.8e-8 (x1.6) at step 0.01",
+    ("tiny", "verlet"): "error 1.0e-7 above its estimate 4.6e-8 (x2.2) at step 0.01; COR > 1",
+}
+
+
+def _exact_bound(sc: Scene) -> float:
+    kappa = sc.reference_condition if sc.reference_condition is not None else 1.0
+    return 1e-13 + 64 * EPS * kappa
+
+
+def _energy_tol(method: str, linear_exact: bool) -> float:
+    # The tolerances the solvers check their own energy account against (nonlinear.py):
+    # 1e3 rtol (default rtol 1e-9) for adaptive / reference, (2 pi step)**2 for Verlet (step
+    # 0.01). The exact kernels close it to round-off.
+    if linear_exact:
+        return 1e-12
+    method = "adaptive" if method == "auto" else method  # auto on a nonlinear law
+    return {"adaptive": 1e-6, "reference": 1e-6, "verlet": (2 * math.pi * 0.01) ** 2}[method]
+
+
+def _with_known_failures(cases):
+    xfail = lambda c: pytest.mark.xfail(strict=True, reason=KNOWN_FAILURES[c])  # noqa: E731
+    return [pytest.param(*c, marks=xfail(c)) if c in KNOWN_FAILURES else c for c in cases]
+
+
+@pytest.mark.parametrize("name, method", _with_known_failures(CASES))
+def test_scene_method(name, method):
+    sc = scene(name)
+    assert sc.reference_cor is not None and sc.reference_bound is not None, sc
+    r = restitution.solve(**sc.solve_kwargs(), method=method)
+    values = [r.cor, r.omega_t_col, r.e_translational, r.e_vibrational, r.e_dissipated]
+    assert r.status == "ok", r
+    assert all(math.isfinite(v) for v in [*values, r.error_estimate]), r
+    exact = method == "auto" and sc.linear
+    total = r.e_translational + r.e_vibrational + r.e_dissipated
+    assert abs(total - 1.0) <= _energy_tol(method, exact), (total, r)
+    assert abs(r.e_translational - r.cor**2) <= 1e-12, r
+    assert min(r.e_translational, r.e_vibrational) >= 0.0, r
+    assert r.e_dissipated >= -_energy_tol(method, exact), r  # no energy created
+    err = abs(r.cor - sc.reference_cor)
+    if exact:
+        assert r.method in ("impulsive", "piecewise")
+        assert r.n_collisions == sc.reference_contacts, r
+        assert err <= _exact_bound(sc) + sc.reference_bound, (err, r)
+        return
+    # the estimate covers truncation; round-off comes on top, as for the exact methods
+    bound = r.error_estimate + _exact_bound(sc) + sc.reference_bound
+    if name in GRAZING_EXACT and r.n_collisions == sc.reference_contacts + 1:
+        # registered the round-off touch: the COR moved along the cusp (module docstring)
+        bound += CUSP_C * math.sqrt(MAX_TOUCH)
+    else:
+        assert r.n_collisions == sc.reference_contacts, r
+    assert err <= bound, (err, bound, r)
+
+
+@pytest.mark.parametrize("name, method", CASES)
+def test_event_budget_fails_loudly(name, method):
+    """A budget smaller than the contacts needed ends with event_budget_exhausted, quickly."""
+    sc = scene(name)
+    restitution.solve(**sc.solve_kwargs(), method=method, max_events=1)  # JIT warm-up
+    if sc.reference_contacts == 1:
+        # one contact: the budget of one is enough, and the result must say so
+        r = restitution.solve(**sc.solve_kwargs(), method=method, max_events=1)
+        assert r.status == "ok" and r.n_collisions == 1
+        return
+    budget = max(1, sc.reference_contacts // 2)
+    t0 = time.perf_counter()
+    r = restitution.solve(**sc.solve_kwargs(), method=method, max_events=budget)
+    elapsed = time.perf_counter() - t0
+    assert r.status == "event_budget_exhausted", r
+    assert not r.success
+    assert r.n_collisions == budget, r
+    # Not a hang: stopping early costs at most what the whole scene costs (seconds for the
+    # scipy reference, milliseconds for the others).
+    assert elapsed < 10.0, elapsed
+
+
+def test_budget_is_checked_for_the_tiny_scene_too():
+    """The one-contact scene cannot exhaust a budget; a budget of zero is refused up front."""
+    sc = scene("tiny")
+    for method in methods(sc):
+        with pytest.raises(restitution.scene.SceneError, match="max_events"):
+            restitution.solve(**sc.solve_kwargs(), method=method, max_events=0)
+
+
+@pytest.mark.parametrize("method", ["auto", "reference"])
+def test_plastic_scene_reloads_past_its_earlier_maximum(method):
+    """The plastic scene really reloads past the previous maximum penetration (Sec. 3.1)."""
+    sc = scene("plastic")
+    r = restitution.solve(**sc.solve_kwargs(), method=method, history=True)
+    xm = r.history["x_max"].to_numpy()
+    assert len(xm) == sc.reference_contacts
+    past = [k for k in range(1, len(xm)) if xm[k] > xm[:k].max() * (1 + 1e-3)]
+    assert past, xm  # at least one later contact goes deeper than every earlier one
+    # measured: contacts 2 and 3 reach 1.64 and 1.73 times the first penetration
+    assert past == [1, 2], xm
+
+
+def test_just_past_grazing_the_shallow_contact_is_found():
+    """alpha*_n (1 + 1e-6) has the (n+1)-th contact the grazing scene lacks, ~1e-5 deep."""
+    for n in (2, 5):
+        at, past = scene(f"graze{n}"), scene(f"graze{n}_past")
+        assert at.reference_contacts == n and past.reference_contacts == n + 1
+        # COR continuous, with the sqrt cusp: the jump over 1e-6 in alpha is ~ C sqrt(d)
+        jump = abs(past.reference_cor - at.reference_cor)
+        assert 1e-4 < jump < 1e-2, jump
+
+
+# ------------------------------------------------------------------------------------------------
+# Minimal reproducers of real problems found by this suite and tests/test_properties.py (strict
+# xfails: they turn red when fixed, so the marker can go).
+# ------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "method",
+    [
+        "adaptive",
+        pytest.param(
+            "reference",
+            marks=pytest.mark.xfail(
+                strict=True, reason="reference reports status ok with e_dissipated = -0.043"
+            ),
+        ),
+    ],
+)
+def test_plastic_law_that_creates_energy_is_never_ok(method):
+    """eta > 1: the loading slope kappa eta x**(eta-1) grows past the unloading slope k1, and a
+    linear unloading from there returns more than the loading stored (known: config.yaml, fig4
+    comment). It depends on the depth reached, so no input check can exclude it; the energy
+    account must. alpha = 1, beta = 1, eta = 2, DR = 0: e_dissipated = -0.043 with both methods;
+    adaptive says energy_account_open, reference says ok."""
+    r = restitution.solve(1.0, 1.0, contact="plastic", eta=2.0, dr=0.0, method=method)
+    assert r.e_dissipated < -0.04  # the law did create energy here
+    assert r.status != "ok", r
+
+
+@pytest.mark.xfail(strict=True, reason="adaptive error 4.0e-7 above its estimate 7.5e-8 (x5.3)")
+def test_adaptive_estimate_covers_its_error_on_a_soft_scissor():
+    """Scissor spring, alpha = 1, beta = 0.01, L = 1, ks_ratio = 0.01, default rtol 1e-9: COR
+    = 1 + 4.0e-7 (an elastic system gaining energy). Reference COR = 1 - 2.684e-9
+    (restitution.reference at rtol 1e-13; 1e-11 gives 1 - 2.233e-9, adaptive at 1e-13
+    1 - 2.641e-9)."""
+    r = restitution.solve(1.0, 0.01, structure="scissor", L=1.0, ks_ratio=0.01)
+    assert r.status == "ok"
+    assert abs(r.cor - (1 - 2.684e-9)) <= r.error_estimate + 1e-10

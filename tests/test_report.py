@@ -1,0 +1,276 @@
+"""The Snakemake report: every figure and table is in it, with a caption that names its parameters.
+
+The inventory comes from Snakemake itself (the parsed workflow, in a subprocess): for every output
+marked with ``report()`` its rule, caption file, category, and the ``params`` of its rule and of
+every rule upstream of it, i.e. every configuration value the file depends on. Each figure's
+caption must name each of those values through a Jinja expression (so the rendered report always
+shows the values of the run) and render to valid reStructuredText. A small end-to-end run builds
+a real report and checks that the captions and the reproduction table are in it.
+"""
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import yaml
+
+REPO = Path(__file__).resolve().parents[1]
+
+# Categories of the report: the paper's sections, the reproduction table, the benchmarks (#7).
+SECTIONS = {
+    "1": "Sect. 2: two-mass model, rigid and elastic contact",
+    "2": "Sect. 2: two-mass model, rigid and elastic contact",
+    "3": "Sect. 3.1: contact stiffness and plastic contact",
+    "4": "Sect. 3.1: contact stiffness and plastic contact",
+    "5": "Sect. 3.2: scissor structural spring",
+    "6": "Sect. 3.3: chains of N masses",
+    "7": "Sect. 3.4: dashpot between the masses",
+}
+CATEGORIES = set(SECTIONS.values()) | {"Reproduction", "Work-precision"}
+
+# Params a caption need not name, and why: none of them changes a number in the figure.
+NOT_A_PARAMETER = {
+    "chunk_size": "how the grid is split into jobs; the results are identical for any value",
+    "name": "selects the panel in a script shared by several panels",
+    "panel": "selects the panel in a script shared by several panels (when a string)",
+    "model": "selects the schematic drawn (Fig. 1 or 6(a))",
+    "max_not_ok_fraction": "a pass/fail threshold of the run, not an input of the figure",
+}
+
+# Runs in a subprocess: Snakemake's API changes the working directory and its logging.
+COLLECT = r"""
+import json, sys
+from pathlib import Path
+from types import SimpleNamespace
+
+from docutils.core import publish_parts
+from jinja2 import Environment
+from snakemake.api import SnakemakeApi
+from snakemake.io import get_flag_value, is_flagged
+from snakemake.settings.types import ConfigSettings, OutputSettings, ResourceSettings
+
+
+def flatten(value, path):
+    if isinstance(value, dict):
+        for key, sub in value.items():
+            yield from flatten(sub, (*path, str(key)))
+    else:
+        yield path, value
+
+
+settings = ConfigSettings(configfiles=[Path(p) for p in sys.argv[1:]])
+with SnakemakeApi(OutputSettings()) as api:
+    workflow = api.workflow(
+        resource_settings=ResourceSettings(cores=1),
+        config_settings=settings,
+        snakefile=Path("Snakefile"),
+    )._workflow
+    rules = list(workflow.rules)
+
+    def upstream(rule, seen):
+        for item in rule.input:
+            for producer in rules:
+                if producer.name not in seen and producer.is_producer(str(item)):
+                    seen[producer.name] = producer
+                    upstream(producer, seen)
+        return seen
+
+    env = Environment(trim_blocks=True, lstrip_blocks=True)  # as snakemake's report
+    entries = []
+    for rule in rules:
+        for item in rule.output:
+            if not is_flagged(item, "report"):
+                continue
+            flag = get_flag_value(item, "report")
+            entry = {
+                "rule": rule.name, "output": str(item), "category": flag.category,
+                "subcategory": flag.subcategory, "caption": None, "params": [],
+            }
+            if flag.caption is not None:
+                path = flag.caption.get_path_or_uri(secret_free=True)
+                source = Path(path).read_text()
+                snakemake = SimpleNamespace(
+                    config=workflow.config, params=rule.params, wildcards={}, rule=rule.name
+                )
+                rendered = env.from_string(source).render(snakemake=snakemake)
+                html = publish_parts(
+                    rendered, writer_name="html", settings_overrides={"report_level": 2}
+                )["body"]
+                entry.update(caption=path, source=source, rendered=rendered, html=html)
+            for name, dep in upstream(rule, {rule.name: rule}).items():
+                for key, raw in dep.params.items():
+                    for path, value in flatten(raw, (key,)):
+                        entry["params"].append({"rule": name, "path": list(path), "value": value})
+            entries.append(entry)
+    outputs = [{"rule": r.name, "output": str(f)} for r in rules for f in r.output]
+    json.dump({"report": entries, "outputs": outputs}, sys.stdout)
+"""
+
+
+def _env():
+    env = dict(os.environ)
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    env.setdefault("NUMBA_CACHE_DIR", str(REPO / ".cache" / "numba"))
+    env.setdefault("MPLBACKEND", "Agg")
+    return env
+
+
+def collect(cwd=REPO, configfiles=()):
+    result = subprocess.run(
+        [sys.executable, "-c", COLLECT, *map(str, configfiles)],
+        cwd=cwd,
+        env=_env(),
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert result.returncode == 0, result.stderr[-5000:]
+    return json.loads(result.stdout)
+
+
+@pytest.fixture(scope="module")
+def inventory():
+    return collect()
+
+
+def _figures(inventory):
+    return [e for e in inventory["report"] if e["output"].endswith(".png")]
+
+
+def test_every_figure_and_table_is_in_the_report(inventory):
+    flagged = {e["output"] for e in inventory["report"]}
+    wanted = [
+        o["output"]
+        for o in inventory["outputs"]
+        if (o["output"].startswith("figures/") and o["output"].endswith(".png"))
+        or (o["output"].startswith("results/") and o["output"].endswith((".csv", ".json")))
+    ]
+    assert len(wanted) >= 19 + 10, wanted  # 19 panels of Figs. 1-7 and the tables next to them
+    missing = sorted(set(wanted) - flagged)
+    assert not missing, f"outputs not marked with report(): {missing}"
+
+
+def test_every_report_entry_has_a_caption_and_a_section(inventory):
+    for entry in inventory["report"]:
+        where = f"{entry['rule']}: {entry['output']}"
+        assert entry["caption"] and Path(entry["caption"]).is_file(), where
+        assert entry["category"] in CATEGORIES, f"{where}: category {entry['category']!r}"
+        figure = re.fullmatch(r"figures/fig(\d)[a-d]?\.png", entry["output"])
+        if figure:  # a paper figure: its section, and one subcategory per figure
+            assert entry["category"] == SECTIONS[figure.group(1)], where
+            assert entry["subcategory"] == f"Fig. {figure.group(1)}", where
+            assert entry["rendered"].lstrip().startswith(f"**Fig. {figure.group(1)}"), where
+
+
+def test_captions_render_to_valid_rst(inventory):
+    for entry in inventory["report"]:
+        assert "system-message" not in entry["html"], f"{entry['caption']}:\n{entry['html']}"
+        assert "{{" not in entry["rendered"] and "{%" not in entry["rendered"], entry["caption"]
+
+
+def _shown(value):
+    """How Jinja prints a value: str() of the Python object (1e-09, [0.0, 0.001], 100.0)."""
+    return str(value)
+
+
+def test_figure_captions_name_every_parameter(inventory):
+    """Each config value a figure depends on (its rule's params and those of every rule upstream)
+    is printed in its caption through a Jinja expression that names the key."""
+    problems = []
+    figures = _figures(inventory)
+    assert len(figures) >= 19
+    for entry in figures:
+        expressions = " ".join(
+            m.group(0) for m in re.finditer(r"\{\{.*?\}\}|\{%.*?%\}", entry["source"], re.S)
+        )
+        for param in entry["params"]:
+            key = param["path"][-1]
+            value = param["value"]
+            if key in NOT_A_PARAMETER and (key != "panel" or isinstance(value, str)):
+                continue
+            where = f"{entry['caption']}: {param['rule']}.params.{'.'.join(param['path'])}"
+            if not re.search(rf"""["'.]{re.escape(key)}\b""", expressions):
+                problems.append(f"{where} is not named in a Jinja expression")
+            elif _shown(value) not in entry["rendered"]:
+                problems.append(f"{where} = {_shown(value)} does not appear in the caption")
+    assert not problems, "\n".join(sorted(set(problems)))
+
+
+def test_front_page_names_the_solver_and_has_a_hidden_todo_only():
+    source = (REPO / "workflow" / "report" / "workflow.rst").read_text()
+    assert ".. csv-table::" in source and "reproduction.csv" in source
+    # The TODO for the lead lives in a Jinja comment, which never reaches the rendered page.
+    todo = source.index("TODO")
+    assert source.rfind("{#", 0, todo) > source.rfind("#}", 0, todo)
+
+
+# --- a real report on a small configuration --------------------------------------------------
+
+SMALL = {
+    "fig2a": {
+        "alpha_min": 0.5,
+        "alpha_max": 4.0,
+        "n_alpha": 41,
+        "betas": [0.0, 0.1],
+        "chunk_size": 40,
+        "refine_steps": 30,
+    },
+    "approx": {
+        "n_max": 10,
+        "alpha_min": 0.1,
+        "alpha_max": 5.0,
+        "n_alpha": 2001,
+        "n_plot": 201,
+        "n_eta": 200,
+        "finite_betas": [1.0],
+        "finite_alpha_min": 1.0,
+        "finite_alpha_max": 6.0,
+        "finite_n_grid": 40,
+        "finite_steps": 30,
+    },
+    "fig3": {"compression": {"n_times": 401, "marginal_steps": 40}},
+}
+SMALL_TARGETS = ("fig2a", "fig2b", "reproduction")
+
+
+@pytest.mark.pipeline
+def test_report_builds_on_a_small_configuration(tmp_path):
+    shutil.copy(REPO / "Snakefile", tmp_path / "Snakefile")
+    for folder in ("workflow", "config"):
+        shutil.copytree(
+            REPO / folder, tmp_path / folder, ignore=shutil.ignore_patterns("__pycache__")
+        )
+    (tmp_path / "src").symlink_to(REPO / "src", target_is_directory=True)
+    config = tmp_path / "small.yaml"
+    config.write_text(yaml.safe_dump(SMALL))
+    snakemake = [sys.executable, "-m", "snakemake", "--configfile", str(config)]
+
+    def run(*args):
+        result = subprocess.run(
+            [*snakemake, *args],
+            cwd=tmp_path,
+            env=_env(),
+            capture_output=True,
+            text=True,
+            timeout=900,
+        )
+        assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-5000:]
+
+    run("-c2", *SMALL_TARGETS)
+    run("--report", "report.html", *SMALL_TARGETS)
+    html = (tmp_path / "report.html").read_text()
+
+    # The front page, with the reproduction table read from the CSV this run wrote.
+    assert "This report reproduces" in html
+    repro = (tmp_path / "results" / "reproduction.csv").read_text().splitlines()
+    first_row = repro[1].split(",")
+    assert first_row[0] in html and first_row[2] in html  # quantity and our value
+    # Captions of the figures and tables, rendered with this run's configuration.
+    assert "Fig. 2(a)." in html and "Fig. 2(b)." in html and "Fig. 2(a) minima (table)" in html
+    assert "[0.0, 0.1]" in html  # fig2a.betas of SMALL, printed by the Jinja caption
+    assert "Reproduction table." in html
