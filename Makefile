@@ -16,6 +16,7 @@ export UV_COMPILE_BYTECODE := 1
 unexport PYTHONDONTWRITEBYTECODE
 
 .PHONY: all test env lock report notebooks benchmarks bench-report bench-smoke lint clean distclean help
+.PHONY: cluster-env cluster-lock slurm-test
 
 help:
 	@echo "make all        build .venv from requirements.lock, then snakemake -c$(CORES) all"
@@ -28,6 +29,9 @@ help:
 	@echo "make bench-smoke reduced benchmarks into \$$BENCH_SMOKE_DIR (default results/bench-smoke)"
 	@echo "make lint       ruff, snakefmt --check, snakemake --lint"
 	@echo "make clean      remove results, logs, figures' build caches and the numba cache"
+	@echo "make cluster-env    build .venv-cluster (.venv + SLURM executor plugin) from its lock"
+	@echo "make cluster-lock   re-resolve requirements-cluster.lock (pins of requirements.lock kept)"
+	@echo "make slurm-test     start a one-node SLURM here (root), run a small workflow through it"
 
 all: env
 	$(BIN)/snakemake -c$(CORES) all
@@ -49,6 +53,27 @@ $(STAMP): requirements.lock pyproject.toml
 lock:
 	$(BIN)/uv pip compile pyproject.toml --extra test --python-version 3.11.7 -o requirements.lock \
 		|| uv pip compile pyproject.toml --extra test --python-version 3.11.7 -o requirements.lock
+
+# Cluster environment: .venv plus the SLURM executor plugin, in its own venv so that local runs
+# never load the plugin (with `sinfo` on PATH it queries the controller on every snakemake call).
+# Its lock is constrained by requirements.lock, so every package the two share has the same pin.
+CLUSTER_VENV := .venv-cluster
+CLUSTER_STAMP := $(CLUSTER_VENV)/.installed
+
+cluster-env: $(CLUSTER_STAMP)
+
+$(CLUSTER_STAMP): requirements-cluster.lock pyproject.toml | $(STAMP)
+	test -x $(CLUSTER_VENV)/bin/python || $(PYTHON) -m venv $(CLUSTER_VENV)
+	$(BIN)/uv pip sync --python $(CLUSTER_VENV)/bin/python requirements-cluster.lock
+	$(BIN)/uv pip install --python $(CLUSTER_VENV)/bin/python --no-deps -e .
+	touch $(CLUSTER_STAMP)
+
+cluster-lock: env
+	$(BIN)/uv pip compile pyproject.toml --extra test --extra cluster --constraint requirements.lock \
+		--python-version 3.11.7 -o requirements-cluster.lock
+
+slurm-test: env cluster-env
+	.ci/slurm_test.sh
 
 # --report never runs a job and fails on a missing output, so the targets are brought up to date
 # first (nothing runs after `make all`). REPORT_TARGETS="all benchmarks" adds the work-precision
@@ -98,4 +123,4 @@ clean:
 	rm -rf results logs .cache .snakemake/incomplete .pytest_cache report.html notebooks/executed
 
 distclean: clean
-	rm -rf $(VENV) .snakemake
+	rm -rf $(VENV) $(CLUSTER_VENV) .snakemake

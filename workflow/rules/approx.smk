@@ -26,6 +26,9 @@ rule approx_points:
     conda:
         "../envs/restitution.yaml"
     threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=10,
     params:
         approx={"n_max": config["approx"]["n_max"]},
     script:
@@ -52,6 +55,7 @@ rule approx_finite_beta:
         "../envs/restitution.yaml"
     threads: 2
     resources:
+        mem_mb=1000,
         runtime=30,
     params:
         approx={
@@ -102,6 +106,9 @@ rule approx_fit:
     conda:
         "../envs/restitution.yaml"
     threads: 2
+    resources:
+        mem_mb=1000,
+        runtime=20,
     params:
         approx={
             k: config["approx"][k]
