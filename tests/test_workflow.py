@@ -7,6 +7,7 @@ chain on a tiny configuration in a temporary copy of the workflow.
 
 import importlib.util
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -251,3 +252,18 @@ def test_tiny_pipeline_end_to_end(tmp_path):
     minima = pd.read_csv(tmp_path / "results" / "fig2a" / "minima.csv")
     first = minima[(minima["beta"] == 0.0) & (minima["minimum"] == 1)].iloc[0]
     assert first["cor"] == pytest.approx(best["cor"]) and first["n_collisions"] == 1
+
+
+def test_simulate_and_render_rules_have_benchmark_and_log():
+    """Per-rule cost (benchmark:) and logs (log:) exist for every simulate and render rule."""
+    blocks = {}
+    for path in sorted((REPO / "workflow" / "rules").glob("*.smk")):
+        text = path.read_text()
+        starts = [(m.start(), m.group(1)) for m in re.finditer(r"^rule (\w+):", text, re.M)]
+        for (start, name), (end, _) in zip(starts, [*starts[1:], (len(text), "")], strict=False):
+            blocks[name] = text[start:end]
+    checked = [n for n in blocks if n.startswith(("simulate", "fig", "render"))]
+    assert {"simulate_fig2a", "fig2b", "fig7d"} <= set(checked)
+    for name in checked:
+        assert "\n    log:" in blocks[name], f"rule {name} has no log:"
+        assert "\n    benchmark:" in blocks[name], f"rule {name} has no benchmark:"

@@ -137,6 +137,8 @@ rule fig2b:
         pdf="figures/fig2b.pdf",
     log:
         "logs/approx/render_fig2b.log",
+    benchmark:
+        "logs/benchmarks/approx/render_fig2b.tsv"
     conda:
         "../envs/restitution.yaml"
     params:
@@ -164,6 +166,8 @@ rule fig2c:
         pdf="figures/fig2c.pdf",
     log:
         "logs/approx/render_fig2c.log",
+    benchmark:
+        "logs/benchmarks/approx/render_fig2c.tsv"
     conda:
         "../envs/restitution.yaml"
     params:
@@ -192,6 +196,8 @@ rule fig2d:
         pdf="figures/fig2d.pdf",
     log:
         "logs/approx/render_fig2d.log",
+    benchmark:
+        "logs/benchmarks/approx/render_fig2d.tsv"
     conda:
         "../envs/restitution.yaml"
     params:
