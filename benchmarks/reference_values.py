@@ -267,15 +267,9 @@ def two_mass_reference(alpha, beta, xi, dps):
 
 def ivp_chain(alpha, beta, xi, n, rtol, max_contacts=5000):
     """(cor, contacts) of an N-mass chain by solve_ivp DOP853 with terminal events."""
-    m = np.full(n, float(alpha))
-    m[0] = 1.0
-    k2 = alpha / (1.0 + alpha)
-    K = np.zeros((n, n))
-    for i in range(n - 1):
-        K[i : i + 2, i : i + 2] += k2 * np.array([[1.0, -1.0], [-1.0, 1.0]])
-    C = np.zeros((n, n))
-    C[:2, :2] = 2.0 * xi * k2 * np.array([[1.0, -1.0], [-1.0, 1.0]])
-    k1 = k2 / beta
+    from restitution.bench.ivp import chain_matrices
+
+    m, K, C, k1 = chain_matrices(alpha, beta, xi, n)
     mt = m.sum()
     Kc = K.copy()
     Kc[0, 0] += k1

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+from restitution.bench.ivp import chain_matrices
 from restitution.kernels.layout import (
     H_TEND,
     H_TSTART,
@@ -39,22 +40,9 @@ def run(alpha, beta=0.0, xi=0.0, n=2, max_events=100_000, rows=0):
 # ------------------------------------------------------------------------------------------------
 
 
-def _system(alpha, beta, xi, n):
-    m = np.full(n, float(alpha))
-    m[0] = 1.0
-    k2 = alpha / (1.0 + alpha)
-    K = np.zeros((n, n))
-    for i in range(n - 1):
-        K[i : i + 2, i : i + 2] += k2 * np.array([[1.0, -1.0], [-1.0, 1.0]])
-    C = np.zeros((n, n))
-    C[:2, :2] = 2.0 * xi * k2 * np.array([[1.0, -1.0], [-1.0, 1.0]])
-    k1 = 0.0 if beta == 0 else k2 / beta
-    return m, K, C, k1
-
-
 def reference(alpha, beta, xi, n, max_contacts=2000):
     """(cor, n_contacts, t_final_separation) by solve_ivp with a small max_step."""
-    m, K, C, k1 = _system(alpha, beta, xi, n)
+    m, K, C, k1 = chain_matrices(alpha, beta, xi, n)
     mt = m.sum()
     Kc = K.copy()
     Kc[0, 0] += k1
@@ -201,7 +189,7 @@ def test_rigid_two_mass_closed_forms():
 
 
 def _energy(alpha, beta, n, u, v):
-    m, K, _, k1 = _system(alpha, beta, 0.0, n)
+    m, K, _, k1 = chain_matrices(alpha, beta, 0.0, n)
     e = 0.5 * np.einsum("ti,i,ti->t", v, m, v) + 0.5 * np.einsum("ti,ij,tj->t", u, K, u)
     return e + 0.5 * k1 * np.minimum(u[:, 0], 0.0) ** 2
 
@@ -393,7 +381,7 @@ def test_sample_linear_continuous_and_consistent():
     us, _ = sample_linear(alpha, beta, xi, n, ts)
     assert np.max(np.abs(us[:, 0])) < 1e-12
     # Final centre-of-mass velocity is the COR.
-    m = _system(alpha, beta, xi, n)[0]
+    m = chain_matrices(alpha, beta, xi, n)[0]
     assert (m @ v[-1]) / m.sum() == pytest.approx(out[OUT_COR], abs=1e-12)
 
 

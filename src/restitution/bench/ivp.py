@@ -135,7 +135,7 @@ def _two_masses(scene, method, rtol, atol, steps_per_period, deadline, max_event
     return out
 
 
-def _chain_matrices(alpha, beta, xi, n):
+def chain_matrices(alpha, beta, xi, n):
     """Masses, stiffness, damping matrices and k1 of the chain (units of DESIGN.md)."""
     m = np.full(n, float(alpha))
     m[0] = 1.0
@@ -152,7 +152,7 @@ def _chain_matrices(alpha, beta, xi, n):
 def _chain(scene, method, rtol, atol, steps_per_period, deadline, max_events):
     """Linear chain: state (u, v, dissipated energy); u1 < 0 is penetration of the wall."""
     n = scene.n_masses
-    m, K, C, k1 = _chain_matrices(scene.alpha, scene.beta, scene.xi, n)
+    m, K, C, k1 = chain_matrices(scene.alpha, scene.beta, scene.xi, n)
     mt = m.sum()
     e0 = 0.5 * mt
 
