@@ -10,16 +10,13 @@ alpha*_2 a third contact appears (definition of alpha*_n).
 
 import dataclasses
 import math
-import os
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
 import yaml
 
+from conftest import REPO, run_snakemake
 from restitution import solve
 from restitution.bench import harness
 from restitution.bench.harness import BenchConfigError, Setting, check_config, run_scene_family
@@ -31,7 +28,6 @@ from restitution.io import read_provenance, read_table
 from restitution.scene import SceneError
 from restitution.special_points import alpha_star
 
-REPO = Path(__file__).resolve().parents[1]
 SINGLE = Scene(
     "single", "one contact, alpha = 0.5", 0.5, reference_cor=1 / 3, reference_contacts=1,
     reference_bound=1e-16, reference_source="closed form (1 - alpha)/(1 + alpha)",
@@ -264,12 +260,7 @@ def test_fit_exponents_recovers_a_power_law():
 
 
 def _snakemake(*args, timeout=900):
-    env = dict(os.environ)
-    env.pop("PYTHONDONTWRITEBYTECODE", None)
-    env.setdefault("NUMBA_CACHE_DIR", str(REPO / ".cache" / "numba"))
-    env.setdefault("MPLBACKEND", "Agg")
-    return subprocess.run([sys.executable, "-m", "snakemake", *args], cwd=REPO, env=env,
-                          capture_output=True, text=True, timeout=timeout)  # fmt: skip
+    return run_snakemake(*args, cwd=REPO, timeout=timeout)
 
 
 @pytest.mark.parametrize(

@@ -9,9 +9,7 @@ a real report and checks that the captions and the reproduction table are in it.
 """
 
 import json
-import os
 import re
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -19,7 +17,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-REPO = Path(__file__).resolve().parents[1]
+from conftest import REPO, copy_workflow, run_snakemake, snakemake_env
 
 # Categories of the report: the paper's sections, the reproduction table, the benchmarks (#7).
 SECTIONS = {
@@ -112,19 +110,11 @@ with SnakemakeApi(OutputSettings()) as api:
 """
 
 
-def _env():
-    env = dict(os.environ)
-    env.pop("PYTHONDONTWRITEBYTECODE", None)
-    env.setdefault("NUMBA_CACHE_DIR", str(REPO / ".cache" / "numba"))
-    env.setdefault("MPLBACKEND", "Agg")
-    return env
-
-
 def collect(cwd=REPO, configfiles=()):
     result = subprocess.run(
         [sys.executable, "-c", COLLECT, *map(str, configfiles)],
         cwd=cwd,
-        env=_env(),
+        env=snakemake_env(),
         capture_output=True,
         text=True,
         timeout=300,
@@ -245,25 +235,12 @@ SMALL_TARGETS = ("fig2a", "fig2b", "reproduction")
 
 @pytest.mark.pipeline
 def test_report_builds_on_a_small_configuration(tmp_path):
-    shutil.copy(REPO / "Snakefile", tmp_path / "Snakefile")
-    for folder in ("workflow", "config"):
-        shutil.copytree(
-            REPO / folder, tmp_path / folder, ignore=shutil.ignore_patterns("__pycache__")
-        )
-    (tmp_path / "src").symlink_to(REPO / "src", target_is_directory=True)
+    copy_workflow(tmp_path)
     config = tmp_path / "small.yaml"
     config.write_text(yaml.safe_dump(SMALL))
-    snakemake = [sys.executable, "-m", "snakemake", "--configfile", str(config)]
 
     def run(*args):
-        result = subprocess.run(
-            [*snakemake, *args],
-            cwd=tmp_path,
-            env=_env(),
-            capture_output=True,
-            text=True,
-            timeout=900,
-        )
+        result = run_snakemake(f"--configfile={config}", *args, cwd=tmp_path, timeout=900)
         assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-5000:]
 
     run("-c2", *SMALL_TARGETS)

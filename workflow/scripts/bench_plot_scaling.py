@@ -20,6 +20,9 @@ def _label(fits, kind, family, threads=1, quantity="time_s"):
     return rf" ($\propto x^{{{f['exponent'].iloc[0]:.2f}}}$)"
 
 
+POINTS = dict(marker="o", ms=3, lw=0.8)  # every measured series: points joined by thin lines
+
+
 def draw(table, fits):
     from restitution import plotting
 
@@ -31,9 +34,7 @@ def draw(table, fits):
         ax_a.plot(
             g["x"],
             g["time_s"],
-            marker="o",
-            ms=3,
-            lw=0.8,
+            **POINTS,
             color=COLOURS.get(family, OTHER),
             label=f"{family}{_label(fits, 'alpha', family)}",
         )
@@ -58,9 +59,7 @@ def draw(table, fits):
     ax_n.plot(
         c["x"],
         c["time_s"],
-        marker="o",
-        ms=3,
-        lw=0.8,
+        **POINTS,
         color="black",
         label=f"exact{_label(fits, 'chain', 'exact')}",
     )
@@ -71,9 +70,7 @@ def draw(table, fits):
         ax_s.plot(
             g["x"],
             g["time_s"],
-            marker="o",
-            ms=3,
-            lw=0.8,
+            **POINTS,
             color="black" if threads == 1 else OTHER,
             label=f"{threads} thread(s){_label(fits, 'sweep', 'solve_many', threads)}",
         )

@@ -167,11 +167,7 @@ def settings(cfg: Mapping, families: Iterable[str] | None = None) -> list[Settin
 
 def applicable(scene, family: str) -> str:
     """'' when ``family`` can run ``scene``, else the reason it cannot (recorded as status)."""
-    linear = not scene.law or (
-        scene.law.get("contact", "linear") == "linear"
-        and scene.law.get("structure", "linear") == "linear"
-    )
-    if family == "exact" and not linear:
+    if family == "exact" and not scene.linear:
         return "no exact solver for a nonlinear law"
     if family in ("adaptive", "verlet") and scene.n_masses != 2:
         return f"{family} exists for two masses only"
