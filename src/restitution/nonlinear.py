@@ -185,67 +185,23 @@ def solve_nonlinear(
         from .kernels.nonlinear import METHOD_ADAPTIVE, METHOD_VERLET, solve_scene
 
         hist = np.zeros((max_events if history else 0, LY.N_HIST))
+
+        def run(code, tol, stp, free, rows, account_out):
+            return solve_scene(
+                scene.alpha, v0, xi, cp, sp, code, tol, stp, free, energy_tol, max_events, rows,
+                account_out,
+            )  # fmt: skip
+
+        no_rows = np.zeros((0, LY.N_HIST))
         if chosen == "verlet":
-            coarse = solve_scene(
-                scene.alpha,
-                v0,
-                xi,
-                cp,
-                sp,
-                METHOD_VERLET,
-                rtol,
-                step,
-                False,
-                energy_tol,
-                max_events,
-                np.zeros((0, LY.N_HIST)),
-                acct,
-            )
-            out = solve_scene(
-                scene.alpha,
-                v0,
-                xi,
-                cp,
-                sp,
-                METHOD_VERLET,
-                rtol,
-                step / 2,
-                False,
-                energy_tol,
-                max_events,
-                hist,
-                acct,
-            )
-            out[LY.OUT_ERR] = 0.0
-            _two_setting_estimate(out, coarse)
+            coarse = run(METHOD_VERLET, rtol, step, False, no_rows, np.zeros(5))
+            out = run(METHOD_VERLET, rtol, step / 2, False, hist, acct)
+            out[LY.OUT_ERR] = 0.0  # Verlet has no local estimate: the step change is all of it
         else:
-            args = (scene.alpha, v0, xi, cp, sp, METHOD_ADAPTIVE)
-            coarse = solve_scene(
-                *args,
-                _coarser(rtol),
-                step,
-                bool(integrate_free),
-                energy_tol,
-                max_events,
-                np.zeros((0, LY.N_HIST)),
-                np.zeros(5),
-            )
-            out = solve_scene(
-                scene.alpha,
-                v0,
-                xi,
-                cp,
-                sp,
-                METHOD_ADAPTIVE,
-                rtol,
-                step,
-                bool(integrate_free),
-                energy_tol,
-                max_events,
-                hist,
-                acct,
-            )
-            _two_setting_estimate(out, coarse)
+            free = bool(integrate_free)
+            coarse = run(METHOD_ADAPTIVE, _coarser(rtol), step, free, no_rows, np.zeros(5))
+            out = run(METHOD_ADAPTIVE, rtol, step, free, hist, acct)
+        _two_setting_estimate(out, coarse)
         hist = hist if history else None
     if account is not None:
         account.update(
