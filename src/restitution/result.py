@@ -15,6 +15,10 @@ STATUS = {
     L.STATUS_ENERGY: "energy_account_open",
     L.STATUS_ILL_CONDITIONED: "ill_conditioned",
     L.STATUS_NONCONVERGED: "event_not_converged",
+    L.STATUS_PERMANENT_CONTACT: "permanent_contact",
+    L.STATUS_WORK_BUDGET: "work_budget_exhausted",
+    L.STATUS_INVALID: "invalid_parameters",
+    L.STATUS_NOT_RUN: "not_run",
 }
 
 MESSAGES = {
@@ -25,6 +29,12 @@ MESSAGES = {
     "this result.",
     "ill_conditioned": "An eigenbasis was too ill-conditioned for a trustworthy closed form.",
     "event_not_converged": "An event root search did not converge.",
+    "permanent_contact": "m1 never leaves the wall (proven): the chain comes to rest against it "
+    "(cor 0, omega_t_col inf).",
+    "work_budget_exhausted": "Stopped after the scene's work budget (counted in operations); the "
+    "sequence was NOT finished.",
+    "invalid_parameters": "The kernel refused parameters outside the range it handles.",
+    "not_run": "The kernel did not finish this row.",
 }
 
 RESULT_COLUMNS = (
