@@ -100,6 +100,7 @@ from restitution.kernels.locator import (
     _scalar_state,
     _xmax,
 )
+from restitution.kernels.rigid2 import rigid2
 
 COND_MAX = 1e8  # eigenvector condition number above which a closed form is not trusted
 ENERGY_TOL = 1e-9
@@ -623,8 +624,12 @@ def _solve(m, k, c, kc, max_events, hist, work_max):
     if not _valid(m, k, c, kc, max_events):
         return _fail(out, STATUS_INVALID)
     ms, ks, cs, kcs = _normalise(m, k, c, kc)
-    rec = np.zeros((0, 3 + 2 * m.size))
-    out = _run(ms, ks, cs, kcs, max_events, hist, rec, work_max)[0]
+    if m.size == 2 and kcs == math.inf:
+        # Two masses at a rigid wall: the dedicated closed-form kernel (alpha, xi) is faster.
+        out = rigid2(ms[1], cs[0] / (2.0 * ks[0]), max_events, hist)
+    else:
+        rec = np.zeros((0, 3 + 2 * m.size))
+        out = _run(ms, ks, cs, kcs, max_events, hist, rec, work_max)[0]
     st = out[OUT_STATUS]
     if st != STATUS_OK and st != STATUS_PERMANENT_CONTACT:
         out[OUT_COR] = math.nan  # an unfinished sequence has no COR
