@@ -112,7 +112,7 @@ COND_MAX = 1e8  # eigenvector condition number above which a closed form is not 
 ENERGY_TOL = 1e-9
 V_STICK = 3e-3  # chatter with approach speed below this (and a compressive force) -> sticking
 STICK_AFTER = 2000  # ... but only after this many contacts: shorter chatters finish exactly
-WORK_MAX = 1e8  # operations (modal term evaluations) per scene before STATUS_WORK_BUDGET
+WORK_MAX = 2e7  # operations (modal term evaluations) per scene before STATUS_WORK_BUDGET
 # Very stiff contact springs (beta = k_12 / kc -> 0). The COR approaches the rigid wall's like
 # sqrt(beta): |COR(beta) - COR(0)| <= RIGID_LIMIT_C sqrt(beta), measured max 6.5 sqrt(beta) over
 # 125 random paper scenes (N = 2..5, alpha 0.1..100, xi 0..2) at beta = 1e-10..1e-6 (same count).
