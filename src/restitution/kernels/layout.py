@@ -32,3 +32,7 @@ STATUS_EVENT_BUDGET = 1  # more contacts than max_events: the sequence was NOT f
 STATUS_ENERGY = 2  # the independent energy account does not close within tolerance
 STATUS_ILL_CONDITIONED = 3  # an eigenbasis too ill-conditioned for a trustworthy closed form
 STATUS_NONCONVERGED = 4  # an event root search did not converge
+STATUS_PERMANENT_CONTACT = 5  # m1 never leaves the wall (proven): cor = 0, omega_t_col = inf
+STATUS_WORK_BUDGET = 6  # the scene's work budget (operations, not time) ran out: NOT finished
+STATUS_INVALID = 7  # parameters outside what the kernel handles (NaN, inf, non-positive mass...)
+STATUS_NOT_RUN = 8  # a batch row the kernel never finished (rows start with it, NaN elsewhere)
