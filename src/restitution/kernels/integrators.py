@@ -517,7 +517,7 @@ def rk_phase_chain(
     while work[0] > 0.0:
         work[0] -= 6.0
         h = min(h, hmax)
-        if not h >= 1e-14 * max(1.0, abs(t)):  # also catches NaN
+        if not (h >= 1e-14 * max(1.0, abs(t)) and h < math.inf):  # also catches NaN
             return EV_FAIL, t, h
         err = dp_step_chain(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp)
         if not err <= 1.0:  # also catches NaN

@@ -695,8 +695,12 @@ def _adaptive_chain(y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0
     tcol = 0.0
     ncol = 1
     # step scales from the highest frequency, free and with the contact's slope scale cp[1]
-    w_free = chain_frequency_bound(m, lk, 0.0)
     w_cont = chain_frequency_bound(m, lk, cp[1] if kind != C_RIGID else 0.0)
+    w_free = chain_frequency_bound(m, lk, 0.0)
+    if not w_free > 0.0:  # a single mass: no free-flight scale, take the contact's
+        w_free = w_cont if w_cont > 0.0 else 1.0
+    if not w_cont > 0.0:
+        w_cont = w_free
     hc = 0.05 / w_cont
     hf = 0.05 / w_free
     hmax_free = 0.5 / w_free
