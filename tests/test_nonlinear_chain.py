@@ -343,11 +343,13 @@ def test_bad_parameters_name_themselves(kw, match):
 # ---------------------------------------------------------------- declared ranges (issue 17.2) --
 
 
-def _sane(status, cor, ncol, passive=True):
-    """A finished row (ok, >= 1 contact, COR in [-1e-12, 1 + 1e-12] for a passive law) or an
-    explicit failure: any other status, with a NaN COR unless only the energy account is open."""
+def _sane(status, cor, ncol, passive=True, tol=1e-12):
+    """A finished row (ok, >= 1 contact, COR in [-tol, 1 + tol] for a passive law) or an
+    explicit failure: any other status, with a NaN COR unless only the energy account is open.
+    ``tol`` is 1e-12 for the exact methods and the energy tolerance for the numerical ones (a
+    COR above 1 by more would open the energy account)."""
     if status == "ok":
-        return ncol >= 1 and (not passive or -1e-12 <= cor <= 1 + 1e-12)
+        return ncol >= 1 and (not passive or -tol <= cor <= 1 + tol)
     if status == "energy_account_open":
         return np.isfinite(cor)
     return math.isnan(cor)  # (the names of codes 5-8 come with result.py of the chain-api branch)
@@ -378,7 +380,7 @@ def test_full_declared_ranges_finish_or_fail_explicitly():
     rng = np.random.default_rng(17)
     masses, springs, dashpots, contacts, speeds = [], [], [], [], []
     rejected = 0
-    for _ in range(40):
+    for _ in range(120):
         n = int(rng.integers(2, 5))
         m = [_draw_range_end(rng, 1e-3, 1e3) for _ in range(n)]
         k = [_draw_range_end(rng, 1e-3, 1e3) for _ in range(n - 1)]
@@ -405,18 +407,22 @@ def test_full_declared_ranges_finish_or_fail_explicitly():
         dashpots.append(c)
         contacts.append(contact)
         speeds.append(v0)
-    assert len(masses) >= 20, rejected
+    # most draws leave the handled frequency spread (mass and spring ratios up to 1e6)
+    assert len(masses) >= 20 and rejected >= 40, rejected
     df = solve_nonlinear_chain_many(
         masses, springs, dashpots, contacts, None, speeds, rtol=1e-8, max_events=2000
     )
     for i, row in df.iterrows():
         passive = not (contacts[i]["law"] == "plastic" and contacts[i]["eta"] > 1)
-        assert _sane(row["status"], row["cor"], row["n_collisions"], passive), (row, contacts[i])
+        # rtol 1e-8: energy tolerance 1e3 * rtol (measured: one stiff Hertz row at 1 + 1.2e-6)
+        ok = _sane(row["status"], row["cor"], row["n_collisions"], passive, 1e-5)
+        assert ok, (row, contacts[i])
         if row["status"] == "ok":
             assert abs(row["e_translational"] + row["e_vibrational"] + row["e_dissipated"] - 1) < (
                 1e-5
             )
-    assert (df["status"] == "ok").mean() > 0.8
+        if passive:  # a handled range: every in-range passive row finishes
+            assert row["status"] == "ok", (row, contacts[i])
 
 
 def test_kernel_batch_never_raises_and_never_leaves_a_row_unset():

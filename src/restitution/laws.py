@@ -169,6 +169,59 @@ def check_contact_ratio(name: str, ratio: float, what: str) -> float:
     return ratio
 
 
+# Frequency spread a chain may have for the explicit integrators: the fastest rate (Gershgorin
+# bound with the contact's slope scale, dashpot rates c (1/m_i + 1/m_i+1)) over the slowest
+# (each link's and the contact's own rate). The cost grows with it (steps ~ spread per
+# slow period): beyond 1e3 in-range chains ran out of the work budget (tests/
+# test_nonlinear_chain.py draws the ranges); stiff chains need the exact linear kernels.
+SPREAD_MAX = 1e3
+
+
+def check_frequency_spread(m, lk, c, cp, v0: float) -> float:
+    """Fastest over slowest rate of a packed chain (kernel units); SceneError beyond SPREAD_MAX.
+
+    The slowest rates: each link's sqrt(k (1/m_i + 1/m_i+1)) (the scissor's rest slope) and the
+    contact's sqrt(k_eff / total mass), k_eff its stiffness for m1 alone at v0.
+    """
+    n = len(m)
+    hi2, lo = 0.0, math.inf
+    for i in range(n):
+        row = 0.0
+        if i > 0:
+            row += 2.0 * lk[i - 1][SP_K2]
+        if i < n - 1:
+            row += 2.0 * lk[i][SP_K2]
+        if i == 0 and cp[0] != C_RIGID:
+            row += cp[1]
+        hi2 = max(hi2, row / m[i])
+    hi = math.sqrt(hi2)
+    for i in range(n - 1):
+        inv = 1.0 / m[i] + 1.0 / m[i + 1]
+        hi = max(hi, c[i] * inv)
+        k_soft = lk[i][SP_K2] if lk[i][SP_KIND] == S_LINEAR else structure_slope(lk[i], 0.0)
+        lo = min(lo, math.sqrt(k_soft * inv))
+    k_eff = math.nan  # the contact's effective stiffness for m1 alone at v0
+    if cp[0] == C_LINEAR:
+        k_eff = cp[1]
+    elif cp[0] == C_HERTZ:
+        k_eff = hertz_slope_at_depth(cp[2], v0)
+    elif cp[0] == C_PLASTIC:
+        eta = cp[3]
+        xmax = ((eta + 1.0) * v0 * v0 / (2.0 * cp[2])) ** (1.0 / (eta + 1.0))
+        k_eff = cp[2] * xmax**eta / xmax
+    if k_eff == k_eff:
+        lo = min(lo, math.sqrt(k_eff / sum(m)))
+    spread = hi / lo
+    if not spread <= SPREAD_MAX:
+        raise SceneError(
+            f"the chain's frequency spread (fastest rate: springs, contact, dashpots; over the "
+            f"slowest link) is {spread:.3g}; it must be at most {SPREAD_MAX:g} for the numerical "
+            f"methods "
+            f"(narrow the ratios of masses, springs and the contact stiffness)"
+        )
+    return spread
+
+
 def plastic_loading_secant(dr: float, eta: float, k1: float) -> float:
     """Secant Fmax/xmax of the power-law loading of m1 alone: 2 (1 - DR) k1 / (eta + 1)."""
     return 2.0 * (1.0 - dr) * k1 / (eta + 1.0)

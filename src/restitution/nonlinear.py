@@ -413,6 +413,7 @@ def pack_chain(masses, springs, dashpots=None, contact="rigid", links=None, v0=1
         where = f"links[{i}]"
         s = laws.to_kernel_units(spec, laws.LINK_LAWS, m1, w, where)
         lk[i] = laws.pack_link(s, ks[i], where)
+    laws.check_frequency_spread(ms, lk, cs, cp, v0)
     return ms, lk, cs, cp, w, kappa
 
 
