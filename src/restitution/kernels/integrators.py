@@ -6,6 +6,9 @@ of ``restitution.laws``, so any law added there is integrated by the same code. 
 as a numba function argument would defeat numba's on-disk cache: a minute of compilation per
 process.)
 
+General chains have their own right-hand side, step and phase functions (``*_chain`` at the
+end of this module) sharing the tableau, dense output and event location.
+
 State y = [u1, u2, v1, v2, W, D]: lab-frame displacements and velocities of m1 = 1 and
 m2 = alpha, W = integral of the contact force times d(penetration) (work done on the contact),
 D = dashpot loss. mem = [phase, branch, xmax, fmax, xp, c, alpha, spare]: phase 1 = in contact,

@@ -1,5 +1,14 @@
-"""Two-mass scene kernel for any contact law (rigid, linear, plastic) and structure law (linear,
-scissor): DP5(4) with guaranteed events, or the paper's velocity Verlet.
+"""Nonlinear scene kernels: DP5(4) with guaranteed events, or the paper's velocity Verlet.
+
+``solve_scene`` (two masses, free flight closed form for a linear structure) and
+``solve_chain_scene`` / ``solve_chain_scene_batch`` (any chain: masses m[n], a link law and a
+dashpot per neighbouring pair, any contact law of ``restitution.laws``; every phase integrated,
+the same phase machine and event location). Both count their work in right-hand-side
+evaluations (STATUS_WORK_BUDGET, the same on every machine and thread count), return a NaN COR
+for any unfinished sequence, and never raise for finite input (compiled with
+``error_model="numpy"``); batch rows start as NaN with STATUS_NOT_RUN. The two-mass kernel is
+described below; the chain kernel differs only in the state y = [u_1..u_n, v_1..v_n, W, D] and
+in ending free flight by ``integrators.no_contact_possible_chain``.
 
 State y and contact memory mem as in integrators.py.
 
