@@ -478,3 +478,12 @@ def test_unhandled_corners_are_rejected_naming_the_range(kw, match):
     args.update(kw)
     with pytest.raises(SceneError, match=match):
         solve_nonlinear_chain(**args)
+
+
+def test_struct_cells_with_every_laws_fields_are_read():
+    # a parquet struct column holds the union of the laws' fields: None/NaN means "not given"
+    contact = {"law": "hertz", "k": 4.0, "eta": None, "dr": float("nan")}
+    links = [{"law": "linear", "L": None, "ks": None, "theta0": None, "corner": None}]
+    r = solve_nonlinear_chain([1.0, 2.0], [1.0], None, contact, links, 1.0)
+    q = solve_nonlinear_chain([1.0, 2.0], [1.0], None, {"law": "hertz", "k": 4.0}, None, 1.0)
+    assert r.status == "ok" and r.cor == q.cor

@@ -358,7 +358,13 @@ def _spec(kind: str, spec, table: dict, defaults: dict, where: str) -> tuple[str
         spec = {"law": spec}
     if not isinstance(spec, dict) or "law" not in spec:
         raise SceneError(f"{where} must be a mapping with a key 'law'; got {spec!r}")
-    name = spec["law"]
+    # a table's struct column carries every law's fields: None/NaN cells are not given
+    spec = {
+        k: v
+        for k, v in spec.items()
+        if v is not None and not (isinstance(v, float) and math.isnan(v))
+    }
+    name = spec.get("law")
     if name not in table:
         allowed = ", ".join(map(repr, table))
         raise SceneError(f"{where}: {kind} law must be one of {allowed}; got {name!r}")
@@ -601,6 +607,6 @@ def to_kernel_units(spec, table: dict, m1: float, omega: float, where: str):
     out = dict(spec)
     entry = table.get(spec.get("law"))
     for key, (a, b) in (entry[2] if entry else {}).items():
-        if key in out:
+        if out.get(key) is not None:
             out[key] = _num(f"{where}.{key}", out[key], "> 0") / (m1**a * omega**b)
     return out
