@@ -487,3 +487,21 @@ def test_struct_cells_with_every_laws_fields_are_read():
     r = solve_nonlinear_chain([1.0, 2.0], [1.0], None, contact, links, 1.0)
     q = solve_nonlinear_chain([1.0, 2.0], [1.0], None, {"law": "hertz", "k": 4.0}, None, 1.0)
     assert r.status == "ok" and r.cor == q.cor
+
+
+def test_batch_is_bit_identical_for_any_thread_count():
+    import numba
+
+    rng = np.random.default_rng(11)
+    chains = [_random_chain(rng, n) for n in (2, 3, 4, 5, 3, 2)]
+    args = ([ch[0] for ch in chains], [ch[1] for ch in chains], [ch[2] for ch in chains])
+    contacts = [CONTACTS[i % len(CONTACTS)] for i in range(len(chains))]
+    before = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        one = solve_nonlinear_chain_many(*args, contacts, rtol=1e-9)
+        numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))
+        two = solve_nonlinear_chain_many(*args, contacts, rtol=1e-9)
+    finally:
+        numba.set_num_threads(before)
+    assert one.equals(two)
