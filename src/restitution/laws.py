@@ -544,6 +544,19 @@ def contact_elastic(cp):
 
 
 @njit(cache=True, error_model="numpy")
+def contact_params_ok(cp):
+    """The kernels' own guard of a packed contact law (finite, positive where it must be)."""
+    kind = cp[0]
+    if kind == C_RIGID:
+        return True
+    if not (cp[1] > 0.0 and cp[1] < math.inf):
+        return False
+    if kind == C_PLASTIC or kind == C_HERTZ:  # F = cp[2] * x**cp[3]
+        return cp[2] > 0.0 and cp[2] < math.inf and cp[3] > 0.0 and cp[3] < math.inf
+    return kind == C_LINEAR
+
+
+@njit(cache=True, error_model="numpy")
 def contact_force(cp, branch, xmax, fmax, x):
     """Contact force on m1 (>= 0 pushes away from the wall) as a smooth function of x.
 

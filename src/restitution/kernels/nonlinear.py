@@ -89,12 +89,12 @@ from restitution.kernels.layout import (
     STATUS_WORK_BUDGET,
 )
 from restitution.laws import (
-    C_HERTZ,
     C_PLASTIC,
     C_RIGID,
     S_LINEAR,
     SP_K2,
     contact_elastic,
+    contact_params_ok,
     structure_energy,
 )
 
@@ -636,13 +636,7 @@ def chain_input_ok(m, lk, c, cp, v0):
             return False
         if not (c[i] >= 0.0 and c[i] < math.inf):
             return False
-    kind = cp[0]
-    if kind != C_RIGID and not (cp[1] > 0.0 and cp[1] < math.inf):
-        return False
-    if kind == C_PLASTIC or kind == C_HERTZ:
-        if not (cp[2] > 0.0 and cp[2] < math.inf and cp[3] > 0.0):
-            return False
-    return True
+    return contact_params_ok(cp)
 
 
 @njit(cache=True, error_model="numpy")
