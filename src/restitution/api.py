@@ -18,20 +18,35 @@ import pandas as pd
 
 from . import methods as M
 from .chain import LAW_KEYS, Chain, SceneError, check, make_chain, paper_with_laws
+from .compiling import announce
 from .kernels import layout as L
 from .result import RESULT_COLUMNS, T_COL, Result
 from .tables import scene_table
 
 _BLOCK = 2048  # rows per parallel batch call; the progress bar advances per block
+
+
+def _block(rows: int, progress: bool) -> int:
+    """Rows per batch call: with a progress bar about 100 updates (so its ETA follows the real
+    rate), each large enough to keep every thread busy; results do not depend on it."""
+    return max(64, min(_BLOCK, rows // 100)) if progress else _BLOCK
+
+
 _EXACT_NAME = {True: "impulsive", False: "piecewise"}  # rigid wall -> method (paper fast path)
 
 
 def _kernels():
     # Imported lazily so `import restitution` stays cheap for the CLI's --help and for snakemake.
-    from .kernels.linear import solve_linear, solve_linear_batch
-    from .kernels.rigid2 import rigid2, rigid2_batch
+    global _KERNELS
+    if _KERNELS is None:
+        from .kernels.linear import solve_linear, solve_linear_batch
+        from .kernels.rigid2 import rigid2, rigid2_batch
 
-    return rigid2, rigid2_batch, solve_linear, solve_linear_batch
+        _KERNELS = rigid2, rigid2_batch, solve_linear, solve_linear_batch
+    return _KERNELS
+
+
+_KERNELS = None
 
 
 def solve(
@@ -145,8 +160,10 @@ def _solve_paper(alpha, beta, xi, n_masses, method, history, max_events):
     rigid2, _, solve_linear, _ = _kernels()
     hist = np.zeros((max_events if history else 0, L.N_HIST))
     if rigid and n == 2:
+        announce(rigid2)
         out = rigid2(a, x, max_events, hist)
     else:
+        announce(solve_linear)
         out = solve_linear(a, b, x, n, max_events, hist)
     return Result.from_row(
         _PaperScene(a, b, x, n), out, M.label(name, out), hist if history else None
@@ -196,8 +213,10 @@ def _status_names(codes: np.ndarray) -> np.ndarray:
 
 
 def _guarded(batch, args, sel, single):
-    """``batch(*args)``; if the kernel raises, run the block row by row so that only the failing
-    rows are lost (NaN with status ``kernel_error``), never an uninitialised row."""
+    """``batch(*args)`` (announcing a compilation if it is cold); if the kernel raises, run the
+    block row by row so that only the failing rows are lost (NaN with status ``kernel_error``),
+    never an uninitialised row."""
+    announce(batch)
     try:
         return batch(*args), None
     except Exception:  # noqa: BLE001 - a kernel failure must not lose the whole table
@@ -211,7 +230,7 @@ def _guarded(batch, args, sel, single):
         return out, errors
 
 
-def _solve_exact_paper(plan: pd.DataFrame, idx: np.ndarray, max_events: int, bar):
+def _solve_exact_paper(plan: pd.DataFrame, idx: np.ndarray, max_events: int, bar, block=_BLOCK):
     """Kernel rows of paper-form rows, in parallel blocks (the progress bar moves per block)."""
     rigid2, rigid2_batch, solve_linear, solve_linear_batch = _kernels()
     alpha = plan["alpha"].to_numpy(np.float64)[idx]
@@ -223,17 +242,17 @@ def _solve_exact_paper(plan: pd.DataFrame, idx: np.ndarray, max_events: int, bar
     no_hist = np.zeros((0, L.N_HIST))
     fast = (beta == 0.0) & (nm == 2)  # the closed-form two-mass rigid-wall kernel
     for group, is_fast in ((np.flatnonzero(fast), True), (np.flatnonzero(~fast), False)):
-        for start in range(0, len(group), _BLOCK):
-            sel = group[start : start + _BLOCK]
+        for start in range(0, len(group), block):
+            sel = group[start : start + block]
             if is_fast:
-                block, err = _guarded(
+                done, err = _guarded(
                     rigid2_batch,
                     (alpha[sel], xi[sel], max_events),
                     sel,
                     lambda j, s=sel: rigid2(alpha[s[j]], xi[s[j]], max_events, no_hist),
                 )
             else:
-                block, err = _guarded(
+                done, err = _guarded(
                     solve_linear_batch,
                     (alpha[sel], beta[sel], xi[sel], nm[sel], max_events),
                     sel,
@@ -241,22 +260,22 @@ def _solve_exact_paper(plan: pd.DataFrame, idx: np.ndarray, max_events: int, bar
                         alpha[s[j]], beta[s[j]], xi[s[j]], nm[s[j]], max_events, no_hist
                     ),
                 )
-            out[sel, : block.shape[1]] = block
+            out[sel, : done.shape[1]] = done
             if err:
                 errors.update({int(sel[j]): msg for j, msg in err.items()})
             bar.update(len(sel))
     return out, errors
 
 
-def _solve_exact_general(chains: list, idx: np.ndarray, max_events: int, bar):
+def _solve_exact_general(chains: list, idx: np.ndarray, max_events: int, bar, block=_BLOCK):
     """Kernel rows of general linear chains (padded batch of restitution.kernels.chain)."""
     from .kernels.chain import solve_chain, solve_chain_batch
 
     out = np.full((len(idx), L.N_OUT), np.nan)
     errors = {}
     no_hist = np.zeros((0, L.N_HIST))
-    for start in range(0, len(idx), _BLOCK):
-        sel = np.arange(start, min(start + _BLOCK, len(idx)))
+    for start in range(0, len(idx), block):
+        sel = np.arange(start, min(start + block, len(idx)))
         scaled = [chains[idx[j]].scaled() for j in sel]
         n = np.array([len(s[0]) for s in scaled], dtype=np.int64)
         nmax = int(n.max())
@@ -266,13 +285,13 @@ def _solve_exact_general(chains: list, idx: np.ndarray, max_events: int, bar):
         kc = np.array([s[3] for s in scaled])
         for j, (mj, kj, cj, _) in enumerate(scaled):
             m[j, : len(mj)], k[j, : len(kj)], c[j, : len(cj)] = mj, kj, cj
-        block, err = _guarded(
+        done, err = _guarded(
             solve_chain_batch,
             (m, k, c, n, kc, max_events),
             sel,
             lambda j, s=scaled: solve_chain(*s[j][:3], s[j][3], max_events, no_hist),
         )
-        out[sel, : block.shape[1]] = block
+        out[sel, : done.shape[1]] = done
         if err:
             errors.update({int(sel[j]): msg for j, msg in err.items()})
         bar.update(len(sel))
@@ -318,10 +337,11 @@ def solve_many(
         "status": np.full(n, "not_run", dtype=object),
         "error_estimate": np.full(n, np.nan),
     }
+    block = _block(n, progress)
     with tqdm(total=n, disable=not progress, unit="scene", desc="solve_many") as bar:
         idx = np.flatnonzero(exact)
         if table.chains is None:
-            out, errors = _solve_exact_paper(plan, idx, max_events, bar)
+            out, errors = _solve_exact_paper(plan, idx, max_events, bar, block)
         else:
             paper = idx[plan["paper"].to_numpy()[idx]]
             general = idx[~plan["paper"].to_numpy()[idx]]
@@ -332,9 +352,9 @@ def solve_many(
                 if len(part) == 0:
                     continue
                 if solver == "paper":
-                    o, e = _solve_exact_paper(plan, part, max_events, bar)
+                    o, e = _solve_exact_paper(plan, part, max_events, bar, block)
                 else:
-                    o, e = _solve_exact_general(table.chains, part, max_events, bar)
+                    o, e = _solve_exact_general(table.chains, part, max_events, bar, block)
                 where = np.array([pos[int(i)] for i in part])
                 out[where] = o
                 errors.update({int(part[j]): msg for j, msg in e.items()})

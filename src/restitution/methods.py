@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .chain import Chain, SceneError, check
+from .compiling import announce
 from .kernels import layout as L
 
 # Bit of out[OUT_FLAGS] set by the chain kernel when it used the sticking limit.
@@ -140,18 +141,21 @@ def _run_exact(ch: Chain, opts: Options):
     hist = _hist(opts)
     paper = ch.paper_form
     if paper is not None:
-        alpha, beta, xi, n = paper
-        if beta == 0.0 and n == 2:
-            from .kernels.rigid2 import rigid2
+        from .api import _kernels
 
+        rigid2, _, solve_linear, _ = _kernels()
+        alpha, beta, xi, n = paper
+        kernel = rigid2 if beta == 0.0 and n == 2 else solve_linear
+        announce(kernel)
+        if kernel is rigid2:
             out = rigid2(alpha, xi, opts.max_events, hist)
         else:
-            from .kernels.linear import solve_linear
-
             out = solve_linear(alpha, beta, xi, n, opts.max_events, hist)
     else:
         m, k, c, kc = ch.scaled()
-        out = _general_kernel()(m, k, c, kc, opts.max_events, hist)
+        kernel = _general_kernel()
+        announce(kernel)
+        out = kernel(m, k, c, kc, opts.max_events, hist)
     return out, (hist if opts.history else None)
 
 
