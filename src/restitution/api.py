@@ -35,18 +35,7 @@ def _block(rows: int, progress: bool) -> int:
 _EXACT_NAME = {True: "impulsive", False: "piecewise"}  # rigid wall -> method (paper fast path)
 
 
-def _kernels():
-    # Imported lazily so `import restitution` stays cheap for the CLI's --help and for snakemake.
-    global _KERNELS
-    if _KERNELS is None:
-        from .kernels.linear import solve_linear, solve_linear_batch
-        from .kernels.rigid2 import rigid2, rigid2_batch
-
-        _KERNELS = rigid2, rigid2_batch, solve_linear, solve_linear_batch
-    return _KERNELS
-
-
-_KERNELS = None
+_kernels = M.paper_kernels
 
 
 def solve(
@@ -150,6 +139,8 @@ def _solve_paper(alpha, beta, xi, n_masses, method, history, max_events):
     b = check("beta", beta)
     x = check("xi", xi)
     n = check("n_masses", n_masses)
+    if 0.0 < b < M.RIGID_LIMIT_BETA:
+        return None  # the rigid limit with its error estimate, through the solver table
     rigid = b == 0.0
     name = _EXACT_NAME[rigid]
     if method != name:
@@ -325,7 +316,9 @@ def solve_many(
     plan = table.plan
     n = len(plan)
     names = plan["method"].to_numpy()
-    exact = np.isin(names, ("impulsive", "piecewise"))
+    # Exact rows in parallel batches; the rigid limit (tiny beta) and numerical rows one by one.
+    beta = plan["beta"].to_numpy()
+    exact = np.isin(names, ("impulsive", "piecewise")) & ~((beta > 0) & (beta < M.RIGID_LIMIT_BETA))
     cols = {
         "cor": np.full(n, np.nan),
         "n_collisions": np.zeros(n, dtype=np.int64),

@@ -276,6 +276,11 @@ class Chain:
             object.__setattr__(self, name, value)
         for a in (m, k, c):
             a.setflags(write=False)
+        if contact is not None or links is not None:
+            # The laws' own parameter checks (restitution.laws), before any work.
+            from .nonlinear import pack_chain
+
+            pack_chain(m, k, c, self.contact_law, self.link_laws, v0)
 
     # ------------------------------------------------------------------------------------------
     @classmethod

@@ -12,7 +12,7 @@ piecewise  linear contact spring, linear links and dashpots: closed form per pha
            switching times (exact)
 adaptive   embedded Dormand-Prince 5(4) with guaranteed event location, for the phases whose
            force law is nonlinear (any law)
-verlet     the paper's velocity Verlet, fixed step (finite contact stiffness, two masses)
+verlet     the paper's velocity Verlet, fixed step (finite contact stiffness, any chain)
 reference  scipy ``solve_ivp`` DOP853 with events: slow, for checks (two masses)
 ========== ===================================================================================
 
@@ -36,6 +36,13 @@ from .kernels import layout as L
 
 # Bit of out[OUT_FLAGS] set by the chain kernel when it used the sticking limit.
 FLAG_STICKING = getattr(L, "FLAG_STICKING", 1)
+# Bit set here when a contact stiffer than k_12 / RIGID_LIMIT_BETA was solved as a rigid wall.
+FLAG_RIGID_LIMIT = getattr(L, "FLAG_RIGID_LIMIT", 2)
+# Below this beta = k_12 / k_contact the closed-form contact phases lose their accuracy (the
+# kernels fail between 1e-20 and 1e-30: energy account open, spurious contacts), while the COR
+# is within ~sqrt(beta) < 1e-10 of its rigid-wall value: such scenes are solved as the rigid
+# limit with that error estimate (see _rigid_limit).
+RIGID_LIMIT_BETA = 1e-20
 
 
 @dataclass(frozen=True)
@@ -90,31 +97,22 @@ def _piecewise_applies(ch: Chain) -> str | None:
     return None
 
 
-def _nonlinear_chain():
-    """H7's general nonlinear entry point, if this installation has it."""
-    from . import nonlinear
-
-    return getattr(nonlinear, "solve_nonlinear_chain", None)
-
-
 def _adaptive_applies(ch: Chain) -> str | None:
-    if ch.n_masses != 2 and _nonlinear_chain() is None:
-        return "it is implemented for two masses only (n_masses must be 2)"
-    return None
+    return None  # any chain, any law
 
 
 def _verlet_applies(ch: Chain) -> str | None:
-    if ch.n_masses != 2:
-        return "it is implemented for two masses only (n_masses must be 2)"
     if ch.rigid:
-        return "it needs a finite contact stiffness (beta > 0)"
+        return "it needs a finite contact law (beta > 0), not a rigid wall"
     return None
 
 
 def _reference_applies(ch: Chain) -> str | None:
-    return (
-        None if ch.n_masses == 2 else "it is implemented for two masses only (n_masses must be 2)"
-    )
+    if ch.n_masses != 2:
+        return "it is implemented for two masses only (n_masses must be 2)"
+    if ch.contact is not None and ch.contact["law"] == "hertz":
+        return "it does not implement the 'hertz' contact law"
+    return None
 
 
 # ----------------------------------------------------------------------------------------------
@@ -135,28 +133,71 @@ def _general_kernel():
     return solve_chain
 
 
-def _run_exact(ch: Chain, opts: Options):
-    """Paper-form scenes on the paper's kernels (bit for bit as before); any other chain on
-    the general chain kernel."""
-    hist = _hist(opts)
+def paper_kernels():
+    """The paper's kernels (rigid2, rigid2_batch, solve_linear, solve_linear_batch), imported on
+    first use so that ``import restitution`` stays cheap for the CLI's --help and snakemake."""
+    global _PAPER_KERNELS
+    if _PAPER_KERNELS is None:
+        from .kernels.linear import solve_linear, solve_linear_batch
+        from .kernels.rigid2 import rigid2, rigid2_batch
+
+        _PAPER_KERNELS = rigid2, rigid2_batch, solve_linear, solve_linear_batch
+    return _PAPER_KERNELS
+
+
+_PAPER_KERNELS = None
+
+
+def _exact_out(ch: Chain, max_events: int, hist: np.ndarray, beta: float | None = None):
+    """Kernel row of a linear chain; ``beta`` replaces its k_12/k_contact (0: rigid wall)."""
     paper = ch.paper_form
     if paper is not None:
-        from .api import _kernels
-
-        rigid2, _, solve_linear, _ = _kernels()
-        alpha, beta, xi, n = paper
-        kernel = rigid2 if beta == 0.0 and n == 2 else solve_linear
+        rigid2, _, solve_linear, _ = paper_kernels()
+        alpha, b, xi, n = paper
+        b = b if beta is None else beta
+        kernel = rigid2 if b == 0.0 and n == 2 else solve_linear
         announce(kernel)
         if kernel is rigid2:
-            out = rigid2(alpha, xi, opts.max_events, hist)
-        else:
-            out = solve_linear(alpha, beta, xi, n, opts.max_events, hist)
+            return rigid2(alpha, xi, max_events, hist)
+        return solve_linear(alpha, b, xi, n, max_events, hist)
+    m, k, c, kc = ch.scaled()
+    if beta is not None:
+        kc = math.inf if beta == 0.0 else k[0] / beta
+    kernel = _general_kernel()
+    announce(kernel)
+    return kernel(m, k, c, kc, max_events, hist)
+
+
+def _run_exact(ch: Chain, opts: Options):
+    """Paper-form scenes on the paper's kernels (bit for bit as before); any other chain on
+    the general chain kernel; beta below RIGID_LIMIT_BETA as the rigid limit."""
+    hist = _hist(opts)
+    if not ch.rigid and ch.beta < RIGID_LIMIT_BETA:
+        out = _rigid_limit(ch, opts.max_events, hist)
     else:
-        m, k, c, kc = ch.scaled()
-        kernel = _general_kernel()
-        announce(kernel)
-        out = kernel(m, k, c, kc, opts.max_events, hist)
+        out = _exact_out(ch, opts.max_events, hist)
     return out, (hist if opts.history else None)
+
+
+def _rigid_limit(ch: Chain, max_events: int, hist: np.ndarray) -> np.ndarray:
+    """A contact stiffer than k_12 / RIGID_LIMIT_BETA solved as the rigid wall, with an error
+    estimate: the COR approaches its rigid-wall value like sqrt(beta) (measured: the gap
+    |cor(beta) - cor(0)| / sqrt(beta) is constant to 4 digits from beta = 1e-6 to 1e-20), so
+    the gap measured at RIGID_LIMIT_BETA, scaled by sqrt(beta / RIGID_LIMIT_BETA), estimates
+    the error. Flagged FLAG_RIGID_LIMIT (method ``impulsive+rigid-limit``)."""
+    out = _exact_out(ch, max_events, hist, beta=0.0)
+    probe = _exact_out(ch, max_events, np.zeros((0, L.N_HIST)), beta=RIGID_LIMIT_BETA)
+    ok = out[L.OUT_STATUS] == L.STATUS_OK
+    if ok:
+        if probe[L.OUT_STATUS] == L.STATUS_OK:
+            gap = abs(probe[L.OUT_COR] - out[L.OUT_COR]) * math.sqrt(ch.beta / RIGID_LIMIT_BETA)
+        else:
+            gap = math.inf  # no estimate: the probe did not finish
+        out[L.OUT_ERR] = max(out[L.OUT_ERR], gap)
+    if len(out) > L.OUT_FLAGS:
+        flags = out[L.OUT_FLAGS] if math.isfinite(out[L.OUT_FLAGS]) else 0.0
+        out[L.OUT_FLAGS] = float(int(flags) | FLAG_RIGID_LIMIT)
+    return out
 
 
 def legacy_laws(ch: Chain) -> dict:
@@ -178,14 +219,18 @@ def legacy_laws(ch: Chain) -> dict:
     return law
 
 
+def _two_mass_paper_laws(ch: Chain) -> bool:
+    """Two masses with the laws of the paper's Section 3 (linear, plastic, scissor): solved by
+    ``solve_nonlinear`` as before, so the paper's results are unchanged."""
+    return ch.n_masses == 2 and (ch.contact is None or ch.contact["law"] == "plastic")
+
+
 def _run_numerical(name: str):
     def run(ch: Chain, opts: Options):
-        if ch.n_masses == 2:
-            from .nonlinear import solve_nonlinear
+        from . import nonlinear
 
-            if ch.contact is not None and ch.contact["law"] not in ("plastic",):
-                raise SceneError(f"the {ch.contact['law']!r} contact law needs the chain solver")
-            r = solve_nonlinear(
+        if name == "reference" or _two_mass_paper_laws(ch):
+            r = nonlinear.solve_nonlinear(
                 ch.alpha,
                 ch.beta,
                 ch.xi,
@@ -196,19 +241,21 @@ def _run_numerical(name: str):
                 history=opts.history,
                 **legacy_laws(ch),
             )
-            return r, None
-        return _nonlinear_chain()(
-            ch.masses,
-            ch.springs,
-            ch.dashpots,
-            ch.contact_law,
-            ch.link_laws,
-            ch.v0,
-            name,
-            opts.rtol,
-            opts.max_events,
-            opts.history,
-        ), None
+        else:
+            r = nonlinear.solve_nonlinear_chain(
+                ch.masses,
+                ch.springs,
+                ch.dashpots,
+                ch.contact_law,
+                ch.link_laws,
+                ch.v0,
+                name,
+                opts.rtol,
+                opts.max_events,
+                opts.history,
+                step=opts.step,
+            )
+        return r, None
 
     return run
 
@@ -219,7 +266,7 @@ METHODS: dict[str, Method] = {
         "piecewise", True, 1, _piecewise_applies, _run_exact, "linear contact spring, exact"
     ),
     "adaptive": Method(
-        "adaptive", False, 10, _adaptive_applies, _run_numerical("adaptive"), "DP5(4), any law"
+        "adaptive", False, 10, _adaptive_applies, _run_numerical("adaptive"), "DP5(4), any chain"
     ),
     "verlet": Method(
         "verlet", False, 20, _verlet_applies, _run_numerical("verlet"), "velocity Verlet"
@@ -260,13 +307,26 @@ def choose(ch: Chain, method: str = "auto") -> Method:
 
 def label(name: str, out) -> str:
     """The method recorded in a result: ``name``, plus ``+sticking`` when the kernel used the
-    sticking limit (bit 0 of OUT_FLAGS)."""
+    sticking limit (bit 0 of OUT_FLAGS), or ``impulsive+rigid-limit`` for a contact solved as
+    its rigid limit."""
     flags_at = getattr(L, "OUT_FLAGS", None)
-    if flags_at is not None and len(out) > flags_at:
-        f = out[flags_at]
-        if math.isfinite(f) and int(f) & FLAG_STICKING:
-            return name + "+sticking"
+    if flags_at is not None and len(out) > flags_at and math.isfinite(out[flags_at]):
+        f = int(out[flags_at])
+        if f & FLAG_RIGID_LIMIT:
+            name = "impulsive+rigid-limit"
+        if f & FLAG_STICKING:
+            name += "+sticking"
     return name
 
 
-__all__ = ["METHODS", "NAMES", "Method", "Options", "check_method", "choose", "label", "options"]
+__all__ = [
+    "METHODS",
+    "NAMES",
+    "RIGID_LIMIT_BETA",
+    "Method",
+    "Options",
+    "check_method",
+    "choose",
+    "label",
+    "options",
+]
