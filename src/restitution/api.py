@@ -365,6 +365,11 @@ def solve_many(
     for c in RESULT_COLUMNS:
         result[c] = cols[c]
     if table.chains is not None:
+        # list cells as the checked floats (CSV text and parquet lists alike)
+        result["masses"] = [ch.masses.tolist() for ch in table.chains]
+        result["springs"] = [ch.springs.tolist() for ch in table.chains]
+        if "dashpots" in result:
+            result["dashpots"] = [ch.dashpots.tolist() for ch in table.chains]
         omega = plan["omega"].to_numpy()
         result[T_COL] = cols["omega_t_col"] / omega
     return result
