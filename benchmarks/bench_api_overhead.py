@@ -118,7 +118,8 @@ def main():
     )
     text = best(lambda: restitution.solve_many(as_text), repeats=3)
     print(
-        f"solve_many {rows} list rows (N=4) {api * 1e3:8.1f} ms   bare kernel {kernel * 1e3:8.1f} ms"
+        f"solve_many {rows} list rows (N=4) {api * 1e3:8.1f} ms   "
+        f"bare kernel {kernel * 1e3:8.1f} ms"
         f"   extra {(api - kernel) / rows * 1e6:6.1f} us/row (list cells), "
         f"{(text - kernel) / rows * 1e6:6.1f} us/row (';' text cells)"
     )
