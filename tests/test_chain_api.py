@@ -295,3 +295,13 @@ def test_failed_kernel_rows_are_nan_with_a_status(monkeypatch):
 def test_public_names():
     for name in ("Chain", "solve", "solve_many", "trajectory", "Result", "SceneError"):
         assert hasattr(restitution, name)
+
+
+def test_sticking_limit_is_named_in_the_method():
+    # a damped chain chattering against a rigid wall: the kernel continues the Zeno sequence by
+    # its sticking limit (OUT_FLAGS bit 0); solve and solve_many both say so
+    r = solve(alpha=50.0, xi=0.5, n_masses=3)
+    assert r.success and r.method == "impulsive+sticking" and r.error_estimate > 0
+    table = solve_many(pd.DataFrame({"alpha": [50.0, 2.0], "xi": [0.5, 0.0], "n_masses": 3}))
+    assert list(table["method"]) == ["impulsive+sticking", "impulsive"]
+    assert table["cor"].iat[0] == r.cor
