@@ -202,13 +202,13 @@ def test_tiny_beta_is_the_rigid_limit_with_an_error_estimate():
     for beta in (1e-21, 1e-100, 1e-308):
         r = solve(alpha=2.0, beta=beta)
         assert r.success and r.method == "impulsive+rigid-limit"
-        assert r.cor == rigid.cor and r.n_collisions == rigid.n_collisions
-        assert 0 < r.error_estimate < 1e-10
-    # the estimate is honest: at beta = 1e-16 (still solved in closed form) the true gap is
-    # 2.9e-9, and the estimate of the rigid limit scales it by sqrt(beta)
+        assert r.cor == pytest.approx(rigid.cor, abs=1e-13)
+        assert r.n_collisions == rigid.n_collisions
+        assert 0 < r.error_estimate < 1e-9
+    # the bound is honest: the COR approaches the rigid wall like sqrt(beta); the gap measured
+    # in closed form at beta = 1e-16, scaled to 1e-22, stays below the bound reported there
     gap = abs(solve(alpha=2.0, beta=1e-16).cor - rigid.cor)
-    est = solve(alpha=2.0, beta=1e-22).error_estimate
-    assert est == pytest.approx(gap * math.sqrt(1e-22 / 1e-16), rel=0.01)
+    assert gap * math.sqrt(1e-22 / 1e-16) <= solve(alpha=2.0, beta=1e-22).error_estimate
     table = solve_many(pd.DataFrame({"alpha": [2.0, 2.0], "beta": [1e-300, 0.0]}))
     assert list(table["method"]) == ["impulsive+rigid-limit", "impulsive"]
     assert list(table["status"]) == ["ok", "ok"]

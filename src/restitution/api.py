@@ -158,8 +158,6 @@ def _solve_paper(alpha, beta, xi, n_masses, method, history, max_events):
     else:  # anything else through the full checks (and their messages)
         a, b, x = check("alpha", alpha), check("beta", beta), check("xi", xi)
         n, max_events = check("n_masses", n_masses), check("max_events", max_events)
-    if 0.0 < b < M.RIGID_LIMIT_BETA:
-        return None  # the rigid limit with its error estimate, through the solver table
     rigid = b == 0.0
     name = _EXACT_NAME[rigid]
     if method != name and method != "auto":
@@ -331,9 +329,8 @@ def solve_many(
     plan = table.plan
     n = len(frame)
     names = plan["method"]
-    # Exact rows in parallel batches; the rigid limit (tiny beta) and numerical rows one by one.
-    beta = plan["beta"]
-    exact = np.isin(names, ("impulsive", "piecewise")) & ~((beta > 0) & (beta < M.RIGID_LIMIT_BETA))
+    # Exact rows in parallel batches, numerical rows one by one.
+    exact = np.isin(names, ("impulsive", "piecewise"))
     cols = {
         "cor": np.full(n, np.nan),
         "n_collisions": np.zeros(n, dtype=np.int64),
@@ -407,15 +404,13 @@ def _fill(cols: dict, idx: np.ndarray, out: np.ndarray, errors: dict) -> None:
     for j, msg in errors.items():
         status[j] = msg
     cols["status"][idx] = status
-    flags_at = getattr(L, "OUT_FLAGS", None)
-    if flags_at is not None:
-        f = out[:, flags_at]
-        stick = np.isfinite(f) & (
-            (np.where(np.isfinite(f), f, 0).astype(np.int64) & M.FLAG_STICKING) != 0
-        )
-        if stick.any():
-            sel = idx[stick]
-            cols["method"][sel] = [m + "+sticking" for m in cols["method"][sel]]
+    # the method as methods.label names it, from the kernel's flags
+    flags = np.nan_to_num(out[:, L.OUT_FLAGS], nan=0.0).astype(np.int64)
+    limit = idx[(flags & M.FLAG_RIGID_LIMIT) != 0]
+    cols["method"][limit] = "impulsive+rigid-limit"
+    stick = idx[(flags & M.FLAG_STICKING) != 0]
+    if len(stick):
+        cols["method"][stick] = [m + "+sticking" for m in cols["method"][stick]]
 
 
 def _solve_row(table, i: int, max_events: int) -> Result:

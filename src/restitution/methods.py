@@ -35,14 +35,9 @@ from .compiling import announce
 from .kernels import layout as L
 
 # Bit of out[OUT_FLAGS] set by the chain kernel when it used the sticking limit.
-FLAG_STICKING = getattr(L, "FLAG_STICKING", 1)
-# Bit set here when a contact stiffer than k_12 / RIGID_LIMIT_BETA was solved as a rigid wall.
-FLAG_RIGID_LIMIT = getattr(L, "FLAG_RIGID_LIMIT", 2)
-# Below this beta = k_12 / k_contact the closed-form contact phases lose their accuracy (the
-# kernels fail between 1e-20 and 1e-30: energy account open, spurious contacts), while the COR
-# is within ~sqrt(beta) < 1e-10 of its rigid-wall value: such scenes are solved as the rigid
-# limit with that error estimate (see _rigid_limit).
-RIGID_LIMIT_BETA = 1e-20
+FLAG_STICKING = L.FLAG_STICKING
+# Bit set by the chain kernel when a very stiff contact was solved as its rigid limit.
+FLAG_RIGID_LIMIT = L.FLAG_RIGID_LIMIT
 
 
 @dataclass(frozen=True)
@@ -170,34 +165,11 @@ def _exact_out(ch: Chain, max_events: int, hist: np.ndarray, beta: float | None 
 
 def _run_exact(ch: Chain, opts: Options):
     """Paper-form scenes on the paper's kernels (bit for bit as before); any other chain on
-    the general chain kernel; beta below RIGID_LIMIT_BETA as the rigid limit."""
+    the general chain kernel. A contact stiffer than the kernels' rigid limit (beta below
+    kernels.chain.BETA_RIGID) comes back flagged FLAG_RIGID_LIMIT, with its error bound."""
     hist = _hist(opts)
-    if not ch.rigid and ch.beta < RIGID_LIMIT_BETA:
-        out = _rigid_limit(ch, opts.max_events, hist)
-    else:
-        out = _exact_out(ch, opts.max_events, hist)
+    out = _exact_out(ch, opts.max_events, hist)
     return out, (hist if opts.history else None)
-
-
-def _rigid_limit(ch: Chain, max_events: int, hist: np.ndarray) -> np.ndarray:
-    """A contact stiffer than k_12 / RIGID_LIMIT_BETA solved as the rigid wall, with an error
-    estimate: the COR approaches its rigid-wall value like sqrt(beta) (measured: the gap
-    |cor(beta) - cor(0)| / sqrt(beta) is constant to 4 digits from beta = 1e-6 to 1e-20), so
-    the gap measured at RIGID_LIMIT_BETA, scaled by sqrt(beta / RIGID_LIMIT_BETA), estimates
-    the error. Flagged FLAG_RIGID_LIMIT (method ``impulsive+rigid-limit``)."""
-    out = _exact_out(ch, max_events, hist, beta=0.0)
-    probe = _exact_out(ch, max_events, np.zeros((0, L.N_HIST)), beta=RIGID_LIMIT_BETA)
-    ok = out[L.OUT_STATUS] == L.STATUS_OK
-    if ok:
-        if probe[L.OUT_STATUS] == L.STATUS_OK:
-            gap = abs(probe[L.OUT_COR] - out[L.OUT_COR]) * math.sqrt(ch.beta / RIGID_LIMIT_BETA)
-        else:
-            gap = math.inf  # no estimate: the probe did not finish
-        out[L.OUT_ERR] = max(out[L.OUT_ERR], gap)
-    if len(out) > L.OUT_FLAGS:
-        flags = out[L.OUT_FLAGS] if math.isfinite(out[L.OUT_FLAGS]) else 0.0
-        out[L.OUT_FLAGS] = float(int(flags) | FLAG_RIGID_LIMIT)
-    return out
 
 
 def legacy_laws(ch: Chain) -> dict:
@@ -322,7 +294,6 @@ def label(name: str, out) -> str:
 __all__ = [
     "METHODS",
     "NAMES",
-    "RIGID_LIMIT_BETA",
     "Method",
     "Options",
     "check_method",

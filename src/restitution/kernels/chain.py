@@ -430,7 +430,17 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
             for q in range(z.size):
                 bgap[q] = -UC[0, q] * z[q]
             code = _locate(
-                KIND_MODAL, 0.0, 0.0, bgap, lamC, xi, mu, 0.0, 0.0, True, info,
+                KIND_MODAL,
+                0.0,
+                0.0,
+                bgap,
+                lamC,
+                xi,
+                mu,
+                0.0,
+                0.0,
+                True,
+                info,
                 _steps_left(work_max - work, z.size),
             )
             work += (info[3] + 1.0) * z.size
@@ -489,7 +499,17 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
             v1b = np.empty(1, np.complex128)  # m1's own velocity, for _eval_gap
             v1b[0] = v[0]
             code = _locate(
-                KIND_SCALAR, u[0], V, v1b, lamF, xi, mu, r0, rd0, False, info,
+                KIND_SCALAR,
+                u[0],
+                V,
+                v1b,
+                lamF,
+                xi,
+                mu,
+                r0,
+                rd0,
+                False,
+                info,
                 _steps_left(work_max - work, 1),
             )
             work += info[3] + 1.0
@@ -505,7 +525,17 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
             for q in range(z.size):
                 bgap[q] = UF[0, q] * z[q]
             code = _locate(
-                KIND_MODAL, u[0], V, bgap, lamF, xi, mu, 0.0, 0.0, False, info,
+                KIND_MODAL,
+                u[0],
+                V,
+                bgap,
+                lamF,
+                xi,
+                mu,
+                0.0,
+                0.0,
+                False,
+                info,
                 _steps_left(work_max - work, z.size),
             )
             work += (info[3] + 1.0) * z.size
@@ -574,7 +604,17 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
             for q in range(zs.size):
                 bs[q] = -(k[0] + c[0] * lamS[q]) * US[0, q] * zs[q]
             code = _locate(
-                KIND_MODAL, -force, 0.0, bs, lamS, xi, mu, 0.0, 0.0, True, info,
+                KIND_MODAL,
+                -force,
+                0.0,
+                bs,
+                lamS,
+                xi,
+                mu,
+                0.0,
+                0.0,
+                True,
+                info,
                 _steps_left(work_max - work, zs.size),
             )
             work += (info[3] + 1.0) * zs.size
