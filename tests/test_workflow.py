@@ -53,7 +53,19 @@ BAD_CONFIGS = {
     ),
     "chain range reversed": (
         {"fig6": {"sweep": {"x_min": 5.0, "x_max": 1.0}}},
-        ["fig6.sweep.x_max = 1.0: must exceed fig6.sweep.x_min = 5.0"],
+        ["fig6.sweep.x_max = 1.0: must be greater than fig6.sweep.x_min = 5.0"],
+    ),
+    "section that is not a mapping": (
+        {"fig7": [0.1, 0.3]},
+        ["fig7 = [0.1, 0.3]: must be a mapping of keys to values"],
+    ),
+    "fractional integer": (
+        {"max_events": 2.5},
+        ["max_events = 2.5: must be an integer >= 1"],
+    ),
+    "grid too large for the DAG": (
+        {"fig2a": {"n_alpha": 10000000, "chunk_size": 2}},
+        ["fig2a.chunk_size = 2: makes 25000000 simulate jobs", "more than the bound of 2000"],
     ),
     "plastic DR below (1 - eta)/2": (
         {"fig4": {"b": {"drs": [0.1]}}},
@@ -89,6 +101,28 @@ def test_bad_config_on_the_command_line():
     text = result.stdout + result.stderr
     assert result.returncode != 0
     assert "max_events = -5: must be an integer >= 1" in text, text
+
+
+def test_bad_nested_override_on_the_command_line():
+    # snakemake hands a nested --config value over as text: 'x' is no number, '0.5' is one.
+    result = run_snakemake("-n", "fig7a", "--config", "fig7={xis: [0.5, x]}")
+    text = result.stdout + result.stderr
+    assert result.returncode != 0
+    assert "fig7.xis[1] = 'x': must be a number >= 0 and <= 1000" in text, text
+    assert "Job stats" not in text
+
+
+def test_valid_overrides_reach_the_jobs_with_their_types(tmp_path):
+    """A whole-number float for an integer key and a nested override (handed over as text) pass
+    the check and reach the job as the numbers they name: one tiny simulate job runs."""
+    work = copy_workflow(tmp_path)
+    chunk = "results/fig2a/beta~0/chunk_0.parquet"
+    grid = "fig2a={n_alpha: 5, chunk_size: 4, betas: [0], refine_steps: 2.0}"
+    result = run_snakemake("-c1", chunk, "--config", "max_events=5e2", grid, cwd=work)
+    assert result.returncode == 0, result.stdout + result.stderr[-3000:]
+    config = json.loads(pq.read_schema(work / chunk).metadata[b"restitution"])["config"]
+    assert config["solver"]["max_events"] == 500 and config["grid"]["refine_steps"] == 2
+    assert config["grid"]["n_alpha"] == 5 and config["grid"]["alpha_min"] == 0.1
 
 
 def test_default_config_dry_run():
@@ -142,9 +176,9 @@ def test_schema_documents_every_key():
                 assert {"minimum", "exclusiveMinimum"} & set(sub), f"{where}.{key}: no lower bound"
                 assert {"maximum", "exclusiveMaximum"} & set(sub), f"{where}.{key}: no upper bound"
             elif sub["type"] == "string":
-                assert "enum" in sub, f"{where}.{key}: no enum"
+                assert {"enum", "pattern"} & set(sub), f"{where}.{key}: no enum or pattern"
             elif sub["type"] == "array":
-                assert "minItems" in sub and "items" in sub, f"{where}.{key}"
+                assert {"minItems", "maxItems", "items"} <= set(sub), f"{where}.{key}"
 
     walk(schema, "config")
 
