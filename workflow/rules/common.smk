@@ -72,6 +72,19 @@ wildcard_constraints:
 # ---------------------------------------------------------------------------------------------
 # Helpers for rules
 # ---------------------------------------------------------------------------------------------
+TABLES = Path(workflow.basedir) / "workflow" / "tables.yaml"
+
+
+def result_tables():
+    """The result tables of target `all` (workflow/tables.yaml; the ones without {wildcards}).
+
+    `all` requests each, so a deleted table is rebuilt (docs/tables.md is generated from the
+    same list, and tests/test_tables_list.py holds the list against the workflow's outputs).
+    """
+    entries = yaml.safe_load(TABLES.read_text())["tables"]
+    return [e["path"] for e in entries if "{" not in e["path"]]
+
+
 def beta_label(beta):
     """Path label of a beta value: short ('0', '0.001', '1e-05') yet exact when read back."""
     beta = float(beta)
