@@ -31,6 +31,7 @@ include: "workflow/rules/fig4_5.smk"
 include: "workflow/rules/fig7.smk"
 include: "workflow/rules/reproduction.smk"
 include: "workflow/rules/benchmarks.smk"
+include: "workflow/rules/study.smk"
 
 
 rule all:

@@ -52,6 +52,9 @@ validate(config, schema="../schemas/config.schema.yaml")
 # `snakemake --directory DIR` (e.g. make bench-smoke) overrides both.
 # ---------------------------------------------------------------------------------------------
 RUN = config["run"]
+# A study file named on the command line is relative to where snakemake was started: resolved
+# before the working directory changes (workflow/rules/study.smk reads it).
+STUDY_FILE = Path(config["study"]).absolute() if config["study"] else None
 RUN_DIR = None
 if RUN != "paper" and workflow.overwrite_workdir is None:
     RUN_DIR = Path(workflow.basedir) / "runs" / RUN
