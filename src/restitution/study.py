@@ -283,7 +283,7 @@ def _check_scene_values(study_scene, axes, general, problems):
             allowed, ok = checks[name]
             for v in items if isinstance(items, list) else [items]:
                 if not ok(float(v)):
-                    problems.append(f"{where} = {v!r}: {name} must be {allowed}")
+                    problems.append(f"{where} = {float(v)!r}: {name} must be {allowed}")
                     break
         return
     if "alpha" not in study_scene and "alpha" not in [a.param for a in axes]:
@@ -299,7 +299,7 @@ def _check_scene_values(study_scene, axes, general, problems):
             try:
                 checks[axis.param](int(v) if axis.param == "n_masses" and v == int(v) else v)
             except SceneError as error:
-                problems.append(f"axis {axis.param}: value {v!r}: {error}")
+                problems.append(f"axis {axis.param} = {float(v)!r}: {error}")
                 break
 
 
