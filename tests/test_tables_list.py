@@ -12,7 +12,7 @@ import re
 import pytest
 import yaml
 
-from conftest import REPO, run_snakemake
+from conftest import REPO, copy_workflow, run_snakemake
 
 ENTRIES = yaml.safe_load((REPO / "workflow" / "tables.yaml").read_text())["tables"]
 
@@ -75,3 +75,33 @@ def test_all_requests_every_listed_table():
     fixed = [e["path"] for e in ENTRIES if "{" not in e["path"]]
     missing = [path for path in fixed if path not in inputs]
     assert not missing, f"listed tables that `all` does not request: {missing}"
+
+
+def test_every_deleted_table_is_planned_again(tmp_path):
+    """Small run with every output present (empty files, put in order by --touch: no
+    simulation), then every listed table deleted: a dry run of `all` plans each one again,
+    naming it as a missing output."""
+    work = copy_workflow(tmp_path)
+    small = ("--configfile", str(work / "config" / "small.yaml"))
+    listed = run_snakemake("--summary", "all", *small, cwd=work)
+    assert listed.returncode == 0, listed.stderr[-3000:]
+    run = work / "runs" / "small"
+    for line in listed.stdout.splitlines()[1:]:
+        path = run / line.split("\t")[0]
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.touch()
+    touched = run_snakemake("-c1", "all", *small, "--touch", cwd=work)
+    assert touched.returncode == 0, touched.stdout[-3000:] + touched.stderr[-3000:]
+    assert run_snakemake("-n", "all", *small, cwd=work).stdout.count("\nrule ") == 0
+    fixed = [e["path"] for e in ENTRIES if "{" not in e["path"]]
+    for path in fixed:
+        (run / path).unlink()
+    result = run_snakemake("-n", "all", *small, cwd=work)
+    assert result.returncode == 0, result.stdout + result.stderr
+    reasons = [line for line in result.stdout.splitlines() if "Missing output files:" in line]
+    missing = {
+        p.strip()
+        for line in reasons
+        for p in line.split("Missing output files:", 1)[1].split(";")[0].split(",")
+    }
+    assert set(fixed) <= missing, sorted(set(fixed) - missing)

@@ -133,6 +133,26 @@ def test_default_config_dry_run():
         assert f"rule {rule}:" in result.stdout, rule
 
 
+def test_small_run_keeps_to_its_folder(tmp_path):
+    """A run of config/small.yaml (two drawn panels, no simulation) writes under runs/small/
+    only; the paper's figures/ at the top stays byte for byte as it was."""
+    work = copy_workflow(tmp_path)
+    paper_figure = work / "figures" / "fig1.png"
+    paper_figure.parent.mkdir()
+    paper_figure.write_bytes(b"the paper's figure")
+    small = str(work / "config" / "small.yaml")
+    result = run_snakemake("-c1", "fig1", "fig6a", "--configfile", small, cwd=work)
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    assert sorted(p.name for p in (work / "figures").iterdir()) == ["fig1.png"]
+    assert paper_figure.read_bytes() == b"the paper's figure"
+    assert not (work / "logs").exists() and not (work / "results").exists()
+    run = work / "runs" / "small"
+    for name in ("fig1.png", "fig1.pdf", "fig6a.png", "fig6a.pdf"):
+        assert (run / "figures" / name).read_bytes()[:4] in (b"\x89PNG", b"%PDF"), name
+    assert (run / "logs" / "fig1" / "render.log").is_file()
+    assert (run / "src").resolve() == (REPO / "src").resolve()
+
+
 # One target per panel of the paper, named by the figure (Fig. 1-7).
 PANELS = (
     "fig1",
@@ -157,8 +177,9 @@ PANELS = (
 )
 
 
-def test_lint_is_clean():
-    result = run_snakemake("--lint")
+@pytest.mark.parametrize("extra", [(), ("--config", "study=config/study-example.yaml")])
+def test_lint_is_clean(extra):
+    result = run_snakemake("--lint", *extra)  # with a study, its rules are linted too
     assert result.returncode == 0, result.stdout + result.stderr
 
 

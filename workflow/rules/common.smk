@@ -88,6 +88,14 @@ def result_tables():
     return [e["path"] for e in entries if "{" not in e["path"]]
 
 
+def no_study_given(wildcards):
+    """Input of target `study` when no study file is named: stops with how to name one."""
+    raise WorkflowError(
+        "target `study` needs a study file: snakemake -c2 study --config study=my_study.yaml "
+        "(docs/study.md; config/study-example.yaml is an example)"
+    )
+
+
 def beta_label(beta):
     """Path label of a beta value: short ('0', '0.001', '1e-05') yet exact when read back."""
     beta = float(beta)

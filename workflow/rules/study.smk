@@ -111,13 +111,7 @@ if STUDY_FILE is not None:
 
 else:
 
-    def _no_study(wildcards):
-        raise WorkflowError(
-            "target `study` needs a study file: snakemake -c2 study --config study=my_study.yaml "
-            "(docs/study.md; config/study-example.yaml is an example)"
-        )
-
     rule study:
         """Target: the study named by --config study=FILE (none given: says how)."""
         input:
-            _no_study,
+            no_study_given,
