@@ -74,7 +74,7 @@ def test_solve_many_matches_solve_and_keeps_input_columns():
         },
         index=[10, 11, 12, 13, 14],
     )
-    out = solve_many(frame)
+    out = solve_many(frame, keep=["label"])
     assert list(out.index) == list(frame.index)
     assert list(out["label"]) == list("abcde")
     for c in RESULT_COLUMNS:
@@ -130,8 +130,11 @@ def test_nonlinear_laws_go_through_solve_and_record_their_method():
     r = solve(alpha=2.0, beta=0.01, contact="plastic", eta=0.5, dr=0.5)
     assert r.success and r.method == "adaptive" and 0 < r.cor <= math.sqrt(1 - 0.5 / 3.0)
     assert r.error_estimate > 0  # the adaptive method reports its own error estimate
-    with pytest.raises(SceneError, match="n_masses must be 2"):
-        solve(alpha=2.0, beta=0.01, n_masses=3, structure="scissor")
+    # chains with nonlinear links go to the general nonlinear kernel
+    chain = solve(alpha=2.0, beta=0.01, n_masses=3, structure="scissor")
+    assert chain.success and chain.method == "adaptive" and chain.n_masses == 3
+    with pytest.raises(SceneError, match="'reference'.*two masses only"):
+        solve(alpha=2.0, beta=0.01, n_masses=3, method="reference")
     with pytest.raises(SceneError, match="unknown scene parameter"):
         solve(alpha=2.0, kappa=3.0)
 
@@ -160,5 +163,5 @@ def test_solve_many_mixes_exact_and_numerical_rows():
     assert out["cor"].iloc[0] == solve(2.0, 0.01, contact="plastic", eta=0.5, dr=0.5).cor
     assert out["cor"].iloc[2] == pytest.approx(solve(2.5, 0.05).cor, abs=1e-8)
     assert out["cor"].iloc[3] == pytest.approx(0.7 / 1.3, abs=1e-14)
-    with pytest.raises(SceneError, match=r"n_masses must be 2.*\(row 0\)"):
+    with pytest.raises(SceneError, match=r"'verlet' does not fit.*rigid wall \(row 0\)"):
         solve_many(pd.DataFrame({"alpha": [1.0], "n_masses": [3], "method": ["verlet"]}))

@@ -12,10 +12,11 @@ Two rules run this script (chosen by the rule name):
 
 ``simulate_fig3b``
     The contact compression x1 = -u1 (units V0/omega; 0 out of contact) against omega*t for the
-    betas of ``fig3.compression``, sampled in closed form (``sample_linear``) on a uniform grid
-    plus the exact start and end times of every contact; the per-contact history (start, end,
-    largest compression); and the marginal beta: the bracket ``marginal_bracket`` is bisected on
-    the contact count until the round-off, giving the beta at which the last contact appears.
+    betas of ``fig3.compression``, sampled in closed form (``restitution.trajectory``) on a
+    uniform grid plus the exact start and end times of every contact; the per-contact history
+    (start, end, largest compression); and the marginal beta: the bracket ``marginal_bracket`` is
+    bisected on the contact count until the round-off, giving the beta at which the last contact
+    appears.
 """
 
 from functools import partial
@@ -161,12 +162,12 @@ def main_sweep(params, sweep_path, minima_path, logger, progress=False) -> pd.Da
 # ---------------------------------------------------------------------------------------------
 def compression_curve(alpha: float, beta: float, t_max: float, n_times: int, history):
     """(omega*t, compression) with the exact contact start and end times among the samples."""
-    from restitution.kernels.linear import sample_linear
+    import restitution
 
     events = np.concatenate([history["omega_t_start"], history["omega_t_end"]])
     times = np.union1d(np.linspace(0.0, t_max, n_times), events[events <= t_max])
-    u, _v = sample_linear(alpha, beta, 0.0, 2, times)
-    compression = np.maximum(-u[:, 0], 0.0)
+    motion = restitution.trajectory(alpha=alpha, beta=beta, times=times)  # omega = 1: t = omega*t
+    compression = np.maximum(-motion["u_1"].to_numpy(), 0.0)
     # At the exact switching times the closed form leaves |u1| at round-off: make it zero.
     compression[np.isin(times, events)] = 0.0
     return times, compression

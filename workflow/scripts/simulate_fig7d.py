@@ -2,7 +2,7 @@
 
 For every xi in ``traces.xis`` and alpha in ``traces.alphas`` (beta = fig7.beta) the scene is
 solved once with its contact history (one row per contact: omega*t at start and end), then the
-closed-form motion is sampled by ``restitution.kernels.linear.sample_linear`` on a time grid
+closed-form motion is sampled by ``restitution.trajectory`` on a time grid
 made of ``n_uniform`` points over [0, omega*t_col] plus, inside every contact interval (its end
 points included), ``samples_per_contact`` cosine-spaced points or more, so that no step exceeds
 ``max_step`` (omega*t units): each short contact (omega*t ~ 0.1 for beta = 1e-3) is drawn with its
@@ -40,7 +40,6 @@ def time_grid(history: pd.DataFrame, t_end: float, n_uniform: int, per_contact: 
 
 def trace(alpha, beta, xi, settings, solver, logger):
     import restitution
-    from restitution.kernels.linear import sample_linear
 
     result = restitution.solve(
         alpha, beta, xi, n_masses=2, method=solver["method"], history=True,
@@ -59,8 +58,10 @@ def trace(alpha, beta, xi, settings, solver, logger):
         history, t_end, settings["n_uniform"], settings["samples_per_contact"],
         settings["max_step"],
     )  # fmt: skip
-    u, _v = sample_linear(alpha, beta, xi, 2, times, max_events=solver["max_events"])
-    s1 = np.clip(-u[:, 0], 0.0, None)
+    motion = restitution.trajectory(
+        alpha=alpha, beta=beta, xi=xi, times=times, max_events=solver["max_events"]
+    )  # the paper's units: t = omega*t, u in V0/omega
+    s1 = np.clip(-motion["u_1"].to_numpy(), 0.0, None)
     # Outside the recorded contacts m1 is free (u1 >= 0); allow round-off of the contact ends.
     scale = float(history["x_max"].max())
     leak = float(s1[~in_contact].max(initial=0.0))
