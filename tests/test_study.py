@@ -14,6 +14,7 @@ import pyarrow.parquet as pq
 import pytest
 import yaml
 
+import restitution
 import restitution.study as study_module
 from conftest import REPO, copy_workflow, run_snakemake
 from restitution.study import STUDY_SCHEMA, StudyError, check_study, load_study, solve_curve
@@ -122,15 +123,8 @@ def test_bad_yaml_file(tmp_path):
         load_study(tmp_path / "missing.yaml")
 
 
-def test_general_chain_needs_the_chain_model(monkeypatch):
-    monkeypatch.setattr(study_module, "_chain_api", lambda: False)
-    found = problems(CHAIN)
-    assert found[0].startswith("general chain parameters (masses, springs, dashpots, k_contact)")
-
-
-def test_general_chain_checks(monkeypatch):
+def test_general_chain_checks():
     """Lengths, element indices and element ranges, checked without solving anything."""
-    monkeypatch.setattr(study_module, "_chain_api", lambda: True)
     study = check_study(CHAIN)
     assert study.general and len(study.curves) == 2
     table = study_module.scene_table(study, np.array([0.5, 3.0]), 10.0)
@@ -147,6 +141,22 @@ def test_general_chain_checks(monkeypatch):
     assert "axis dashpots[0] = -0.1: dashpots must be >= 0" in problems(CHAIN, axes=axes)
     axes = [{"param": "alpha", "values": [1.0, 2.0]}]
     assert any("alpha is a parameter of the paper's scene" in p for p in problems(CHAIN, axes=axes))
+
+
+def test_general_chain_rows_are_the_scenes_they_name():
+    """Element addressing: each row of a general-chain study is the chain restitution.solve gets
+    with masses[2] and k_contact set to the row's axis values."""
+    study = check_study({**CHAIN, "refine_steps": 3})
+    for curve in study.curves:
+        table = solve_curve(study, curve)
+        assert (table["status"] == "ok").all() and len(table) > 6
+        for _, row in table.iloc[::3].iterrows():
+            masses = [1.0, 0.5, row["masses[2]"]]
+            alone = restitution.solve(
+                masses=masses, springs=[0.3, 1.2], dashpots=[0.0, 0.05], k_contact=curve
+            )
+            assert row["masses"] == masses and row["k_contact"] == curve
+            assert row["cor"] == alone.cor and row["n_collisions"] == alone.n_collisions
 
 
 def test_refinement_finds_count_steps_and_smooth_minima():

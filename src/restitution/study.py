@@ -56,7 +56,7 @@ PAPER_PARAMS = {"alpha": check_alpha, "beta": check_beta, "xi": check_xi}
 CHAIN_LISTS = ("masses", "springs", "dashpots")
 PARAM = re.compile(r"^(alpha|beta|xi|n_masses|k_contact|(masses|springs|dashpots)\[(\d+)\])$")
 MAX_POINTS = 100_000  # grid points of one axis
-_NUMBER = {"type": "number", "minimum": -1e300, "maximum": 1e300}
+_NUMBER = {"type": "number", "minimum": -1e300, "maximum": math.inf}  # ranges: scene checks
 _SPACE = {
     "type": "object",
     "additionalProperties": False,
@@ -329,12 +329,6 @@ def check_study(data, source: str = "study") -> Study:
     if problems:
         raise StudyError(problems, source)
     general = _is_general(scene, params)
-    if general and not _chain_api():
-        problems.append(
-            "general chain parameters (masses, springs, dashpots, k_contact) need the general "
-            "chain model (restitution.Chain), which this version of the package lacks; use the "
-            "paper's alpha, beta, xi, n_masses"
-        )
     _check_scene_values(scene, axes, general, problems)
     first = len(axes[0].values)
     curves = len(axes[1].values) if len(axes) > 1 else 1
@@ -361,12 +355,6 @@ def check_study(data, source: str = "study") -> Study:
         max_events=checked["max_events"],
         raw=checked,
     )
-
-
-def _chain_api() -> bool:
-    import restitution
-
-    return hasattr(restitution, "Chain")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -482,10 +470,12 @@ def solve_curve(study: Study, curve: float, chunk: int | None = None, logger=Non
     axis = study.axes[0]
     first = axis.values if chunk is None else study.chunk_values(chunk)
 
+    # The axis columns of a general chain (e.g. "masses[2]") ride along as kept columns.
+    keep = tuple(a.param for a in study.axes if a.param != "k_contact") if study.general else ()
+
     def evaluate(values):
-        return solve_many(
-            scene_table(study, np.asarray(values), curve), max_events=study.max_events
-        )
+        frame = scene_table(study, np.asarray(values), curve)
+        return solve_many(frame, max_events=study.max_events, keep=keep)
 
     grid = evaluate(first).assign(refined=False)
     extra = (
