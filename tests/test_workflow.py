@@ -151,6 +151,10 @@ def test_small_run_keeps_to_its_folder(tmp_path):
         assert (run / "figures" / name).read_bytes()[:4] in (b"\x89PNG", b"%PDF"), name
     assert (run / "logs" / "fig1" / "render.log").is_file()
     assert (run / "src").resolve() == (REPO / "src").resolve()
+    # Its report: Snakemake reads the config files by their relative paths from the run folder.
+    report = run_snakemake("fig1", "fig6a", "--configfile", small, "--report", "r.html", cwd=work)
+    assert report.returncode == 0, report.stdout[-3000:] + report.stderr[-3000:]
+    assert (run / "r.html").stat().st_size > 0
 
 
 # One target per panel of the paper, named by the figure (Fig. 1-7).

@@ -47,8 +47,8 @@ validate(config, schema="../schemas/config.schema.yaml")
 # Runs keep to their own folders: the paper's run (run: paper) writes results/, figures/ and
 # logs/ at the top of the repository; any other run writes the same tree under runs/<run>/.
 # The Snakefile makes that folder the working directory (workdir:); the rules' inputs from the
-# repository (src/restitution/..., workflow/scripts/...) are reached there through the links
-# runs/<run>/src -> ../../src and runs/<run>/workflow -> ../../workflow.
+# repository (src/restitution/..., workflow/scripts/...) and the config files the report reads
+# are reached there through the links runs/<run>/{src,workflow,config} -> ../../{same}.
 # `snakemake --directory DIR` (e.g. make bench-smoke) overrides both.
 # ---------------------------------------------------------------------------------------------
 RUN = config["run"]
@@ -59,7 +59,7 @@ RUN_DIR = None
 if RUN != "paper" and workflow.overwrite_workdir is None:
     RUN_DIR = Path(workflow.basedir) / "runs" / RUN
     RUN_DIR.mkdir(parents=True, exist_ok=True)
-    for _name in ("src", "workflow"):
+    for _name in ("src", "workflow", "config"):
         _link = RUN_DIR / _name
         if not _link.exists():
             if _link.is_symlink():  # a dangling link left by a moved checkout

@@ -13,6 +13,8 @@ def name(param: str) -> str:
 
 def label(param: str, value: float) -> str:
     """Legend text of a curve, e.g. ``xi = 0.3`` or ``masses[2] = 1.5``."""
+    if param == "k_contact" and math.isinf(value):
+        return "rigid wall"
     if param in SYMBOLS:
         return rf"${SYMBOLS[param]} = {value:g}$"
     return f"{param} = {value:g}"
