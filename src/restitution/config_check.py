@@ -20,8 +20,9 @@ Values are normalised on the way, so that what passes the check is what the jobs
 Only the schema keywords the workflow uses are understood: ``type`` (object, array, number,
 integer, string, boolean), ``properties``, ``additionalProperties: false``, ``required``,
 ``default``, ``enum``, ``pattern``, ``minimum``, ``maximum``, ``exclusiveMinimum``,
-``exclusiveMaximum``, ``items``, ``minItems``, ``maxItems``, ``uniqueItems``. An unknown keyword
-raises ``ValueError`` (a schema edit must not silently turn a check off).
+``exclusiveMaximum``, ``items``, ``minItems``, ``maxItems``, ``uniqueItems`` (and the
+annotations ``title``, ``examples``, ``$comment``). Any other keyword raises ``ValueError`` (a
+schema edit must not silently turn a check off).
 """
 
 from __future__ import annotations
@@ -42,6 +43,9 @@ MAX_JOBS = 2000
 
 _KNOWN = {
     "$schema",
+    "$comment",
+    "title",
+    "examples",
     "description",
     "type",
     "properties",
