@@ -107,3 +107,40 @@ def test_cli_cor_plastic_contact():
     assert 0 < d["cor"] <= (1 - 0.5 / 3) ** 0.5  # paper Eq. 23 bound
     p = _run("cor", "--alpha", "2", "--beta", "0.01", "--contact", "plastic", "--eta", "-1")
     assert p.returncode == 2 and "eta" in p.stderr
+
+
+def test_cli_version_and_exit_codes_in_help():
+    import restitution
+
+    p = _run("--version")
+    assert p.returncode == 0 and p.stdout.strip() == f"restitution {restitution.__version__}"
+    p = _run("--help")
+    assert p.returncode == 0
+    for code in ("0 ", "1 ", "2 ", "3 ", "130", "143"):
+        assert f"  {code}" in p.stdout
+    assert "exit codes" in _run("batch", "--help").stdout
+
+
+def test_cli_batch_progress_only_on_a_terminal(tmp_path):
+    src = write_table(pd.DataFrame({"alpha": [0.3, 2.0]}), tmp_path / "in.csv")
+    p = _run("batch", str(src), "-o", str(tmp_path / "out.csv"))  # stderr is a pipe here
+    assert p.returncode == 0 and "scene" not in p.stderr
+    p = _run("batch", str(src), "-o", str(tmp_path / "out.csv"), "--progress")
+    assert p.returncode == 0 and "2/2" in p.stderr and "scene" in p.stderr
+
+
+def test_cli_batch_exit_code_3_when_a_row_does_not_finish(tmp_path):
+    src = write_table(pd.DataFrame({"alpha": [0.3, 100.0]}), tmp_path / "in.csv")
+    p = _run("batch", str(src), "-o", str(tmp_path / "out.csv"), "--max-events", "3")
+    assert p.returncode == 3 and "1 event_budget_exhausted" in p.stderr
+    assert read_table(tmp_path / "out.csv")["status"].tolist() == ["ok", "event_budget_exhausted"]
+
+
+def test_cli_cor_json_carries_law_parameters():
+    p = _run("cor", "--alpha", "2", "--beta", "0.01", "--contact", "plastic", "--eta", "0.5",
+             "--dr", "0.5", "--json")  # fmt: skip
+    d = json.loads(p.stdout)
+    assert d["scene"]["contact"] == {"law": "plastic", "k": 2 / 3 / 0.01, "eta": 0.5, "dr": 0.5}
+    p = _run("cor", "--alpha", "0.5", "--json")
+    d = json.loads(p.stdout)
+    assert d["scene"]["contact"] == {"law": "rigid"} and d["scene"]["k_contact"] == "inf"

@@ -140,6 +140,11 @@ BAD = [
     (dict(contact="elastic"), "contact"),
     (dict(structure="spring"), "structure"),
     (dict(v0=0.0), "v0"),
+    (dict(v0=1e-7), r"v0 .*\[1e-06, 1e\+06\]"),  # narrowed: kappa ~ v0**(1 - eta) left float64
+    (dict(contact="plastic", eta=1.0, dr=0.5, alpha=1e-9), r"alpha .*\[1e-08, 1e\+08\]"),
+    (dict(contact="plastic", eta=1.0, dr=0.5, beta=1e-13), r"beta.*\[1e-12, 1e\+06\]"),
+    (dict(structure="scissor", beta=1e-300), r"beta.*\[1e-12, 1e\+06\]"),
+    (dict(contact="plastic", eta=1.0, dr=1 - 1e-16), "loading secant"),
     (dict(method="rk4"), "method"),
     (dict(method="verlet", beta=0.0), "beta"),
     (dict(method="verlet", step=0.0), "step"),

@@ -167,3 +167,24 @@ def test_energy_creating_plastic_reload_is_flagged():
     # Passive settings of the same scene stay ok and below the Eq. 23 bound.
     ok = solve(alpha=93.0, beta=0.1, contact="plastic", eta=1.0, dr=0.5)
     assert ok.status == "ok" and ok.cor <= (1 - 0.5 / 94.0) ** 0.5
+
+
+def test_two_mass_batch_rows_fail_as_nan_never_unset():
+    # rows the kernel cannot finish (here NaN parameters that bypassed the Python checks) come
+    # back NaN with a failure status; the others are unaffected
+    from restitution import laws
+    from restitution.kernels.layout import OUT_COR, OUT_STATUS, STATUS_OK
+    from restitution.kernels.nonlinear import METHOD_ADAPTIVE, solve_scene_batch
+
+    k2 = 2.0 / 3.0
+    cp = laws.contact_params(laws.C_PLASTIC, k2 / 0.1, laws.plastic_kappa(0.5, 0.5, k2 / 0.1), 0.5)
+    sp = laws.linear_structure_params(k2)
+    alpha = np.array([2.0, np.nan, 2.0])
+    v0 = np.array([1.0, 1.0, np.nan])
+    out = solve_scene_batch(
+        alpha, v0, np.zeros(3), np.tile(cp, (3, 1)), np.tile(sp, (3, 1)), METHOD_ADAPTIVE, 1e-9,
+        0.01, 1e-6, 100,
+    )  # fmt: skip
+    assert out[0, OUT_STATUS] == STATUS_OK and 0 < out[0, OUT_COR] < 1
+    for i in (1, 2):
+        assert out[i, OUT_STATUS] != STATUS_OK and math.isnan(out[i, OUT_COR])

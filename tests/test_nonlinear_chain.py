@@ -338,3 +338,170 @@ def test_bad_parameters_name_themselves(kw, match):
     args.update(kw)
     with pytest.raises(SceneError, match=match):
         solve_nonlinear_chain(**args)
+
+
+# ---------------------------------------------------------------- declared ranges (issue 17.2) --
+
+
+def _sane(status, cor, ncol, passive=True, tol=1e-12):
+    """A finished row (ok, >= 1 contact, COR in [-tol, 1 + tol] for a passive law) or an
+    explicit failure: any other status, with a NaN COR unless only the energy account is open.
+    ``tol`` is 1e-12 for the exact methods and the energy tolerance for the numerical ones (a
+    COR above 1 by more would open the energy account)."""
+    if status == "ok":
+        return ncol >= 1 and (not passive or -tol <= cor <= 1 + tol)
+    if status == "energy_account_open":
+        return np.isfinite(cor)
+    return math.isnan(cor)  # (the names of codes 5-8 come with result.py of the chain-api branch)
+
+
+def _draw_range_end(rng, low, high, log=True):
+    """A value of [low, high]: either end exactly, the float next to it, or log-uniform."""
+    pick = rng.integers(5)
+    if pick == 0:
+        return low
+    if pick == 1:
+        return high
+    if pick == 2:
+        return float(np.nextafter(low, high))
+    if pick == 3:
+        return float(np.nextafter(high, low))
+    return (
+        float(math.exp(rng.uniform(math.log(low), math.log(high))))
+        if log
+        else rng.uniform(low, high)
+    )
+
+
+def test_full_declared_ranges_finish_or_fail_explicitly():
+    # Every parameter over its declared range, ends and their neighbours included (eta down to
+    # the smallest subnormal): a row is either rejected before any work (SceneError naming the
+    # range), finished and sane, or NaN with a status naming what failed. Never a traceback.
+    rng = np.random.default_rng(17)
+    masses, springs, dashpots, contacts, speeds = [], [], [], [], []
+    rejected = 0
+    for _ in range(120):
+        n = int(rng.integers(2, 5))
+        m = [_draw_range_end(rng, 1e-3, 1e3) for _ in range(n)]
+        k = [_draw_range_end(rng, 1e-3, 1e3) for _ in range(n - 1)]
+        c = [0.0 if rng.random() < 0.5 else _draw_range_end(rng, 1e-6, 1.0) for _ in range(n - 1)]
+        v0 = _draw_range_end(rng, laws.V0_MIN, laws.V0_MAX)
+        law = ("hertz", "plastic", "linear")[int(rng.integers(3))]
+        if law == "plastic":
+            eta = _draw_range_end(rng, 5e-324, 10.0)
+            dr_low = max(0.0, (1 - eta) / 2)
+            contact = {"law": law, "k": _draw_range_end(rng, 1e-2, 1e6), "eta": eta,
+                       "dr": _draw_range_end(rng, max(dr_low, 1e-300), 1 - 1e-6)}  # fmt: skip
+        else:
+            contact = {"law": law, "k": _draw_range_end(rng, 1e-2, 1e6)}
+        try:
+            from restitution.nonlinear import pack_chain
+
+            pack_chain(m, k, c, contact, None, v0)
+        except SceneError as e:
+            assert "must be" in str(e)  # names the range it left
+            rejected += 1
+            continue
+        masses.append(m)
+        springs.append(k)
+        dashpots.append(c)
+        contacts.append(contact)
+        speeds.append(v0)
+    # most draws leave the handled frequency spread (mass and spring ratios up to 1e6)
+    assert len(masses) >= 20 and rejected >= 40, rejected
+    df = solve_nonlinear_chain_many(
+        masses, springs, dashpots, contacts, None, speeds, rtol=1e-8, max_events=2000
+    )
+    for i, row in df.iterrows():
+        passive = not (contacts[i]["law"] == "plastic" and contacts[i]["eta"] > 1)
+        # rtol 1e-8: energy tolerance 1e3 * rtol (measured: one stiff Hertz row at 1 + 1.2e-6)
+        ok = _sane(row["status"], row["cor"], row["n_collisions"], passive, 1e-5)
+        assert ok, (row, contacts[i])
+        if row["status"] == "ok":
+            assert abs(row["e_translational"] + row["e_vibrational"] + row["e_dissipated"] - 1) < (
+                1e-5
+            )
+        if passive:  # a handled range: every in-range passive row finishes
+            assert row["status"] == "ok", (row, contacts[i])
+
+
+def test_kernel_batch_never_raises_and_never_leaves_a_row_unset():
+    # garbage that bypassed the Python checks: the kernel's own guard makes the row invalid
+    from restitution.kernels.layout import OUT_COR, OUT_STATUS, STATUS_INVALID, STATUS_OK
+    from restitution.kernels.nonlinear import solve_chain_scene_batch
+
+    rows = 6
+    m = np.ones((rows, 3))
+    lk = np.zeros((rows, 2, laws.N_SP))
+    lk[:, :, laws.SP_K2] = 1.0
+    c = np.zeros((rows, 2))
+    n = np.full(rows, 3, dtype=np.int64)
+    cp = np.tile(laws.hertz_params(10.0, 1.0, 3.0), (rows, 1))
+    v0 = np.ones(rows)
+    m[1, 2] = np.nan
+    lk[2, 0, laws.SP_K2] = 0.0
+    v0[3] = np.inf
+    n[4] = 7  # more masses than the padded arrays hold
+    c[5, 1] = -1.0
+    out = solve_chain_scene_batch(m, lk, c, n, cp, v0, 0, 1e-9, 0.01, 1e-6, 100, 1e6)
+    assert out[0, OUT_STATUS] == STATUS_OK and 0 < out[0, OUT_COR] <= 1
+    for i in range(1, rows):
+        assert out[i, OUT_STATUS] == STATUS_INVALID and math.isnan(out[i, OUT_COR])
+
+
+def test_work_budget_ends_a_scene_honestly():
+    # a budget far too small: a NaN COR and the status that names it, the same on every machine
+    r = solve_nonlinear_chain(
+        [1.0, 2.0, 1.0], [1.0, 1.0], None, {"law": "hertz", "k": 10.0}, None, 1.0, max_work=600
+    )
+    from restitution.kernels.layout import STATUS_WORK_BUDGET
+    from restitution.result import status_name
+
+    assert r.status == status_name(STATUS_WORK_BUDGET) and math.isnan(r.cor) and not r.success
+
+
+@pytest.mark.parametrize(
+    "kw, match",
+    [
+        (dict(v0=1e-7), r"v0 .*\[1e-06, 1e\+06\]"),
+        (dict(contact_law={"law": "linear", "k": 1e-12}), r"\[1e-12, 1e\+06\]"),
+        (dict(contact_law={"law": "hertz", "k": 1e-12}), "slope at m1's depth"),
+        (
+            dict(contact_law={"law": "plastic", "k": 10.0, "eta": 1.0, "dr": 1 - 1e-16}),
+            "loading secant",
+        ),
+        (dict(m=[1.0, 1e9]), "at most 1e\\+08"),
+    ],
+)
+def test_unhandled_corners_are_rejected_naming_the_range(kw, match):
+    args = dict(m=[1.0, 2.0], k=[1.0], contact_law={"law": "hertz", "k": 1.0})
+    args.update(kw)
+    with pytest.raises(SceneError, match=match):
+        solve_nonlinear_chain(**args)
+
+
+def test_struct_cells_with_every_laws_fields_are_read():
+    # a parquet struct column holds the union of the laws' fields: None/NaN means "not given"
+    contact = {"law": "hertz", "k": 4.0, "eta": None, "dr": float("nan")}
+    links = [{"law": "linear", "L": None, "ks": None, "theta0": None, "corner": None}]
+    r = solve_nonlinear_chain([1.0, 2.0], [1.0], None, contact, links, 1.0)
+    q = solve_nonlinear_chain([1.0, 2.0], [1.0], None, {"law": "hertz", "k": 4.0}, None, 1.0)
+    assert r.status == "ok" and r.cor == q.cor
+
+
+def test_batch_is_bit_identical_for_any_thread_count():
+    import numba
+
+    rng = np.random.default_rng(11)
+    chains = [_random_chain(rng, n) for n in (2, 3, 4, 5, 3, 2)]
+    args = ([ch[0] for ch in chains], [ch[1] for ch in chains], [ch[2] for ch in chains])
+    contacts = [CONTACTS[i % len(CONTACTS)] for i in range(len(chains))]
+    before = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        one = solve_nonlinear_chain_many(*args, contacts, rtol=1e-9)
+        numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))
+        two = solve_nonlinear_chain_many(*args, contacts, rtol=1e-9)
+    finally:
+        numba.set_num_threads(before)
+    assert one.equals(two)

@@ -17,7 +17,7 @@ import numpy as np
 import pandas as pd
 
 from . import methods as M
-from .chain import LAW_KEYS, Chain, SceneError, check, make_chain, paper_with_laws
+from .chain import LAW_KEYS, RANGES, Chain, SceneError, check, make_chain, paper_with_laws
 from .compiling import announce
 from .kernels import layout as L
 from .result import RESULT_COLUMNS, T_COL, Result
@@ -27,9 +27,10 @@ _BLOCK = 2048  # rows per parallel batch call; the progress bar advances per blo
 
 
 def _block(rows: int, progress: bool) -> int:
-    """Rows per batch call: with a progress bar about 100 updates (so its ETA follows the real
-    rate), each large enough to keep every thread busy; results do not depend on it."""
-    return max(64, min(_BLOCK, rows // 100)) if progress else _BLOCK
+    """Rows per batch call: without a progress bar one call (the threads share the whole load);
+    with one about 100 updates (so its ETA follows the real rate), each large enough to keep
+    every thread busy. Results do not depend on it."""
+    return max(64, min(_BLOCK, rows // 100)) if progress else max(rows, 1)
 
 
 _EXACT_NAME = {True: "impulsive", False: "piecewise"}  # rigid wall -> method (paper fast path)
@@ -132,33 +133,47 @@ def solve(
     return _run(ch, chosen, opts)
 
 
+_R = RANGES  # the one range table, read once here for the fast path below
+_A_HI, _B_HI, _X_HI = _R["alpha"].high, _R["beta"].high, _R["xi"].high
+_N_HI = _R["n_masses"].high
+_NO_HIST = np.zeros((0, L.N_HIST))  # kernels write no history rows into it
+
+
 def _solve_paper(alpha, beta, xi, n_masses, method, history, max_events):
     """The paper's linear scenes straight to their kernel (the per-call overhead matters for
     sweeps written as loops); None when a numerical method is forced."""
-    a = check("alpha", alpha)
-    b = check("beta", beta)
-    x = check("xi", xi)
-    n = check("n_masses", n_masses)
+    if (
+        type(alpha) is float
+        and type(beta) is float
+        and type(xi) is float
+        and type(n_masses) is int
+        and type(max_events) is int
+        and 0.0 < alpha <= _A_HI
+        and 0.0 <= beta <= _B_HI
+        and 0.0 <= xi <= _X_HI
+        and 2 <= n_masses <= _N_HI
+        and max_events >= 1
+    ):  # plain Python numbers inside RANGES (NaN fails every comparison)
+        a, b, x, n = alpha, beta, xi, n_masses
+    else:  # anything else through the full checks (and their messages)
+        a, b, x = check("alpha", alpha), check("beta", beta), check("xi", xi)
+        n, max_events = check("n_masses", n_masses), check("max_events", max_events)
     if 0.0 < b < M.RIGID_LIMIT_BETA:
         return None  # the rigid limit with its error estimate, through the solver table
     rigid = b == 0.0
     name = _EXACT_NAME[rigid]
-    if method != name:
-        if method != "auto":
-            M.choose(Chain._paper(a, b, x, n), method)  # raises for a misfit, else numerical
-            return None
-    max_events = check("max_events", max_events)
+    if method != name and method != "auto":
+        M.choose(Chain._paper(a, b, x, n), method)  # raises for a misfit, else numerical
+        return None
     rigid2, _, solve_linear, _ = _kernels()
-    hist = np.zeros((max_events if history else 0, L.N_HIST))
+    hist = np.zeros((max_events, L.N_HIST)) if history else _NO_HIST
     if rigid and n == 2:
         announce(rigid2)
         out = rigid2(a, x, max_events, hist)
     else:
         announce(solve_linear)
         out = solve_linear(a, b, x, n, max_events, hist)
-    return Result.from_row(
-        _PaperScene(a, b, x, n), out, M.label(name, out), hist if history else None
-    )
+    return Result.from_row(_PaperScene(a, b, x, n), out, name, hist if history else None)
 
 
 class _PaperScene:
@@ -178,7 +193,7 @@ def _run(ch: Chain, chosen: M.Method, opts: M.Options) -> Result:
     out, hist = chosen.run(ch, opts)
     if isinstance(out, Result):  # numerical runners return a Result of their own
         return replace(out, t_col=out.omega_t_col / ch.omega, scene=ch)
-    return Result.from_row(ch, out, M.label(chosen.name, out), hist)
+    return Result.from_row(ch, out, chosen.name, hist)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -187,7 +202,7 @@ def _run(ch: Chain, chosen: M.Method, opts: M.Options) -> Result:
 def validate_frame(frame: pd.DataFrame, keep=()) -> pd.DataFrame:
     """The scene table checked strictly (``restitution.tables``), with the method of every row
     in column ``method``; raises SceneError naming the first bad row and column."""
-    return scene_table(frame, keep).plan
+    return pd.DataFrame(scene_table(frame, keep).plan, index=frame.index)
 
 
 def _status_names(codes: np.ndarray) -> np.ndarray:
@@ -224,10 +239,10 @@ def _guarded(batch, args, sel, single):
 def _solve_exact_paper(plan: pd.DataFrame, idx: np.ndarray, max_events: int, bar, block=_BLOCK):
     """Kernel rows of paper-form rows, in parallel blocks (the progress bar moves per block)."""
     rigid2, rigid2_batch, solve_linear, solve_linear_batch = _kernels()
-    alpha = plan["alpha"].to_numpy(np.float64)[idx]
-    beta = plan["beta"].to_numpy(np.float64)[idx]
-    xi = plan["xi"].to_numpy(np.float64)[idx]
-    nm = plan["n_masses"].to_numpy(np.int64)[idx]
+    alpha = plan["alpha"].astype(np.float64, copy=False)[idx]
+    beta = plan["beta"].astype(np.float64, copy=False)[idx]
+    xi = plan["xi"].astype(np.float64, copy=False)[idx]
+    nm = plan["n_masses"].astype(np.int64, copy=False)[idx]
     out = np.full((len(idx), L.N_OUT), np.nan)
     errors = {}
     no_hist = np.zeros((0, L.N_HIST))
@@ -314,10 +329,10 @@ def solve_many(
     max_events = check("max_events", max_events)
     table = scene_table(frame, keep)
     plan = table.plan
-    n = len(plan)
-    names = plan["method"].to_numpy()
+    n = len(frame)
+    names = plan["method"]
     # Exact rows in parallel batches; the rigid limit (tiny beta) and numerical rows one by one.
-    beta = plan["beta"].to_numpy()
+    beta = plan["beta"]
     exact = np.isin(names, ("impulsive", "piecewise")) & ~((beta > 0) & (beta < M.RIGID_LIMIT_BETA))
     cols = {
         "cor": np.full(n, np.nan),
@@ -336,8 +351,8 @@ def solve_many(
         if table.chains is None:
             out, errors = _solve_exact_paper(plan, idx, max_events, bar, block)
         else:
-            paper = idx[plan["paper"].to_numpy()[idx]]
-            general = idx[~plan["paper"].to_numpy()[idx]]
+            paper = idx[plan["paper"][idx]]
+            general = idx[~plan["paper"][idx]]
             out = np.full((len(idx), L.N_OUT), np.nan)
             errors = {}
             pos = {int(i): j for j, i in enumerate(idx)}
@@ -358,16 +373,24 @@ def solve_many(
             for c in RESULT_COLUMNS:
                 cols[c][i] = getattr(r, c)
             bar.update(1)
-    result = frame.copy()
-    for name in ("beta", "xi", "n_masses"):
-        if name in plan and table.chains is None:
-            result[name] = plan[name].to_numpy()
-    for c in RESULT_COLUMNS:
-        result[c] = cols[c]
+    # One DataFrame construction (column-by-column insertion is slow on large tables).
+    data = {c: frame[c] for c in frame.columns}
+    if table.chains is None:
+        for name in ("beta", "xi", "n_masses"):
+            data[name] = plan[name]
+    else:
+        # list cells as the checked floats (CSV text and parquet lists alike)
+        data["masses"] = [ch.masses.tolist() for ch in table.chains]
+        data["springs"] = [ch.springs.tolist() for ch in table.chains]
+        if "dashpots" in data:
+            data["dashpots"] = [ch.dashpots.tolist() for ch in table.chains]
+    data.update(cols)
+    for c in ("method", "status"):  # few distinct names: build the string column from codes
+        codes, names = pd.factorize(cols[c])
+        data[c] = pd.array(np.asarray(names, dtype=object), dtype="str").take(codes)
     if table.chains is not None:
-        omega = plan["omega"].to_numpy()
-        result[T_COL] = cols["omega_t_col"] / omega
-    return result
+        data[T_COL] = cols["omega_t_col"] / plan["omega"]
+    return pd.DataFrame(data, index=frame.index)
 
 
 def _fill(cols: dict, idx: np.ndarray, out: np.ndarray, errors: dict) -> None:
@@ -399,7 +422,7 @@ def _solve_row(table, i: int, max_events: int) -> Result:
     """One numerical row (nonlinear law or a forced numerical method) through ``solve``."""
     ch = table.chain(i)
     opts = M.options(False, max_events, **table.settings(i))
-    return _run(ch, M.METHODS[table.plan["method"].iat[i]], opts)
+    return _run(ch, M.METHODS[table.plan["method"][i]], opts)
 
 
 __all__ = ["LAW_KEYS", "solve", "solve_many", "validate_frame"]

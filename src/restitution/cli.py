@@ -21,7 +21,8 @@ EXIT_CODES = f"""exit codes:
   {EXIT_INTERNAL}    unexpected internal error (please report it)
   {EXIT_INPUT}    bad input or I/O error (message on stderr; nothing written)
   {EXIT_NOT_OK}    results written, but some scene did not finish (see its status)
-  130  interrupted (Ctrl-C); 143 terminated (SIGTERM); no partial output is left"""
+  130  interrupted (Ctrl-C); no partial output is left
+  143  terminated (SIGTERM); no partial output is left"""
 
 
 def _version() -> str:

@@ -12,6 +12,7 @@ import os
 import sys
 
 _announced = False
+_warm = set()  # dispatchers known to be compiled or cached (checked once each)
 
 
 def cold(dispatcher) -> bool:
@@ -30,7 +31,12 @@ def announce(*dispatchers) -> None:
     global _announced
     if _announced:
         return
-    if any(cold(d) for d in dispatchers):
+    todo = [d for d in dispatchers if d not in _warm]
+    if not todo:
+        return
+    cold_ones = [d for d in todo if cold(d)]
+    _warm.update(d for d in todo if d not in cold_ones)
+    if cold_ones:
         _announced = True
         print(
             "restitution: compiling the numba kernels (first run after installation; about 20 s "

@@ -13,6 +13,7 @@ import tempfile
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
@@ -109,6 +110,29 @@ def schema_for(frame: pd.DataFrame) -> pa.Schema:
     return pa.schema(fields)
 
 
+def _csv_cell(value):
+    """A list cell as ';'-separated numbers, a law (mapping or list of mappings) as JSON."""
+    if isinstance(value, dict):
+        return json.dumps(value, default=float)
+    if isinstance(value, (list, tuple, np.ndarray)):
+        items = list(value)
+        if any(isinstance(v, dict) for v in items):
+            return json.dumps(items, default=float)
+        return ";".join(repr(float(v)) for v in items)
+    return value
+
+
+def _csv_cells(frame: pd.DataFrame) -> pd.DataFrame:
+    """``frame`` with its list and law cells in their CSV text form (scene tables read back)."""
+    cols = [c for c in frame.columns if frame[c].dtype == object]
+    if not cols:
+        return frame
+    out = frame.copy()
+    for c in cols:
+        out[c] = [_csv_cell(v) for v in frame[c].to_numpy()]
+    return out
+
+
 def _tmp_prefix(path: Path) -> str:
     # The writer's pid is part of the name so that a later run can tell a killed writer's
     # leftover (pid gone) from a file another live process is still writing.
@@ -184,7 +208,7 @@ def write_table(frame: pd.DataFrame, path, *, config=None, extra: dict | None = 
     os.close(fd)
     try:
         if path.suffix == ".csv":
-            frame.to_csv(tmp, index=False)
+            _csv_cells(frame).to_csv(tmp, index=False)
         else:
             meta = provenance(config)
             meta["methods"] = methods_summary(frame)

@@ -1,4 +1,5 @@
-"""Nonlinear force laws of Sections 3.1 and 3.2: plastic contact and the scissor spring.
+"""Force laws: the contact laws (rigid, linear, plastic of Section 3.1, Hertz) and the link laws
+(linear, the scissor spring of Section 3.2); how to add one: docs/guides/adding-a-law.md.
 
 Units are those of DESIGN.md (m1 = 1, omega = 1 from the *nominal* k2 = alpha/(1+alpha)), except
 that the impact speed ``v0`` is a parameter: both laws make the response velocity dependent, so
@@ -27,6 +28,26 @@ DR >= (1 - eta)/2 is required (checked). DR = 0, eta = 1 gives kappa = k1: the l
 At fixed DR, eta, beta, kappa scales as v0**(1 - eta); the map u -> s*u, v0 -> s*v0,
 kappa -> kappa*s**(1-eta) leaves the equations invariant, so kappa has no effect on the COR at
 fixed DR (the paper's observation for Fig. 4(c)) -- an exact similarity, tested.
+
+Hertz contact
+-------------
+F = k_h*x**1.5 for x > 0 (a sphere on a flat), elastic, potential 0.4*k_h*x**2.5. One mass m at
+V0 stays in contact t_c = C*(m/k_h)**0.4*V0**-0.2 with C = 2*I*(5/4)**0.4 = 3.218065 and
+I = (2/5)*B(2/5, 1/2) (tests/test_hertz.py). The COR of a chain depends on V0 through the
+contact's effective stiffness ~ k_h**0.8 * V0**0.4.
+
+General chains
+--------------
+A chain's laws are given as specifications, {"law": name, parameters...}: contact laws in
+``CONTACT_LAWS`` (rigid; linear k; plastic k = unloading slope, eta, dr; hertz k = k_h), link
+laws in ``LINK_LAWS`` (linear: the link's spring; scissor L, ks, theta0, corner with the link's
+spring as the cap slope). ``pack_contact`` / ``pack_link`` check and pack them; the tables also
+give each dimensional parameter's unit for ``to_kernel_units``.
+
+Handled ranges: v0 in [1e-6, 1e6]; the first spring over the contact's (effective) stiffness
+in [1e-12, 1e6] (``check_contact_ratio``: linear k, plastic unloading slope and loading secant,
+Hertz slope at m1's depth); mass ratios up to 1e8. Outside them the contact is too soft to
+finish within the work budget or too stiff for a step above round-off, so they are rejected.
 
 Scissor spring (Sec. 3.2, Eq. 24)
 ---------------------------------
@@ -115,11 +136,101 @@ def check_dr(value, eta: float = 1.0) -> float:
     return x
 
 
+V0_MIN, V0_MAX = 1e-6, 1e6
+
+
 def check_v0(value) -> float:
-    x = _num("v0", value, "in (0, 1e6]")
-    if not 0.0 < x <= 1e6:
-        raise SceneError(f"v0 (impact speed) must be in (0, 1e6]; got {value!r}")
+    """Impact speed in [1e-6, 1e6] (narrowed from (0, 1e6]: below 1e-6 the plastic law's kappa
+    ~ v0**(1 - eta) and the Hertz contact's stiffness ~ v0**0.4 leave float64's range or make
+    the contact so soft that no work budget finishes it; see tests/test_nonlinear_chain.py)."""
+    x = _num("v0", value, f"in [{V0_MIN:g}, {V0_MAX:g}]")
+    if not V0_MIN <= x <= V0_MAX:
+        raise SceneError(f"v0 (impact speed) must be in [{V0_MIN:g}, {V0_MAX:g}]; got {value!r}")
     return x
+
+
+# Ratio of the first structural spring to the contact's stiffness (the paper's beta) that the
+# numerical methods handle; for the nonlinear laws the contact's stiffness is its loading
+# secant (plastic) or its slope at m1's deepest penetration (Hertz). Outside: the contact
+# phase needs more than the work budget (too soft) or a step below round-off (too stiff).
+BETA_NL_MIN, BETA_NL_MAX = 1e-12, 1e6
+# Mass ratios (alpha; in a chain any two masses) the numerical methods finish within their work
+# budget (alpha = 1e-300 ran 30 s to a failure; 1e8 finishes in seconds).
+ALPHA_NL_MIN, ALPHA_NL_MAX = 1e-8, 1e8
+
+
+def check_contact_ratio(name: str, ratio: float, what: str) -> float:
+    """beta-like ratio k_link1 / k_contact_effective within [BETA_NL_MIN, BETA_NL_MAX]."""
+    if not BETA_NL_MIN <= ratio <= BETA_NL_MAX:
+        raise SceneError(
+            f"{name}: the first spring over the contact's {what} is {ratio:.3g}; it must be in "
+            f"[{BETA_NL_MIN:g}, {BETA_NL_MAX:g}] (the range of beta the numerical methods handle)"
+        )
+    return ratio
+
+
+# Frequency spread a chain may have for the explicit integrators: the fastest rate (Gershgorin
+# bound with the contact's slope scale, dashpot rates c (1/m_i + 1/m_i+1)) over the slowest
+# (each link's and the contact's own rate). The cost grows with it (steps ~ spread per
+# slow period): beyond 1e3 in-range chains ran out of the work budget (tests/
+# test_nonlinear_chain.py draws the ranges); stiff chains need the exact linear kernels.
+SPREAD_MAX = 1e3
+
+
+def check_frequency_spread(m, lk, c, cp, v0: float) -> float:
+    """Fastest over slowest rate of a packed chain (kernel units); SceneError beyond SPREAD_MAX.
+
+    The slowest rates: each link's sqrt(k (1/m_i + 1/m_i+1)) (the scissor's rest slope) and the
+    contact's sqrt(k_eff / total mass), k_eff its stiffness for m1 alone at v0.
+    """
+    n = len(m)
+    hi2, lo = 0.0, math.inf
+    for i in range(n):
+        row = 0.0
+        if i > 0:
+            row += 2.0 * lk[i - 1][SP_K2]
+        if i < n - 1:
+            row += 2.0 * lk[i][SP_K2]
+        if i == 0 and cp[0] != C_RIGID:
+            row += cp[1]
+        hi2 = max(hi2, row / m[i])
+    hi = math.sqrt(hi2)
+    for i in range(n - 1):
+        inv = 1.0 / m[i] + 1.0 / m[i + 1]
+        hi = max(hi, c[i] * inv)
+        k_soft = lk[i][SP_K2] if lk[i][SP_KIND] == S_LINEAR else structure_slope(lk[i], 0.0)
+        lo = min(lo, math.sqrt(k_soft * inv))
+    k_eff = math.nan  # the contact's effective stiffness for m1 alone at v0
+    if cp[0] == C_LINEAR:
+        k_eff = cp[1]
+    elif cp[0] == C_HERTZ:
+        k_eff = hertz_slope_at_depth(cp[2], v0)
+    elif cp[0] == C_PLASTIC:
+        eta = cp[3]
+        xmax = ((eta + 1.0) * v0 * v0 / (2.0 * cp[2])) ** (1.0 / (eta + 1.0))
+        k_eff = cp[2] * xmax**eta / xmax
+    if k_eff == k_eff:
+        lo = min(lo, math.sqrt(k_eff / sum(m)))
+    spread = hi / lo
+    if not spread <= SPREAD_MAX:
+        raise SceneError(
+            f"the chain's frequency spread (fastest rate: springs, contact, dashpots; over the "
+            f"slowest link) is {spread:.3g}; it must be at most {SPREAD_MAX:g} for the numerical "
+            f"methods "
+            f"(narrow the ratios of masses, springs and the contact stiffness)"
+        )
+    return spread
+
+
+def plastic_loading_secant(dr: float, eta: float, k1: float) -> float:
+    """Secant Fmax/xmax of the power-law loading of m1 alone: 2 (1 - DR) k1 / (eta + 1)."""
+    return 2.0 * (1.0 - dr) * k1 / (eta + 1.0)
+
+
+def hertz_slope_at_depth(k_h: float, v0: float, m1: float = 1.0) -> float:
+    """Hertz slope 1.5 k_h sqrt(x) at m1's deepest penetration alone, (5 m1 v0**2/(4 k_h))**0.4."""
+    x1 = (1.25 * m1 * v0 * v0 / k_h) ** 0.4
+    return 1.5 * k_h * math.sqrt(x1)
 
 
 def check_L(value) -> float:  # noqa: N802 - the paper's symbol
@@ -224,16 +335,19 @@ def check_stiffness(name: str, value, high: float = 1e12) -> float:
 # omega = 1, lengths in V_ref/omega). Each entry: parameter names -> packer(spec, k_link, v0, M).
 # ----------------------------------------------------------------------------------------------
 
+# name: (law id, parameters, units). A unit (a, b) says the parameter is measured in
+# m1**a * omega**b in kernel units (speeds keep the user's unit, so a length is speed/omega):
+# a stiffness (force/length) is (1, 2), a Hertz constant (force/length**1.5) (1, 2.5), a length
+# (0, -1); parameters not listed are unit-free.
 CONTACT_LAWS = {
-    # name: (law id, required parameters)
-    "rigid": (C_RIGID, ()),
-    "linear": (C_LINEAR, ("k",)),
-    "plastic": (C_PLASTIC, ("k", "eta", "dr")),
-    "hertz": (C_HERTZ, ("k",)),
+    "rigid": (C_RIGID, (), {}),
+    "linear": (C_LINEAR, ("k",), {"k": (1, 2)}),
+    "plastic": (C_PLASTIC, ("k", "eta", "dr"), {"k": (1, 2)}),
+    "hertz": (C_HERTZ, ("k",), {"k": (1, 2.5)}),
 }
 LINK_LAWS = {
-    "linear": (S_LINEAR, ()),
-    "scissor": (S_SCISSOR, ("L", "ks", "theta0", "corner")),
+    "linear": (S_LINEAR, (), {}),
+    "scissor": (S_SCISSOR, ("L", "ks", "theta0", "corner"), {"L": (0, -1), "ks": (1, 2)}),
 }
 LINK_DEFAULTS = {"theta0": THETA0_DEFAULT, "corner": CORNER_DEFAULT}
 
@@ -244,7 +358,13 @@ def _spec(kind: str, spec, table: dict, defaults: dict, where: str) -> tuple[str
         spec = {"law": spec}
     if not isinstance(spec, dict) or "law" not in spec:
         raise SceneError(f"{where} must be a mapping with a key 'law'; got {spec!r}")
-    name = spec["law"]
+    # a table's struct column carries every law's fields: None/NaN cells are not given
+    spec = {
+        k: v
+        for k, v in spec.items()
+        if v is not None and not (isinstance(v, float) and math.isnan(v))
+    }
+    name = spec.get("law")
     if name not in table:
         allowed = ", ".join(map(repr, table))
         raise SceneError(f"{where}: {kind} law must be one of {allowed}; got {name!r}")
@@ -263,22 +383,34 @@ def _spec(kind: str, spec, table: dict, defaults: dict, where: str) -> tuple[str
     return name, params
 
 
-def pack_contact(spec, v0: float = 1.0, total_mass: float = 1.0, where: str = "contact"):
-    """Checked, packed contact law (cp) of a spec in kernel units; also returns kappa or nan."""
+def pack_contact(
+    spec, v0: float = 1.0, total_mass: float = 1.0, where: str = "contact", k_first: float = 1.0
+):
+    """Checked, packed contact law (cp) of a spec in kernel units; also returns kappa or nan.
+
+    ``k_first`` is the first structural spring: the contact's effective stiffness must be
+    within the handled beta range of it (check_contact_ratio).
+    """
     name, p = _spec("contact", spec, CONTACT_LAWS, {}, where)
     if name == "rigid":
         return contact_params(C_RIGID), math.nan
     if name == "linear":
-        return contact_params(C_LINEAR, check_stiffness(f"{where}.k", p["k"])), math.nan
+        k = check_stiffness(f"{where}.k", p["k"], math.inf)
+        check_contact_ratio(where, k_first / k, "stiffness")
+        return contact_params(C_LINEAR, k), math.nan
     if name == "hertz":
-        return hertz_params(check_stiffness(f"{where}.k", p["k"]), v0, total_mass), math.nan
+        k = check_stiffness(f"{where}.k", p["k"], math.inf)
+        check_contact_ratio(where, k_first / hertz_slope_at_depth(k, v0), "slope at m1's depth")
+        return hertz_params(k, v0, total_mass), math.nan
     # plastic: k is the unloading slope; kappa follows from DR (module docstring)
-    k1 = check_stiffness(f"{where}.k", p["k"])
+    k1 = check_stiffness(f"{where}.k", p["k"], math.inf)
     try:
         eta = check_eta(p["eta"])
         dr = check_dr(p["dr"], eta)
     except SceneError as e:
         raise SceneError(f"{where}: {e}") from None
+    check_contact_ratio(where, k_first / k1, "unloading slope")
+    check_contact_ratio(where, k_first / plastic_loading_secant(dr, eta, k1), "loading secant")
     kappa = plastic_kappa(dr, eta, k1, v0)
     if not (math.isfinite(kappa) and kappa > 0.0):
         raise SceneError(
@@ -314,6 +446,20 @@ def pack_link(spec, k_link: float, where: str = "link") -> np.ndarray:
 
 
 @njit(cache=True, error_model="numpy")
+def _scissor_angle(sp, x):
+    """cos(theta), sin(theta) and sin(theta) - sin(theta0) at extension x, the last without
+    cancellation: sin - sin0 = (cos0**2 - cos**2)/(sin + sin0) = -d (cos + cos0)/(sin + sin0),
+    d = cos - cos0 = x/(2L). (The plain difference lost all digits for |x| < 1e-8 L.)"""
+    d = x / (2.0 * sp[SP_L])
+    c = sp[SP_C0] + d
+    if c >= 1.0:
+        c = 1.0
+        d = 1.0 - sp[SP_C0]
+    s = math.sqrt(max(1.0 - c * c, 0.0))
+    return c, s, -d * (c + sp[SP_C0]) / (s + sp[SP_S0])
+
+
+@njit(cache=True, error_model="numpy")
 def structure_force(sp, x):
     """Structural force F2(x) (> 0 in tension); the force on m1 is +F2, on m2 is -F2."""
     k2 = sp[SP_K2]
@@ -322,9 +468,8 @@ def structure_force(sp, x):
     if x >= sp[SP_XCAP]:
         return sp[SP_FCAP] + k2 * (x - sp[SP_XCAP])
     if x >= sp[SP_XLOCK]:
-        c = min(1.0, sp[SP_C0] + x / (2.0 * sp[SP_L]))
-        s = math.sqrt(max(1.0 - c * c, 1e-300))
-        return 2.0 * sp[SP_KS] * sp[SP_L] * c * (sp[SP_S0] / s - 1.0)
+        c, s, ds = _scissor_angle(sp, x)
+        return 2.0 * sp[SP_KS] * sp[SP_L] * c * (-ds / max(s, 1e-150))
     d = sp[SP_XLOCK] - x
     dc = sp[SP_DC]
     if d <= dc:
@@ -342,9 +487,8 @@ def structure_energy(sp, x):
         e = x - sp[SP_XCAP]
         return sp[SP_UCAP] + sp[SP_FCAP] * e + 0.5 * k2 * e * e
     if x >= sp[SP_XLOCK]:
-        c = min(1.0, sp[SP_C0] + x / (2.0 * sp[SP_L]))
-        s = math.sqrt(max(1.0 - c * c, 0.0))
-        return 2.0 * sp[SP_KS] * sp[SP_L] ** 2 * (s - sp[SP_S0]) ** 2
+        _, _, ds = _scissor_angle(sp, x)
+        return 2.0 * sp[SP_KS] * sp[SP_L] ** 2 * ds * ds
     d = sp[SP_XLOCK] - x
     dc = sp[SP_DC]
     fl = sp[SP_FLOCK]
@@ -400,6 +544,19 @@ def contact_elastic(cp):
 
 
 @njit(cache=True, error_model="numpy")
+def contact_params_ok(cp):
+    """The kernels' own guard of a packed contact law (finite, positive where it must be)."""
+    kind = cp[0]
+    if kind == C_RIGID:
+        return True
+    if not (cp[1] > 0.0 and cp[1] < math.inf):
+        return False
+    if kind == C_PLASTIC or kind == C_HERTZ:  # F = cp[2] * x**cp[3]
+        return cp[2] > 0.0 and cp[2] < math.inf and cp[3] > 0.0 and cp[3] < math.inf
+    return kind == C_LINEAR
+
+
+@njit(cache=True, error_model="numpy")
 def contact_force(cp, branch, xmax, fmax, x):
     """Contact force on m1 (>= 0 pushes away from the wall) as a smooth function of x.
 
@@ -451,3 +608,18 @@ def contact_hysteretic(cp, xmax, fmax, x):
         f = cp[2] * x ** cp[3]
         return f, x, f
     return max(0.0, fmax - cp[1] * (xmax - x)), xmax, fmax
+
+
+def to_kernel_units(spec, table: dict, m1: float, omega: float, where: str):
+    """A law spec (mapping or name) with its dimensional parameters in kernel units (the
+    ``units`` of its table entry); unknown laws and non-numbers are left to the packers."""
+    if isinstance(spec, str):
+        spec = {"law": spec}
+    if not isinstance(spec, dict):
+        raise SceneError(f"{where} must be a mapping like {{'law': 'linear', ...}}; got {spec!r}")
+    out = dict(spec)
+    entry = table.get(spec.get("law"))
+    for key, (a, b) in (entry[2] if entry else {}).items():
+        if out.get(key) is not None:
+            out[key] = _num(f"{where}.{key}", out[key], "> 0") / (m1**a * omega**b)
+    return out

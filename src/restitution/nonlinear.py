@@ -66,6 +66,14 @@ def build_laws(alpha, beta, contact, eta, dr, structure, L_, ks_ratio, theta0, c
     _choice("contact", contact, CONTACTS)
     _choice("structure", structure, STRUCTURES)
     kappa = math.nan
+    nonlinear = contact != "linear" or structure != "linear"
+    if nonlinear and not laws.ALPHA_NL_MIN <= scene.alpha <= laws.ALPHA_NL_MAX:
+        raise SceneError(
+            f"alpha must be in [{laws.ALPHA_NL_MIN:g}, {laws.ALPHA_NL_MAX:g}] for the nonlinear "
+            f"laws (the numerical methods' handled range); got {alpha!r}"
+        )
+    if nonlinear and scene.beta != 0.0:
+        laws.check_contact_ratio("beta", scene.beta, "stiffness k1")
     if contact == "plastic":
         if scene.beta == 0.0:
             raise SceneError(
@@ -73,6 +81,10 @@ def build_laws(alpha, beta, contact, eta, dr, structure, L_, ks_ratio, theta0, c
             )
         eta = laws.check_eta(eta)
         dr = laws.check_dr(dr, eta)
+        laws.check_contact_ratio(
+            "contact='plastic'", k2 / laws.plastic_loading_secant(dr, eta, scene.k1),
+            "loading secant 2 (1 - dr) k1/(eta + 1)",
+        )  # fmt: skip
         kappa = laws.plastic_kappa(dr, eta, scene.k1, v0)
         cp = laws.contact_params(laws.C_PLASTIC, scene.k1, kappa, eta)
     elif scene.beta == 0.0:
@@ -351,20 +363,6 @@ def _vector(name, value, n=None, low=0.0, low_open=True):
     return a
 
 
-def _scaled_spec(spec, scale: dict, where: str):
-    """A law spec (mapping or name) with its dimensional parameters divided by their units."""
-    if isinstance(spec, str):
-        spec = {"law": spec}
-    if not isinstance(spec, dict):
-        raise SceneError(f"{where} must be a mapping like {{'law': 'linear', ...}}; got {spec!r}")
-    out = dict(spec)
-    for key, unit in scale.get(spec.get("law"), {}).items():
-        if key in out:
-            x = laws._num(f"{where}.{key}", out[key], "> 0")
-            out[key] = x / unit
-    return out
-
-
 def pack_chain(masses, springs, dashpots=None, contact="rigid", links=None, v0=1.0):
     """Check a chain in the user's units and pack it in kernel units; names any bad parameter.
 
@@ -393,13 +391,17 @@ def pack_chain(masses, springs, dashpots=None, contact="rigid", links=None, v0=1
             "masses and springs span too many decades: their ratios to m1 and m1*omega**2 "
             "under- or overflow in float64"
         )
-    contact_scale = {
-        "linear": {"k": ku},
-        "plastic": {"k": ku},
-        "hertz": {"k": m1 * w2 * math.sqrt(w)},
-    }
-    cspec = _scaled_spec(contact if contact is not None else "rigid", contact_scale, "contact")
-    cp, kappa = laws.pack_contact(cspec, v0, float(ms.sum()), "contact")
+    cspec = laws.to_kernel_units(
+        contact if contact is not None else "rigid", laws.CONTACT_LAWS, m1, w, "contact"
+    )
+    ratio = ms[1:].max() / ms.min(), ms.max() / ms[1:].min()
+    if not max(ratio) <= laws.ALPHA_NL_MAX:
+        raise SceneError(
+            f"masses: the ratio of the largest to the smallest mass must be at most "
+            f"{laws.ALPHA_NL_MAX:g} for the nonlinear laws (the numerical methods' handled "
+            f"range); got {max(ratio):.3g}"
+        )
+    cp, kappa = laws.pack_contact(cspec, v0, float(ms.sum()), "contact", float(ks[0]))
     if links is None:
         links = ["linear"] * (n - 1)
     if isinstance(links, (str, dict)) or len(links) != n - 1:
@@ -409,8 +411,9 @@ def pack_chain(masses, springs, dashpots=None, contact="rigid", links=None, v0=1
     lk = np.zeros((n - 1, laws.N_SP))
     for i, spec in enumerate(links):
         where = f"links[{i}]"
-        s = _scaled_spec(spec, {"scissor": {"ks": ku, "L": 1.0 / w}}, where)
+        s = laws.to_kernel_units(spec, laws.LINK_LAWS, m1, w, where)
         lk[i] = laws.pack_link(s, ks[i], where)
+    laws.check_frequency_spread(ms, lk, cs, cp, v0)
     return ms, lk, cs, cp, w, kappa
 
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 import pandas as pd
@@ -59,7 +59,13 @@ T_COL = "t_col"
 HISTORY_COLUMNS = ("omega_t_start", "omega_t_end", "v1_in", "v1_out", "x_max", "impulse")
 
 
+_NOT_IN_DICT = ("history", "scene")
+
+
 def status_name(code: float) -> str:
+    name = STATUS.get(code)  # float codes hash like their ints
+    if name is not None:
+        return name
     if not math.isfinite(code):
         return "not_run"
     return STATUS.get(int(code), f"unknown_status_{int(code)}")
@@ -102,7 +108,7 @@ class Result:
         return MESSAGES.get(self.status, self.status)
 
     def to_dict(self, history: bool = False) -> dict:
-        d = {k: v for k, v in asdict(self).items() if k not in ("history", "scene")}
+        d = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in _NOT_IN_DICT}
         d["success"] = self.success
         d["message"] = self.message
         if self.scene is not None:
@@ -113,26 +119,37 @@ class Result:
 
     @classmethod
     def from_row(cls, scene, out: np.ndarray, method: str, hist: np.ndarray | None = None):
+        """The Result of a kernel row; ``method`` is completed from the row's OUT_FLAGS
+        (``+sticking``, ``+rigid-limit``) by ``restitution.methods.label``."""
         history = None
         if hist is not None:
             n = min(int(out[L.OUT_NEVENTS]), hist.shape[0])
             history = pd.DataFrame(hist[:n], columns=list(HISTORY_COLUMNS))
-        omega = getattr(scene, "omega", 1.0)
-        return cls(
+        row = out.tolist()  # Python floats, once
+        ncol, tcol = row[L.OUT_NCOL], row[L.OUT_TCOL]
+        if len(row) > L.OUT_FLAGS and row[L.OUT_FLAGS]:  # NaN or a flag: let the table say
+            from .methods import label
+
+            method = label(method, out)
+        # Built without the frozen dataclass's per-field __setattr__ (this is on the path of
+        # every solve call, where the API's overhead is measured in microseconds).
+        self = object.__new__(cls)
+        self.__dict__.update(
             alpha=scene.alpha,
             beta=scene.beta,
             xi=scene.xi,
             n_masses=scene.n_masses,
-            cor=float(out[L.OUT_COR]),
-            n_collisions=int(out[L.OUT_NCOL]) if math.isfinite(out[L.OUT_NCOL]) else 0,
-            omega_t_col=float(out[L.OUT_TCOL]),
-            e_translational=float(out[L.OUT_ETRANS]),
-            e_vibrational=float(out[L.OUT_EVIB]),
-            e_dissipated=float(out[L.OUT_EDISS]),
+            cor=row[L.OUT_COR],
+            n_collisions=int(ncol) if ncol == ncol else 0,
+            omega_t_col=tcol,
+            e_translational=row[L.OUT_ETRANS],
+            e_vibrational=row[L.OUT_EVIB],
+            e_dissipated=row[L.OUT_EDISS],
             method=method,
-            status=status_name(out[L.OUT_STATUS]),
-            error_estimate=float(out[L.OUT_ERR]),
+            status=status_name(row[L.OUT_STATUS]),
+            error_estimate=row[L.OUT_ERR],
             history=history,
-            t_col=float(out[L.OUT_TCOL]) / omega,
+            t_col=tcol / getattr(scene, "omega", 1.0),
             scene=scene if hasattr(scene, "to_dict") else None,
         )
+        return self

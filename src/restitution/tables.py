@@ -109,8 +109,9 @@ def parse_law(name: str, cell, where: str):
 
 
 class SceneTable:
-    """A checked scene table: ``plan`` (alpha, beta, xi, n_masses, method, paper, omega per
-    row), the Chains of a general table (``chains``; None for the paper's form)."""
+    """A checked scene table: ``plan`` (a dict of arrays alpha, beta, xi, n_masses, method,
+    paper, omega, one entry per row), the Chains of a general table (``chains``; None for the
+    paper's form)."""
 
     def __init__(self, frame: pd.DataFrame, keep=()):
         check_columns(frame, keep)
@@ -168,7 +169,7 @@ class SceneTable:
         illegal = [c for c in ("masses", "springs", "dashpots", "k_contact", "links") if c in frame]
         if illegal:
             raise SceneError(f"columns {illegal} belong to the general form, not with 'alpha'")
-        plan = pd.DataFrame(index=frame.index)
+        plan = {}
         for name in PAPER:
             if name in frame:
                 plan[name] = check_column(name, frame[name].to_numpy(), frame.index)
@@ -182,24 +183,20 @@ class SceneTable:
                 legacy |= ~(pd.isna(v) | (v == "linear"))
         if "v0" in frame:
             legacy |= ~pd.isna(frame["v0"].to_numpy(dtype=object))
-        alpha, beta = plan["alpha"].to_numpy(), plan["beta"].to_numpy()
-        xi, nm = plan["xi"].to_numpy(), plan["n_masses"].to_numpy()
+        alpha, beta, xi, nm = plan["alpha"], plan["beta"], plan["xi"], plan["n_masses"]
         chosen = np.empty(n, dtype=object)
         # Linear rows: one dispatcher call per distinct (rigid wall, N, method), so the solver
         # table decides for every row at the cost of a few calls.
         lin = np.flatnonzero(~legacy)
         if len(lin):
-            key = pd.DataFrame({"r": beta[lin] == 0.0, "n": nm[lin], "m": method[lin]})
-            first = ~key.duplicated()
-            groups = key.groupby(["r", "n", "m"], sort=False).ngroup().to_numpy()
-            for g, j in zip(
-                groups[first.to_numpy()], np.flatnonzero(first.to_numpy()), strict=True
-            ):
+            codes = pd.factorize(method[lin])[0] if "method" in frame else 0
+            key = (beta[lin] == 0.0) + 2 * nm[lin] + 4096 * codes
+            _, firsts, groups = np.unique(key, return_index=True, return_inverse=True)
+            for g, j in enumerate(firsts):
                 i = lin[j]
                 try:
-                    name = M.choose(
-                        Chain._paper(alpha[i], beta[i], xi[i], int(nm[i])), method[i]
-                    ).name
+                    ch = Chain._paper(alpha[i], beta[i], xi[i], int(nm[i]))
+                    name = M.choose(ch, method[i]).name
                 except SceneError as e:
                     raise SceneError(f"{e} ({_row(frame, i)})") from None
                 chosen[lin[groups == g]] = name
@@ -213,7 +210,7 @@ class SceneTable:
             self._legacy[i] = ch
         plan["method"] = chosen
         plan["paper"] = ~legacy
-        plan["omega"] = 1.0
+        plan["omega"] = np.ones(n)
         return plan
 
     def _general_chains(self) -> list:
@@ -260,12 +257,12 @@ class SceneTable:
 
     def _general_plan(self, method: np.ndarray) -> pd.DataFrame:
         frame = self.frame
-        plan = pd.DataFrame(index=frame.index)
+        plan = {}
         ch = self.chains
         summary = [c.paper_form for c in ch]
-        plan["alpha"] = [c.alpha for c in ch]
-        plan["beta"] = [c.beta for c in ch]
-        plan["xi"] = [c.xi for c in ch]
+        plan["alpha"] = np.array([c.alpha for c in ch], dtype=float)
+        plan["beta"] = np.array([c.beta for c in ch], dtype=float)
+        plan["xi"] = np.array([c.xi for c in ch], dtype=float)
         plan["n_masses"] = np.array([c.n_masses for c in ch], dtype=np.int64)
         chosen = []
         for i, c in enumerate(ch):
@@ -275,20 +272,20 @@ class SceneTable:
                 raise SceneError(f"{e} ({_row(frame, i)})") from None
         plan["method"] = np.array(chosen, dtype=object)
         plan["paper"] = np.array([s is not None for s in summary], dtype=bool)
-        plan["omega"] = [c.omega for c in ch]
+        plan["omega"] = np.array([c.omega for c in ch], dtype=float)
         return plan
 
     def _check_settings(self) -> None:
-        exact = np.isin(
-            self.plan["method"].to_numpy(), [n for n, m in M.METHODS.items() if m.exact]
-        )
+        if not self.settings_cols:
+            return
+        exact = np.isin(self.plan["method"], [n for n, m in M.METHODS.items() if m.exact])
         for name, (_, given) in self.settings_cols.items():
             wrong = given & exact
             if wrong.any():
                 i = int(np.flatnonzero(wrong)[0])
                 raise SceneError(
                     f"{name} is a setting of the numerical methods; {_row(self.frame, i)} is "
-                    f"solved by the exact method {self.plan['method'].iat[i]!r}, where it would do "
+                    f"solved by the exact method {self.plan['method'][i]!r}, where it would do "
                     "nothing (leave the cell empty)"
                 )
 
@@ -300,9 +297,8 @@ class SceneTable:
             return self._legacy[i]
         p = self.plan
         return Chain._paper(
-            float(p["alpha"].iat[i]), float(p["beta"].iat[i]), float(p["xi"].iat[i]),
-            int(p["n_masses"].iat[i]),
-        )  # fmt: skip
+            float(p["alpha"][i]), float(p["beta"][i]), float(p["xi"][i]), int(p["n_masses"][i])
+        )
 
     def settings(self, i: int) -> dict:
         return {

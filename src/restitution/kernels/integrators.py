@@ -6,6 +6,9 @@ of ``restitution.laws``, so any law added there is integrated by the same code. 
 as a numba function argument would defeat numba's on-disk cache: a minute of compilation per
 process.)
 
+General chains have their own right-hand side, step and phase functions (``*_chain`` at the
+end of this module) sharing the tableau, dense output and event location.
+
 State y = [u1, u2, v1, v2, W, D]: lab-frame displacements and velocities of m1 = 1 and
 m2 = alpha, W = integral of the contact force times d(penetration) (work done on the contact),
 D = dashpot loss. mem = [phase, branch, xmax, fmax, xp, c, alpha, spare]: phase 1 = in contact,
@@ -284,14 +287,15 @@ def first_root(c, n, strip):
 
 
 @njit(cache=True, error_model="numpy")
-def rk_phase(y, t, h, hmax, rtol, atol, cp, sp, mem, W, B, strip, nev, stop, max_steps, err_acc):
+def rk_phase(y, t, h, hmax, rtol, atol, cp, sp, mem, W, B, strip, nev, stop, work, err_acc):
     """Integrate with DP5(4) until the first event (or ``stop``); y is updated in place.
 
     W[k], B[k], strip[k] (k < nev) define the events g_k = W[k].y + B[k] (trigger: > 0 -> <= 0).
     ``strip`` applies to the first step only; ``stop`` = STOP_NO_CONTACT ends the phase when
     ``no_contact_possible`` after an accepted step. Returns (code, t, h_next) with code = event
-    index, EV_STOP or EV_FAIL. ``err_acc[0]`` accumulates the local error estimates of the total
-    momentum v1 + alpha*v2.
+    index, EV_STOP or EV_FAIL (step underflow, or ``work[0]``, the right-hand-side evaluations
+    left for the scene, ran out). ``err_acc[0]`` accumulates the local error estimates of the
+    total momentum v1 + alpha*v2.
     """
     n = y.shape[0]
     K = np.empty((7, n))
@@ -302,9 +306,10 @@ def rk_phase(y, t, h, hmax, rtol, atol, cp, sp, mem, W, B, strip, nev, stop, max
     rhs(y, cp, sp, mem, f0)
     first = True
     alpha = mem[6]
-    for _ in range(max_steps):
+    while work[0] > 0.0:
+        work[0] -= 6.0
         h = min(h, hmax)
-        if h < 1e-14 * max(1.0, abs(t)):
+        if not (h >= 1e-14 * max(1.0, abs(t)) and h < math.inf):  # also catches NaN
             return EV_FAIL, t, h
         err = dp_step(y, f0, h, rtol, atol, cp, sp, mem, K, ynew, tmp)
         if not err <= 1.0:  # also catches NaN

@@ -40,3 +40,4 @@ STATUS_NOT_RUN = 8  # a batch row the kernel never finished (rows start with it,
 
 # Bits of out[OUT_FLAGS].
 FLAG_STICKING = 1  # a Zeno chatter was continued by its sticking limit (method impulsive+sticking)
+FLAG_RIGID_LIMIT = 2  # a very stiff contact spring was solved as its rigid limit (OUT_ERR: bound)

@@ -68,7 +68,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from restitution.kernels.chain import WORK_MAX, _run
+from restitution.kernels.chain import BETA_RIGID, WORK_MAX, _solve_stiff
 from restitution.kernels.chain import _modal_model as _chain_modal_model
 from restitution.kernels.chain import _sample as _chain_sample
 from restitution.kernels.layout import N_HIST, N_OUT
@@ -132,8 +132,8 @@ def solve_linear(alpha, beta, xi, n_masses, max_events, hist):
         See ``restitution.kernels.layout``.
     """
     m, k, c, kc = _paper_chain(alpha, beta, xi, n_masses)
-    rec = np.zeros((0, 3 + 2 * n_masses))
-    return _run(m, k, c, kc, max_events, hist, rec, WORK_MAX)[0]
+    # beta < BETA_FALLBACK may be solved as the rigid limit (FLAG_RIGID_LIMIT, see kernels.chain)
+    return _solve_stiff(m, k, c, kc, max_events, hist, WORK_MAX, False)
 
 
 @njit(parallel=True, cache=True)
@@ -151,6 +151,8 @@ def solve_linear_batch(alpha, beta, xi, n_masses, max_events):
 @njit(cache=True)
 def _sample(alpha, beta, xi, n, times, max_events):
     m, k, c, kc = _paper_chain(alpha, beta, xi, n)
+    if beta < BETA_RIGID:
+        kc = math.inf
     U, V, _f, _imp = _chain_sample(m, k, c, kc, times, max_events)
     return U, V
 

@@ -302,7 +302,7 @@ def _never_ends(t, b, lam, tol):
 
 
 @njit(cache=True)
-def _locate(kind, c0, c1, b, lam, xi, mu, r0, rd0, check_permanent, info):
+def _locate(kind, c0, c1, b, lam, xi, mu, r0, rd0, check_permanent, info, max_steps=MAX_STEPS):
     """First time the gap goes below the touching band; see the module docstring.
 
     Returns a LOC_* code; info = [event time, max gap, time of max gap, steps].
@@ -317,7 +317,7 @@ def _locate(kind, c0, c1, b, lam, xi, mu, r0, rd0, check_permanent, info):
     # damped approach, e.g. V = 0, would count as contacts).
     tol0 = TOL_ULPS * EPS * res[7] + 1e-300
     t_pos = -1.0  # last step end with f > 0 (none yet)
-    for it in range(MAX_STEPS):
+    for it in range(max_steps):
         _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res)
         f = res[0]
         f1 = res[1]

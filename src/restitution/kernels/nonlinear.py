@@ -1,5 +1,14 @@
-"""Two-mass scene kernel for any contact law (rigid, linear, plastic) and structure law (linear,
-scissor): DP5(4) with guaranteed events, or the paper's velocity Verlet.
+"""Nonlinear scene kernels: DP5(4) with guaranteed events, or the paper's velocity Verlet.
+
+``solve_scene`` (two masses, free flight closed form for a linear structure) and
+``solve_chain_scene`` / ``solve_chain_scene_batch`` (any chain: masses m[n], a link law and a
+dashpot per neighbouring pair, any contact law of ``restitution.laws``; every phase integrated,
+the same phase machine and event location). Both count their work in right-hand-side
+evaluations (STATUS_WORK_BUDGET, the same on every machine and thread count), return a NaN COR
+for any unfinished sequence, and never raise for finite input (compiled with
+``error_model="numpy"``); batch rows start as NaN with STATUS_NOT_RUN. The two-mass kernel is
+described below; the chain kernel differs only in the state y = [u_1..u_n, v_1..v_n, W, D] and
+in ending free flight by ``integrators.no_contact_possible_chain``.
 
 State y and contact memory mem as in integrators.py.
 
@@ -80,18 +89,21 @@ from restitution.kernels.layout import (
     STATUS_WORK_BUDGET,
 )
 from restitution.laws import (
-    C_HERTZ,
     C_PLASTIC,
     C_RIGID,
     S_LINEAR,
     SP_K2,
     contact_elastic,
+    contact_params_ok,
     structure_energy,
 )
 
 N_ACCT = 5  # kinetic, elastic, dissipated in contact, dissipated in dashpot, residual
 METHOD_ADAPTIVE = 0
 METHOD_VERLET = 1
+# Work budget of a two-mass scene in right-hand-side evaluations (about 5-10 s; the slowest
+# in-range scene of the test suite needs far less): ends a scene with STATUS_WORK_BUDGET.
+MAX_WORK_TWO_MASS = 50_000_000.0
 
 
 # ---------------------------------------------------------------- closed-form free flight --
@@ -272,12 +284,13 @@ def solve_scene(
     mem[M_ALPHA] = alpha
     m = 1.0 + alpha
     ysep = y.copy()  # state at the latest separation: the energies are taken there
+    work = np.full(1, MAX_WORK_TWO_MASS)
     if method == METHOD_VERLET:
-        status, ncol, tcol = _verlet(y, ysep, cp, sp, mem, step_frac, max_events, hist, v0)
+        status, ncol, tcol = _verlet(y, ysep, cp, sp, mem, step_frac, max_events, work, hist, v0)
         err = 0.0
     else:
         status, ncol, tcol, err = _adaptive(
-            y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, hist, v0
+            y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, work, hist, v0
         )
     _energies(ysep, sp, alpha, v0, out, acct)
     out[OUT_NCOL] = ncol
@@ -291,12 +304,16 @@ def solve_scene(
     # reload steeper than the unloading slope k1), so the result must not pass as good.
     if status == STATUS_OK and acct[2] < -etol:
         status = STATUS_ENERGY
+    if status == STATUS_OK and not (math.isfinite(out[OUT_COR]) and math.isfinite(out[OUT_TCOL])):
+        status = STATUS_NONCONVERGED  # never a non-finite number marked ok
+    if status != STATUS_OK and status != STATUS_ENERGY:
+        out[OUT_COR] = np.nan  # an unfinished sequence has no COR
     out[OUT_STATUS] = status
     return out
 
 
 @njit(cache=True, error_model="numpy")
-def _adaptive(y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, hist, v0):
+def _adaptive(y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, work, hist, v0):
     alpha = mem[M_ALPHA]
     atol = rtol * v0
     kind = int(cp[0])
@@ -329,8 +346,8 @@ def _adaptive(y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, hist, 
         mem[M_BRANCH] = 1.0
     entering = True
     how = ENTER
-    max_switch = 1_000_000
-    for _ in range(max_switch):
+    while work[0] > 0.0:
+        work[0] -= 1.0  # a phase switch costs at least one evaluation
         if mem[M_PHASE] == 1.0:
             nev = _setup_contact_events(cp, mem, W, B, strip, how)
             code, t, h = rk_phase(
@@ -348,11 +365,11 @@ def _adaptive(y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, hist, 
                 strip,
                 nev,
                 STOP_NEVER,
-                10_000_000,
+                work,
                 err_acc,
             )
             if code == EV_FAIL or code == EV_STOP:
-                return STATUS_NONCONVERGED, ncol, tcol, err_acc[0]
+                return _fail(work), ncol, tcol, err_acc[0]
             rising = mem[M_BRANCH] == 1.0
             if rising:  # turn at the deepest point
                 how = AFTER_TURN
@@ -390,6 +407,7 @@ def _adaptive(y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, hist, 
                     return STATUS_OK, ncol, tcol, err_acc[0]
                 t += s
                 h = hc
+                work[0] -= 100.0  # a closed-form free flight: about 100 gap evaluations
             else:
                 W[0, :] = 0.0
                 W[0, 0] = 1.0
@@ -410,13 +428,13 @@ def _adaptive(y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, hist, 
                     strip,
                     1,
                     STOP_NO_CONTACT,
-                    10_000_000,
+                    work,
                     err_acc,
                 )
                 if code == EV_STOP:
                     return STATUS_OK, ncol, tcol, err_acc[0]
                 if code == EV_FAIL:
-                    return STATUS_NONCONVERGED, ncol, tcol, err_acc[0]
+                    return _fail(work), ncol, tcol, err_acc[0]
                 y[0] = -mem[M_XP]
                 h = hc
             # a new contact starts
@@ -444,11 +462,11 @@ def _adaptive(y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, hist, 
                 else:
                     mem[M_BRANCH] = 0.0
                 how = ENTER
-    return STATUS_NONCONVERGED, ncol, tcol, err_acc[0]
+    return STATUS_WORK_BUDGET, ncol, tcol, err_acc[0]
 
 
 @njit(cache=True, error_model="numpy")
-def _verlet(y, ysep, cp, sp, mem, step_frac, max_events, hist, v0):
+def _verlet(y, ysep, cp, sp, mem, step_frac, max_events, work, hist, v0):
     """The paper's scheme: fixed step = step_frac * shortest local period of the scene.
 
     The shortest period is that of the stiffest linearisation (contact spring k1 engaged, which
@@ -474,7 +492,10 @@ def _verlet(y, ysep, cp, sp, mem, step_frac, max_events, hist, v0):
     p_in = y[2] + alpha * y[3]
     _record(hist, 0, H_TSTART, 0.0)
     _record(hist, 0, H_VIN, y[2] / v0)
-    for it in range(2_000_000_000):
+    it = 0
+    while work[0] > 0.0:
+        work[0] -= 2.0
+        it += 1
         h = h_contact
         verlet_step(y, acc, h, cp, sp, mem)
         t += h
@@ -503,7 +524,7 @@ def _verlet(y, ysep, cp, sp, mem, step_frac, max_events, hist, v0):
             # the test costs a bisection for the scissor: every 8th free step is enough
             if (it & 7) == 0 and no_contact_possible(y, cp, sp, mem):
                 return STATUS_OK, ncol, tcol
-    return STATUS_NONCONVERGED, ncol, tcol
+    return STATUS_WORK_BUDGET, ncol, tcol
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
@@ -513,7 +534,9 @@ def solve_scene_batch(alpha, v0, xi, cp, sp, method, rtol, step_frac, etol, max_
     Rows are independent, so results are bit-identical for any number of threads.
     """
     n = alpha.shape[0]
-    out = np.empty((n, N_OUT))
+    out = np.full((n, N_OUT), np.nan)  # rows start unfinished: NaN, STATUS_NOT_RUN
+    for i in range(n):
+        out[i, OUT_STATUS] = STATUS_NOT_RUN
     for i in prange(n):
         hist = np.zeros((0, 6))
         acct = np.zeros(N_ACCT)
@@ -613,13 +636,7 @@ def chain_input_ok(m, lk, c, cp, v0):
             return False
         if not (c[i] >= 0.0 and c[i] < math.inf):
             return False
-    kind = cp[0]
-    if kind != C_RIGID and not (cp[1] > 0.0 and cp[1] < math.inf):
-        return False
-    if kind == C_PLASTIC or kind == C_HERTZ:
-        if not (cp[2] > 0.0 and cp[2] < math.inf and cp[3] > 0.0):
-            return False
-    return True
+    return contact_params_ok(cp)
 
 
 @njit(cache=True, error_model="numpy")

@@ -1,0 +1,157 @@
+"""Timings of the general linear-chain kernel (a script, not a test).
+
+Usage: .venv/bin/python benchmarks/bench_chain.py [--quick] [--big]
+
+Prints, one thread, best of several repeats in one process after JIT warm-up:
+
+1. the cost per contact of the finite-stiffness kernel at beta = 1e-3 for two masses (an alpha
+   sweep; the contact count grows with alpha) and of the rigid wall (beta = 0);
+2. general chains (random masses, springs, dashpots on any link) against the paper's uniform
+   chain of the same N, per contact, rigid and beta = 1e-3;
+3. the chatter grid alpha 5..200, xi 0.05..3 (rigid wall, dashpot on link 1), N = 2, 3, 5:
+   statuses, how many needed the sticking limit, and the slowest scene;
+4. with --big, the N = 128, alpha = 10, xi = 1 chatter scene (status and time).
+"""
+
+import argparse
+import math
+import time
+
+import numba
+import numpy as np
+
+from restitution.kernels.chain import solve_chain, solve_chain_batch
+from restitution.kernels.layout import (
+    FLAG_STICKING,
+    N_HIST,
+    OUT_COR,
+    OUT_FLAGS,
+    OUT_NCOL,
+    OUT_STATUS,
+)
+from restitution.kernels.linear import _paper_chain
+
+NOHIST = np.zeros((0, N_HIST))
+
+
+def best_time(fn, repeat=5):
+    best = math.inf
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def pad(scenes):
+    """Padded batch arrays from a list of (m, k, c, kc)."""
+    rows = len(scenes)
+    nmax = max(s[0].size for s in scenes)
+    M = np.ones((rows, nmax))
+    K = np.ones((rows, nmax - 1))
+    C = np.zeros((rows, nmax - 1))
+    n = np.zeros(rows, np.int64)
+    kc = np.zeros(rows)
+    for i, (m, k, c, kci) in enumerate(scenes):
+        n[i] = m.size
+        M[i, : m.size], K[i, : k.size], C[i, : c.size], kc[i] = m, k, c, kci
+    return M, K, C, n, kc
+
+
+def per_contact(scenes, repeat):
+    """(us per contact, contacts, statuses not ok) of a batch, one thread."""
+    args = pad(scenes)
+    out = solve_chain_batch(*args, 100_000)
+    dt = best_time(lambda: solve_chain_batch(*args, 100_000), repeat)
+    contacts = out[:, OUT_NCOL].sum()
+    return dt / contacts * 1e6, int(contacts), int(np.sum(out[:, OUT_STATUS] != 0))
+
+
+def paper(alpha, beta, xi, n):
+    return _paper_chain(alpha, beta, xi, n)
+
+
+def general(rng, n, beta, damped):
+    m = 10 ** rng.uniform(-0.7, 0.7, n)
+    m[0] = 1.0
+    k = 10 ** rng.uniform(-0.7, 0.7, n - 1)
+    c = np.zeros(n - 1)
+    if damped:
+        for i in range(1, n - 1):  # not on link 1: at a rigid wall that chatters
+            if rng.random() < 0.5:
+                mred = m[i] * m[i + 1] / (m[i] + m[i + 1])
+                c[i] = 2 * rng.uniform(0, 0.5) * math.sqrt(k[i] * mred)
+    # same non-dimensional units as the paper's scenes: m1 = 1, omega = 1
+    w2 = k[0] / m[0] + k[0] / m[1]
+    k, c = k / w2, c / math.sqrt(w2)
+    kc = math.inf if beta == 0 else k[0] / beta
+    return m, k, c, kc
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="fewer scenes and repeats")
+    ap.add_argument("--big", action="store_true", help="also the N = 128 chatter scene")
+    args = ap.parse_args()
+    numba.set_num_threads(1)
+    repeat = 3 if args.quick else 7
+    rng = np.random.default_rng(1)
+    per_contact([paper(2.0, 1e-3, 0.3, 3), paper(2.0, 0.0, 0.0, 2)], 1)  # JIT warm-up
+
+    print("1. two masses, cost per contact (alpha sweep 0.5..200, xi = 0 and 0.3)")
+    alphas = np.geomspace(0.5, 200.0, 50 if args.quick else 200)
+    for beta in (1e-3, 0.0):
+        scenes = [paper(a, beta, xi, 2) for a in alphas for xi in (0.0, 0.3)]
+        us, nc, bad = per_contact(scenes, repeat)
+        print(f"   beta = {beta:g}: {us:.3f} us per contact ({nc} contacts, {bad} not ok)")
+
+    print("2. general chain vs uniform chain of the same N, cost per contact")
+    for n in (3, 5, 8):
+        for beta in (0.0, 1e-3):
+            uni = [paper(a, beta, 0.0, n) for a in np.geomspace(0.5, 20.0, 20)]
+            gen = [general(rng, n, beta, True) for _ in range(20)]
+            u_us, u_nc, u_bad = per_contact(uni, repeat)
+            g_us, g_nc, g_bad = per_contact(gen, repeat)
+            print(
+                f"   N = {n}, beta = {beta:g}: uniform {u_us:.2f} us ({u_nc} contacts), "
+                f"general {g_us:.2f} us ({g_nc} contacts), ratio {g_us / u_us:.2f}"
+                + (f"  [not ok: {u_bad} + {g_bad}]" if u_bad + g_bad else "")
+            )
+
+    print("3. chatter grid (rigid wall, dashpot on link 1), one scene at a time")
+    alphas = [5.0, 10.0, 20.0, 50.0, 100.0, 150.0, 200.0]
+    xis = [0.05, 0.1, 0.3, 0.5, 1.0, 2.0, 3.0]
+    for n in (2, 3, 5):
+        worst = (0.0, None)
+        statuses = {}
+        stick = 0
+        for a in alphas:
+            for xi in xis:
+                m, k, c, kc = paper(a, 0.0, xi, n)
+                t0 = time.perf_counter()
+                out = solve_chain(m, k, c, kc, 100_000, NOHIST)
+                dt = time.perf_counter() - t0
+                st = int(out[OUT_STATUS])
+                statuses[st] = statuses.get(st, 0) + 1
+                stick += bool(int(out[OUT_FLAGS]) & FLAG_STICKING)
+                if dt > worst[0]:
+                    worst = (dt, (a, xi, int(out[OUT_NCOL])))
+        print(
+            f"   N = {n}: statuses {statuses} (0 = ok), sticking limit in {stick} of "
+            f"{len(alphas) * len(xis)}, slowest {worst[0]:.3f} s at (alpha, xi, contacts) = "
+            f"{worst[1]}"
+        )
+
+    if args.big:
+        m, k, c, kc = paper(10.0, 0.0, 1.0, 128)
+        t0 = time.perf_counter()
+        out = solve_chain(m, k, c, kc, 100_000, NOHIST)
+        print(
+            f"4. N = 128, alpha = 10, xi = 1: status {int(out[OUT_STATUS])}, "
+            f"{int(out[OUT_NCOL])} contacts, cor {out[OUT_COR]:.9f}, flags "
+            f"{int(out[OUT_FLAGS])}, {time.perf_counter() - t0:.1f} s"
+        )
+
+
+if __name__ == "__main__":
+    main()
