@@ -1,6 +1,7 @@
 # The restitution workflow: every figure of the paper from exact simulations.
 # A table of contents only; the rules live in workflow/rules/, one file per stage.
-# Run: `make all` (or `snakemake -c2 all` in an activated environment).
+# Run: `make all` (or `snakemake -c2 all` in an activated environment). Target first, then
+# options: `snakemake -c2 all --configfile config/small.yaml` (docs/runs.md).
 
 from snakemake.utils import min_version
 
@@ -14,6 +15,14 @@ report: "workflow/report/workflow.rst"
 
 
 include: "workflow/rules/common.smk"
+
+
+# Any run but the paper's writes under runs/<run>/ (config key `run`, docs/runs.md).
+if RUN_DIR is not None:
+
+    workdir: RUN_DIR
+
+
 include: "workflow/rules/sweeps.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/fig1_3_6.smk"
@@ -22,6 +31,7 @@ include: "workflow/rules/fig4_5.smk"
 include: "workflow/rules/fig7.smk"
 include: "workflow/rules/reproduction.smk"
 include: "workflow/rules/benchmarks.smk"
+include: "workflow/rules/study.smk"
 
 
 rule all:
@@ -69,3 +79,6 @@ rule all:
         rules.fig7d.output.png,
         rules.fig7d.output.pdf,
         rules.reproduction.output.table,
+        # Every documented result table (workflow/tables.yaml, docs/tables.md): a deleted one is
+        # rebuilt even when no figure needs it.
+        result_tables(),

@@ -248,7 +248,8 @@ say "SLURM up: node $node idle, $cpus CPUs, ${real_memory} MB, partition $partit
 copy_repo() {
     mkdir -p "$1"
     tar -C "$repo" -cf - --exclude=./.git --exclude='./.venv*' --exclude=./.cache \
-        --exclude=./results --exclude=./logs --exclude=./.snakemake --exclude=__pycache__ . |
+        --exclude=./results --exclude=./logs --exclude=./runs --exclude=./.snakemake \
+        --exclude=__pycache__ . |
         tar -C "$1" -xf -
     rm -f "$1"/figures/*.png "$1"/figures/*.pdf
 }
@@ -301,8 +302,14 @@ say "local run done in ${local_seconds} s"
 cd "$repo"
 
 # --- checks --------------------------------------------------------------------------------------
-.venv/bin/python .ci/slurm_compare.py "$state/local" "$state/slurm"
-.venv/bin/python .ci/slurm_jobs.py "$state/squeue.txt" "$state/slurm" \
+# A named run (config key `run`, e.g. small) writes under runs/<run>/ (docs/runs.md).
+run_dir() {
+    local found
+    found=$(find "$1/runs" -mindepth 1 -maxdepth 1 -type d 2>/dev/null | head -n 1)
+    echo "${found:-$1}"
+}
+.venv/bin/python .ci/slurm_compare.py "$(run_dir "$state/local")" "$(run_dir "$state/slurm")"
+.venv/bin/python .ci/slurm_jobs.py "$state/squeue.txt" "$(run_dir "$state/slurm")" \
     "$local_seconds" "$slurm_seconds"
 exit_ok=true
 say "PASSED"

@@ -2,7 +2,8 @@
 not change the data, and a damaged parquet input stops its consumer with the file named.
 
 All runs use config/small.yaml on two chunked sweeps (Fig. 2(a): 2 betas x 2 chunks, Fig. 7:
-2 xis x 2 chunks) in scratch copies of the workflow. The tests share one uninterrupted -c2 run
+2 xis x 2 chunks) in scratch copies of the workflow; the small run (run: small) writes under
+runs/small/ of the copy and never into its figures/. The tests share one uninterrupted -c2 run
 (module fixture); the xdist group keeps them on one worker so it is made once.
 """
 
@@ -21,6 +22,7 @@ from conftest import SMALL_CONFIG, SNAKEMAKE, copy_workflow, run_snakemake, snak
 pytestmark = [pytest.mark.pipeline, pytest.mark.slow, pytest.mark.xdist_group("reliability")]
 
 TARGETS = ("fig2a", "fig7a")
+RUN = Path("runs") / "small"  # the small configuration's run folder
 CONFIG = (f"--configfile={SMALL_CONFIG}",)  # "=": the option takes several values
 SIMULATE_OUTPUTS = (
     [f"results/fig2a/beta~{b}/chunk_{c}.parquet" for b in ("0", "0.1") for c in (0, 1)],
@@ -36,8 +38,9 @@ def build(work: Path, *extra, cores=2, timeout=900):
 
 def outputs(work: Path) -> dict[str, Path]:
     """Every table and figure the targets produce (logs and timings excluded), by relative path."""
-    files = [*(work / "results").rglob("*"), *(work / "figures").glob("fig*")]
-    return {str(p.relative_to(work)): p for p in files if p.is_file()}
+    run = work / RUN
+    files = [*(run / "results").rglob("*"), *(run / "figures").glob("fig*")]
+    return {str(p.relative_to(run)): p for p in files if p.is_file()}
 
 
 def assert_same_outputs(work: Path, reference: Path):
@@ -57,7 +60,10 @@ def reference_run(tmp_path_factory) -> Path:
     work = copy_workflow(tmp_path_factory.mktemp("reference"))
     build(work)
     for path in [*SIMULATE_OUTPUTS[0], *SIMULATE_OUTPUTS[1]]:
-        assert (work / path).is_file(), f"the small config no longer produces {path}"
+        assert (work / RUN / path).is_file(), f"the small config no longer produces {path}"
+    # The small run keeps to its folder: nothing in the copy's own results/, figures/, logs/.
+    for folder in ("results", "figures", "logs"):
+        assert not (work / folder).exists(), f"the small run wrote into {folder}/"
     return work
 
 
@@ -108,17 +114,19 @@ def test_killed_run_resumes_to_identical_outputs(reference_run, tmp_path, sig):
         f"the run finished before the kill; nothing was interrupted\n{log.read_text()}"
     )
 
-    simulated = [p for p in (*SIMULATE_OUTPUTS[0], *SIMULATE_OUTPUTS[1]) if (work / p).exists()]
+    simulated = [
+        p for p in (*SIMULATE_OUTPUTS[0], *SIMULATE_OUTPUTS[1]) if (work / RUN / p).exists()
+    ]
     assert len(simulated) < 8, "every simulate job had finished: the kill interrupted none"
-    assert not (work / "figures" / "fig2a.png").exists()
+    assert not (work / RUN / "figures" / "fig2a.png").exists()
     # Whatever the kill left under its final name is a complete table (writes are atomic).
-    for path in (work / "results").rglob("*.parquet"):
+    for path in (work / RUN / "results").rglob("*.parquet"):
         pq.read_table(path)
 
     if sig == signal.SIGKILL:
         # No chance to clean up: the killed jobs stay marked incomplete and the lock stays;
         # snakemake refuses to start and says how to remove it.
-        assert any((work / ".snakemake" / "incomplete").iterdir())
+        assert any((work / RUN / ".snakemake" / "incomplete").iterdir())
         locked = run_snakemake("-c2", *CONFIG, *TARGETS, cwd=work)
         assert locked.returncode != 0 and "--unlock" in locked.stdout + locked.stderr
         assert run_snakemake("--unlock", *CONFIG, cwd=work).returncode == 0
@@ -141,32 +149,32 @@ DAMAGE = {
 @pytest.mark.parametrize("damage", DAMAGE)
 def test_damaged_chunk_stops_the_aggregate_naming_the_file(reference_run, tmp_path, damage):
     work = _damaged_copy(reference_run, tmp_path / "damaged")
-    chunk = work / SIMULATE_OUTPUTS[0][1]
+    chunk = work / RUN / SIMULATE_OUTPUTS[0][1]
     chunk.write_bytes(DAMAGE[damage](chunk.read_bytes()))
-    figure = (work / "figures" / "fig2a.png").read_bytes()
+    figure = (work / RUN / "figures" / "fig2a.png").read_bytes()
 
     # The chunk is newer than the sweep: snakemake reruns the aggregate on it (not the simulation).
     result = run_snakemake("-c2", *CONFIG, "fig2a", cwd=work)
     text = result.stdout + result.stderr
     assert result.returncode != 0, "a damaged chunk was aggregated without error"
-    log = (work / "logs" / "fig2a" / "aggregate.log").read_text()
+    log = (work / RUN / "logs" / "fig2a" / "aggregate.log").read_text()
     assert str(SIMULATE_OUTPUTS[0][1]) in log and "TableError" in log, log
     assert "aggregate_fig2a" in text
     # The failed job's outputs are removed and the figure is not redrawn from garbage.
-    assert not (work / "results" / "fig2a" / "sweep.parquet").exists()
-    assert (work / "figures" / "fig2a.png").read_bytes() == figure
+    assert not (work / RUN / "results" / "fig2a" / "sweep.parquet").exists()
+    assert (work / RUN / "figures" / "fig2a.png").read_bytes() == figure
 
 
 def test_chunk_without_result_columns_is_refused(reference_run, tmp_path):
     """A readable parquet file that is not a sweep chunk (columns missing) is named too."""
     work = _damaged_copy(reference_run, tmp_path / "foreign")
-    chunk = work / SIMULATE_OUTPUTS[1][0]
+    chunk = work / RUN / SIMULATE_OUTPUTS[1][0]
     table = pq.read_table(chunk)
     pq.write_table(table.drop_columns(["cor", "n_collisions"]), chunk)
 
     result = run_snakemake("-c2", *CONFIG, "fig7a", cwd=work)
     assert result.returncode != 0, "a chunk without cor/n_collisions was aggregated"
-    log = (work / "logs" / "fig7" / "aggregate.log").read_text()
+    log = (work / RUN / "logs" / "fig7" / "aggregate.log").read_text()
     assert SIMULATE_OUTPUTS[1][0] in log and "cor" in log and "n_collisions" in log, log
 
 
@@ -191,3 +199,17 @@ def test_changes_rerun_only_what_depends_on_them(reference_run, tmp_path):
     script = work / "workflow" / "scripts" / "render_fig2a.py"
     script.write_text(script.read_text() + "\n# restyled\n")
     assert _planned_rules(work) == {"fig2a"}
+
+
+def test_deleted_tables_are_rebuilt_by_all(reference_run, tmp_path):
+    """A documented table no figure reads (the minima) is planned again by `all` once deleted."""
+    work = _damaged_copy(reference_run, tmp_path / "deleted")
+    for table in ("results/fig2a/minima.csv", "results/fig7/minima.csv"):
+        (work / RUN / table).unlink()
+    result = run_snakemake("-n", *CONFIG, "all", cwd=work)
+    assert result.returncode == 0, result.stdout + result.stderr
+    jobs = result.stdout.split("\nrule ")
+    for rule, table in (("aggregate_fig2a", "fig2a"), ("aggregate_fig7", "fig7")):
+        planned = [job for job in jobs if job.startswith(f"{rule}:")]
+        assert planned, f"{rule} not planned after deleting results/{table}/minima.csv"
+        assert f"Missing output files: results/{table}/minima.csv" in planned[0], planned[0]

@@ -53,7 +53,19 @@ BAD_CONFIGS = {
     ),
     "chain range reversed": (
         {"fig6": {"sweep": {"x_min": 5.0, "x_max": 1.0}}},
-        ["fig6.sweep.x_max = 1.0: must exceed fig6.sweep.x_min = 5.0"],
+        ["fig6.sweep.x_max = 1.0: must be greater than fig6.sweep.x_min = 5.0"],
+    ),
+    "section that is not a mapping": (
+        {"fig7": [0.1, 0.3]},
+        ["fig7 = [0.1, 0.3]: must be a mapping of keys to values"],
+    ),
+    "fractional integer": (
+        {"max_events": 2.5},
+        ["max_events = 2.5: must be an integer >= 1"],
+    ),
+    "grid too large for the DAG": (
+        {"fig2a": {"n_alpha": 10000000, "chunk_size": 2}},
+        ["fig2a.chunk_size = 2: makes 25000000 simulate jobs", "more than the bound of 2000"],
     ),
     "plastic DR below (1 - eta)/2": (
         {"fig4": {"b": {"drs": [0.1]}}},
@@ -91,12 +103,58 @@ def test_bad_config_on_the_command_line():
     assert "max_events = -5: must be an integer >= 1" in text, text
 
 
+def test_bad_nested_override_on_the_command_line():
+    # snakemake hands a nested --config value over as text: 'x' is no number, '0.5' is one.
+    result = run_snakemake("-n", "fig7a", "--config", "fig7={xis: [0.5, x]}")
+    text = result.stdout + result.stderr
+    assert result.returncode != 0
+    assert "fig7.xis[1] = 'x': must be a number >= 0 and <= 1000" in text, text
+    assert "Job stats" not in text
+
+
+def test_valid_overrides_reach_the_jobs_with_their_types(tmp_path):
+    """A whole-number float for an integer key and a nested override (handed over as text) pass
+    the check and reach the job as the numbers they name: one tiny simulate job runs."""
+    work = copy_workflow(tmp_path)
+    chunk = "results/fig2a/beta~0/chunk_0.parquet"
+    grid = "fig2a={n_alpha: 5, chunk_size: 4, betas: [0], refine_steps: 2.0}"
+    result = run_snakemake("-c1", chunk, "--config", "max_events=5e2", grid, cwd=work)
+    assert result.returncode == 0, result.stdout + result.stderr[-3000:]
+    config = json.loads(pq.read_schema(work / chunk).metadata[b"restitution"])["config"]
+    assert config["solver"]["max_events"] == 500 and config["grid"]["refine_steps"] == 2
+    assert config["grid"]["n_alpha"] == 5 and config["grid"]["alpha_min"] == 0.1
+
+
 def test_default_config_dry_run():
     # --forceall: list every job even when the figures are up to date (e.g. after make all).
     result = run_snakemake("-n", "--forceall", "all")
     assert result.returncode == 0, result.stdout + result.stderr
     for rule in ("simulate_fig2a", "aggregate_fig2a", *PANELS):
         assert f"rule {rule}:" in result.stdout, rule
+
+
+def test_small_run_keeps_to_its_folder(tmp_path):
+    """A run of config/small.yaml (two drawn panels, no simulation) writes under runs/small/
+    only; the paper's figures/ at the top stays byte for byte as it was."""
+    work = copy_workflow(tmp_path)
+    paper_figure = work / "figures" / "fig1.png"
+    paper_figure.parent.mkdir()
+    paper_figure.write_bytes(b"the paper's figure")
+    small = str(work / "config" / "small.yaml")
+    result = run_snakemake("-c1", "fig1", "fig6a", "--configfile", small, cwd=work)
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    assert sorted(p.name for p in (work / "figures").iterdir()) == ["fig1.png"]
+    assert paper_figure.read_bytes() == b"the paper's figure"
+    assert not (work / "logs").exists() and not (work / "results").exists()
+    run = work / "runs" / "small"
+    for name in ("fig1.png", "fig1.pdf", "fig6a.png", "fig6a.pdf"):
+        assert (run / "figures" / name).read_bytes()[:4] in (b"\x89PNG", b"%PDF"), name
+    assert (run / "logs" / "fig1" / "render.log").is_file()
+    assert (run / "src").resolve() == (REPO / "src").resolve()
+    # Its report: Snakemake reads the config files by their relative paths from the run folder.
+    report = run_snakemake("fig1", "fig6a", "--configfile", small, "--report", "r.html", cwd=work)
+    assert report.returncode == 0, report.stdout[-3000:] + report.stderr[-3000:]
+    assert (run / "r.html").stat().st_size > 0
 
 
 # One target per panel of the paper, named by the figure (Fig. 1-7).
@@ -123,8 +181,9 @@ PANELS = (
 )
 
 
-def test_lint_is_clean():
-    result = run_snakemake("--lint")
+@pytest.mark.parametrize("extra", [(), ("--config", "study=config/study-example.yaml")])
+def test_lint_is_clean(extra):
+    result = run_snakemake("--lint", *extra)  # with a study, its rules are linted too
     assert result.returncode == 0, result.stdout + result.stderr
 
 
@@ -142,9 +201,9 @@ def test_schema_documents_every_key():
                 assert {"minimum", "exclusiveMinimum"} & set(sub), f"{where}.{key}: no lower bound"
                 assert {"maximum", "exclusiveMaximum"} & set(sub), f"{where}.{key}: no upper bound"
             elif sub["type"] == "string":
-                assert "enum" in sub, f"{where}.{key}: no enum"
+                assert {"enum", "pattern"} & set(sub), f"{where}.{key}: no enum or pattern"
             elif sub["type"] == "array":
-                assert "minItems" in sub and "items" in sub, f"{where}.{key}"
+                assert {"minItems", "maxItems", "items"} <= set(sub), f"{where}.{key}"
 
     walk(schema, "config")
 

@@ -1,7 +1,6 @@
 # Shared helpers: configuration checks and the small functions rules use for inputs and params.
 # No rules here (snakemake --lint wants rules and functions in separate files).
 
-import difflib
 import math
 import mimetypes
 from pathlib import Path
@@ -18,177 +17,54 @@ SCHEMA = Path(workflow.basedir) / "workflow" / "schemas" / "config.schema.yaml"
 
 # ---------------------------------------------------------------------------------------------
 # Configuration: fail before any job runs, naming the key, the value and the allowed range.
+# The checks are the package's own (restitution.config_check, plain Python); they also normalise
+# the values (whole-number floats of integer keys become integers, numbers that --config hands
+# over as text become numbers, defaults are filled in), so the jobs get what was checked.
 # ---------------------------------------------------------------------------------------------
-def _allowed(subschema):
-    """Plain-words description of what a schema node accepts, e.g. 'a number > 0 and <= 1e+08'."""
-    if "enum" in subschema:
-        return "one of " + ", ".join(repr(v) for v in subschema["enum"])
-    kind = subschema.get("type", "value")
-    words = {"number": "a number", "integer": "an integer", "string": "a string"}
-    text = words.get(
-        kind, f"a {kind}" if isinstance(kind, str) else f"one of types {kind}"
-    )
-    bounds = []
-    for key, op in (
-        ("minimum", ">="),
-        ("exclusiveMinimum", ">"),
-        ("maximum", "<="),
-        ("exclusiveMaximum", "<"),
-    ):
-        if key in subschema:
-            bounds.append(f"{op} {subschema[key]:g}")
-    if bounds:
-        text += " " + " and ".join(bounds)
-    if kind == "array":
-        items = subschema.get("items", {})
-        text += f" of {_allowed(items)}" if items else ""
-        if "minItems" in subschema:
-            text += f", at least {subschema['minItems']} item(s)"
-        if subschema.get("uniqueItems"):
-            text += ", no duplicates"
-    return text
-
-
-def _key(path):
-    text = ""
-    for part in path:
-        text += (
-            f"[{part}]"
-            if isinstance(part, int)
-            else (f".{part}" if text else str(part))
-        )
-    return text or "<top level>"
-
-
-def _describe(error):
-    """One line per jsonschema error: key = value: must be <allowed range>."""
-    key = _key(error.absolute_path)
-    if error.validator == "additionalProperties":
-        known = list(error.schema.get("properties", {}))
-        lines = []
-        for name in sorted(set(error.instance) - set(known)):
-            where = f"{key}.{name}" if error.absolute_path else name
-            close = difflib.get_close_matches(name, known, n=1)
-            hint = f" (did you mean {close[0]!r}?)" if close else ""
-            lines.append(
-                f"{where} = {error.instance[name]!r}: unknown key{hint}; "
-                f"allowed keys here: {', '.join(known)}"
-            )
-        return lines
-    if error.validator == "required":
-        return [f"{key}: {error.message}"]
-    return [
-        f"{key} = {error.instance!r}: must be {_allowed(error.schema)} ({error.message})"
-    ]
-
-
 def check_config(config, schema_path=SCHEMA):
-    """Validate ``config`` against the schema; raise WorkflowError listing every problem."""
-    import jsonschema
+    """Check ``config`` in place; raise WorkflowError listing every problem."""
+    from restitution.config_check import ConfigError
+    from restitution.config_check import check_config as check
 
     schema = yaml.safe_load(Path(schema_path).read_text())
-    validator = jsonschema.Draft202012Validator(schema)
-    problems = []
-    for error in sorted(
-        validator.iter_errors(config), key=lambda e: list(map(str, e.path))
-    ):
-        problems.extend(_describe(error))
-    fig2a = config.get("fig2a", {})
-    lo, hi = fig2a.get("alpha_min"), fig2a.get("alpha_max")
-    if isinstance(lo, (int, float)) and isinstance(hi, (int, float)) and not lo < hi:
-        problems.append(
-            f"fig2a.alpha_max = {hi!r}: must be greater than fig2a.alpha_min = {lo!r}"
-        )
-    betas = fig2a.get("betas", [])
-    numeric = [
-        b for b in betas if isinstance(b, (int, float)) and not isinstance(b, bool)
-    ]
-    method = config.get("method", "auto")
-    if method == "impulsive" and any(b > 0 for b in numeric):
-        problems.append(
-            f"method = 'impulsive' needs a rigid wall, but fig2a.betas = {betas!r} has beta > 0: "
-            "use 'auto' (or 'piecewise' with every beta > 0)"
-        )
-    if method == "piecewise" and any(b == 0 for b in numeric):
-        problems.append(
-            f"method = 'piecewise' needs beta > 0, but fig2a.betas = {betas!r} contains 0: "
-            "use 'auto' (or 'impulsive' with betas [0])"
-        )
-    fig4 = config.get("fig4", {})
-    for name, panel in sorted(fig4.items()):
-        if name == "sweep" or not isinstance(panel, dict):
-            continue
-        etas = panel.get("etas", [panel.get("eta")])
-        drs = panel.get("drs", [panel.get("dr")])
-        for eta in etas:
-            for dr in drs:
-                if isinstance(eta, (int, float)) and isinstance(dr, (int, float)):
-                    if dr < (1 - eta) / 2:
-                        problems.append(
-                            f"fig4.{name}: DR = {dr!r} with eta = {eta!r}: DR must be >= "
-                            f"(1 - eta)/2 = {(1 - eta) / 2:g} (the residual dent would be negative)"
-                        )
-    for key in ("sweep",):
-        grid = fig4.get(key, {})
-        lo, hi = grid.get("alpha_min"), grid.get("alpha_max")
-        if (
-            isinstance(lo, (int, float))
-            and isinstance(hi, (int, float))
-            and not lo < hi
-        ):
-            problems.append(
-                f"fig4.{key}.alpha_max = {hi!r}: must exceed alpha_min = {lo!r}"
-            )
-    fig5 = config.get("fig5", {})
-    spring, grid5 = fig5.get("spring", {}), fig5.get("b", {})
     try:
-        ratio = spring["ks_over_k1"] / spring["beta"]
-        cap = math.tan(math.radians(spring["theta0_deg"])) ** 2
-        if not ratio < cap:
-            problems.append(
-                f"fig5.spring: ks_over_k1/beta = {ratio:g} must be < tan(theta0)**2 = {cap:g} "
-                "(the scissor's rest slope must stay below the cap k2)"
-            )
-    except (KeyError, TypeError, ZeroDivisionError):
-        pass
-    lo, hi = grid5.get("alpha_min"), grid5.get("alpha_max")
-    if isinstance(lo, (int, float)) and isinstance(hi, (int, float)) and not lo < hi:
-        problems.append(f"fig5.b.alpha_max = {hi!r}: must exceed alpha_min = {lo!r}")
-    fig7 = config.get("fig7", {})
-    lo, hi = fig7.get("alpha_min"), fig7.get("alpha_max")
-    if isinstance(lo, (int, float)) and isinstance(hi, (int, float)) and not lo < hi:
-        problems.append(f"fig7.alpha_max = {hi!r}: must exceed fig7.alpha_min = {lo!r}")
-    for where, lo_key, hi_key in (
-        ("fig3.sweep", "beta_min", "beta_max"),
-        ("fig6.sweep", "x_min", "x_max"),
-    ):
-        section = config
-        for part in where.split("."):
-            section = section.get(part, {}) if isinstance(section, dict) else {}
-        lo, hi = section.get(lo_key), section.get(hi_key)
-        if (
-            isinstance(lo, (int, float))
-            and isinstance(hi, (int, float))
-            and not lo < hi
-        ):
-            problems.append(
-                f"{where}.{hi_key} = {hi!r}: must exceed {where}.{lo_key} = {lo!r}"
-            )
-    bracket = config.get("fig3", {}).get("compression", {}).get("marginal_bracket")
-    if isinstance(bracket, list) and len(bracket) == 2 and not bracket[0] < bracket[1]:
-        problems.append(
-            f"fig3.compression.marginal_bracket = {bracket!r}: must be [low, high] with low < high"
-        )
-    if problems:
+        checked = check(config, schema)
+    except ConfigError as error:
         raise WorkflowError(
             "Invalid configuration (config/config.yaml plus any --configfile/--config):\n  "
-            + "\n  ".join(problems)
-        )
+            + "\n  ".join(error.problems)
+        ) from None
+    config.clear()
+    config.update(checked)
 
 
 check_config(config)
-# snakemake's own validation fills in the schema's defaults for keys the config leaves out.
+# snakemake's own validation (jsonschema) as a second opinion on the normalised configuration.
 validate(config, schema="../schemas/config.schema.yaml")
+
+
+# ---------------------------------------------------------------------------------------------
+# Runs keep to their own folders: the paper's run (run: paper) writes results/, figures/ and
+# logs/ at the top of the repository; any other run writes the same tree under runs/<run>/.
+# The Snakefile makes that folder the working directory (workdir:); the rules' inputs from the
+# repository (src/restitution/..., workflow/scripts/...) and the config files the report reads
+# are reached there through the links runs/<run>/{src,workflow,config} -> ../../{same}.
+# `snakemake --directory DIR` (e.g. make bench-smoke) overrides both.
+# ---------------------------------------------------------------------------------------------
+RUN = config["run"]
+# A study file named on the command line is relative to where snakemake was started: resolved
+# before the working directory changes (workflow/rules/study.smk reads it).
+STUDY_FILE = Path(config["study"]).absolute() if config["study"] else None
+RUN_DIR = None
+if RUN != "paper" and workflow.overwrite_workdir is None:
+    RUN_DIR = Path(workflow.basedir) / "runs" / RUN
+    RUN_DIR.mkdir(parents=True, exist_ok=True)
+    for _name in ("src", "workflow", "config"):
+        _link = RUN_DIR / _name
+        if not _link.exists():
+            if _link.is_symlink():  # a dangling link left by a moved checkout
+                _link.unlink()
+            _link.symlink_to(Path("..") / ".." / _name, target_is_directory=True)
 
 
 wildcard_constraints:
@@ -199,6 +75,27 @@ wildcard_constraints:
 # ---------------------------------------------------------------------------------------------
 # Helpers for rules
 # ---------------------------------------------------------------------------------------------
+TABLES = Path(workflow.basedir) / "workflow" / "tables.yaml"
+
+
+def result_tables():
+    """The result tables of target `all` (workflow/tables.yaml; the ones without {wildcards}).
+
+    `all` requests each, so a deleted table is rebuilt (docs/tables.md is generated from the
+    same list, and tests/test_tables_list.py holds the list against the workflow's outputs).
+    """
+    entries = yaml.safe_load(TABLES.read_text())["tables"]
+    return [e["path"] for e in entries if "{" not in e["path"]]
+
+
+def no_study_given(wildcards):
+    """Input of target `study` when no study file is named: stops with how to name one."""
+    raise WorkflowError(
+        "target `study` needs a study file: snakemake -c2 study --config study=my_study.yaml "
+        "(docs/study.md; config/study-example.yaml is an example)"
+    )
+
+
 def beta_label(beta):
     """Path label of a beta value: short ('0', '0.001', '1e-05') yet exact when read back."""
     beta = float(beta)
@@ -246,8 +143,10 @@ def fig2a_grid():
 
 def fig2a_n_chunks():
     """Chunk k holds grid indices k*chunk_size .. (k+1)*chunk_size (shared boundary point)."""
+    from restitution.config_check import n_chunks
+
     grid = config["fig2a"]
-    return math.ceil((grid["n_alpha"] - 1) / grid["chunk_size"])
+    return n_chunks(grid["n_alpha"], grid["chunk_size"])
 
 
 def fig2a_chunk_tables():

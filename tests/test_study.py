@@ -1,0 +1,244 @@
+"""A user's own study (restitution.study and the workflow's `study` target).
+
+The checks name the key, the value and what is allowed, before any work; the refinement finds
+cusps and smooth minima (against closed forms); the target runs a small study end to end in a
+scratch copy of the workflow, into the report.
+"""
+
+import json
+import math
+
+import numpy as np
+import pandas as pd
+import pyarrow.parquet as pq
+import pytest
+import yaml
+
+import restitution
+import restitution.study as study_module
+from conftest import REPO, copy_workflow, run_snakemake
+from restitution.study import STUDY_SCHEMA, StudyError, check_study, load_study, solve_curve
+
+PAPER = {
+    "name": "demo",
+    "scene": {"beta": 0.0},
+    "axes": [{"param": "alpha", "logspace": {"start": 0.5, "stop": 1.5, "num": 9}}],
+    "refine_steps": 40,
+}
+CHAIN = {
+    "name": "chain",
+    "scene": {"masses": [1.0, 0.5, 2.0], "springs": [0.3, 1.2], "dashpots": [0.0, 0.05]},
+    "axes": [
+        {"param": "masses[2]", "linspace": {"start": 0.5, "stop": 3.0, "num": 6}},
+        {"param": "k_contact", "values": [10.0, 1e6]},
+    ],
+}
+
+
+def problems(data, **patch) -> list[str]:
+    with pytest.raises(StudyError) as info:
+        check_study({**data, **patch})
+    return info.value.problems
+
+
+def test_schema_file_is_the_package_schema():
+    text = (REPO / "workflow" / "schemas" / "study.schema.yaml").read_text()
+    assert yaml.safe_load(text) == STUDY_SCHEMA
+
+
+def test_example_study_is_valid():
+    study = load_study(REPO / "config" / "study-example.yaml")
+    assert study.axes[0].param == "alpha" and study.axes[0].log
+    assert len(study.curves) == 4 and study.n_chunks == 2
+
+
+def test_defaults_and_grid():
+    study = check_study(PAPER)
+    assert study.outputs == ("cor", "n_collisions") and study.method == "auto"
+    np.testing.assert_allclose(study.axes[0].values, np.geomspace(0.5, 1.5, 9))
+    assert math.isnan(study.curves[0]) and study.n_chunks == 1
+
+
+@pytest.mark.parametrize(
+    "patch, expected",
+    [
+        ({"nmae": "x"}, "nmae = 'x': unknown key (did you mean 'name'?)"),
+        ({"name": "a/b"}, "name = 'a/b': must be a text matching"),
+        ({"outputs": ["cor", "energy"]}, "outputs[1] = 'energy': must be one of 'cor'"),
+        ({"refine_steps": 2.5}, "refine_steps = 2.5: must be an integer >= 0 and <= 60"),
+        ({"scene": [1, 2]}, "scene = [1, 2]: must be a mapping of keys to values"),
+        (
+            {"scene": {"alpha": -1.0}, "axes": [{"param": "beta", "values": [0.0, 0.1]}]},
+            "scene.alpha = -1.0: alpha must be in (0, 1e8]",
+        ),
+        ({"scene": {"beta": 0.0, "n_masses": 1}}, "scene.n_masses = 1: must be an integer >= 2"),
+        ({"axes": []}, "axes = []: must be a list of a mapping of keys to values"),
+        (
+            {"axes": [{"param": "gamma", "values": [1.0, 2.0]}]},
+            "axes[0].param = 'gamma': must be a text matching",
+        ),
+        (
+            {"axes": [{"param": "alpha", "values": [1.0, 2.0],
+                       "linspace": {"start": 1, "stop": 2, "num": 3}}]},
+            "axes[0]: give exactly one of values, linspace, logspace",
+        ),
+        (
+            {"axes": [{"param": "alpha", "logspace": {"start": 0.0, "stop": 1.0, "num": 5}}]},
+            "axes[0].logspace.start = 0.0: must be > 0 (a log axis)",
+        ),
+        (
+            {"axes": [{"param": "alpha", "linspace": {"start": 2.0, "stop": 1.0, "num": 5}}]},
+            "axes[0].linspace.stop = 1.0: must be greater than start = 2.0",
+        ),
+        (
+            {"axes": [{"param": "xi", "values": [0.0, 2000.0]}]},
+            "axis xi = 2000.0: xi must be in [0, 1e3]",
+        ),
+        ({"scene": {"alpha": 1.0, "beta": 0.0}}, "axes: param = 'alpha' is also fixed in scene"),
+        (
+            {"axes": [{"param": "alpha", "logspace": {"start": 0.1, "stop": 1, "num": 100000}}],
+             "chunk_size": 2},
+            "chunk_size = 2: makes 50000 jobs",
+        ),
+    ],
+)  # fmt: skip
+def test_bad_study_is_named(patch, expected):
+    found = problems(PAPER, **patch)
+    assert any(p.startswith(expected) for p in found), found
+
+
+def test_every_problem_at_once_and_missing_keys():
+    found = problems({"axes": [{"values": [1.0]}], "colour": "red"})
+    assert "name: required key missing" in found
+    assert "axes[0].param: required key missing" in found
+    assert any(p.startswith("colour = 'red': unknown key") for p in found), found
+
+
+def test_bad_yaml_file(tmp_path):
+    path = tmp_path / "broken.yaml"
+    path.write_text("name: [unclosed\n")
+    with pytest.raises(StudyError, match=r"study file .*broken.yaml:\n  not valid YAML"):
+        load_study(path)
+    with pytest.raises(StudyError, match="cannot read it"):
+        load_study(tmp_path / "missing.yaml")
+
+
+def test_general_chain_checks():
+    """Lengths, element indices and element ranges, checked without solving anything."""
+    study = check_study(CHAIN)
+    assert study.general and len(study.curves) == 2
+    table = study_module.scene_table(study, np.array([0.5, 3.0]), 10.0)
+    assert table["masses"].tolist() == [[1.0, 0.5, 0.5], [1.0, 0.5, 3.0]]
+    assert table["springs"].tolist() == [[0.3, 1.2]] * 2 and (table["k_contact"] == 10.0).all()
+    assert table["masses[2]"].tolist() == [0.5, 3.0]
+
+    axes = [{"param": "masses[3]", "values": [1.0, 2.0]}]
+    assert any("index must be < 3" in p for p in problems(CHAIN, axes=axes))
+    scene = {**CHAIN["scene"], "springs": [0.3]}
+    assert any(p.startswith("scene.springs = [0.3]: must have 2 items") for p in problems(
+        CHAIN, scene=scene))  # fmt: skip
+    axes = [{"param": "dashpots[0]", "values": [0.0, -0.1]}]
+    assert "axis dashpots[0] = -0.1: dashpots must be >= 0" in problems(CHAIN, axes=axes)
+    axes = [{"param": "alpha", "values": [1.0, 2.0]}]
+    assert any("alpha is a parameter of the paper's scene" in p for p in problems(CHAIN, axes=axes))
+
+
+def test_general_chain_rows_are_the_scenes_they_name():
+    """Element addressing: each row of a general-chain study is the chain restitution.solve gets
+    with masses[2] and k_contact set to the row's axis values."""
+    study = check_study({**CHAIN, "refine_steps": 3})
+    for curve in study.curves:
+        table = solve_curve(study, curve)
+        assert (table["status"] == "ok").all() and len(table) > 6
+        for _, row in table.iloc[::3].iterrows():
+            masses = [1.0, 0.5, row["masses[2]"]]
+            alone = restitution.solve(
+                masses=masses, springs=[0.3, 1.2], dashpots=[0.0, 0.05], k_contact=curve
+            )
+            assert row["masses"] == masses and row["k_contact"] == curve
+            assert row["cor"] == alone.cor and row["n_collisions"] == alone.n_collisions
+
+
+def test_refinement_finds_count_steps_and_smooth_minima():
+    """_refine against closed forms: a step at x = 2 and a smooth minimum at x = 1.234."""
+
+    def evaluate(x):
+        x = np.asarray(x, dtype=float)
+        return pd.DataFrame(
+            {"x": x, "n_collisions": np.where(x > 2.0, 2, 1), "cor": (np.log(x / 1.234)) ** 2,
+             "status": "ok"}
+        )  # fmt: skip
+
+    grid = evaluate(np.geomspace(0.5, 4.0, 12))
+    new = study_module._refine(grid, evaluate, "x", 40, log=True)
+    steps = new[new["n_collisions"] == 2]["x"].min(), new[new["n_collisions"] == 1]["x"].max()
+    assert steps[0] / 2.0 - 1 < 1e-10 and 1 - steps[1] / 2.0 < 1e-10
+    best = new.loc[new["cor"].idxmin(), "x"]
+    assert abs(best / 1.234 - 1) < 1e-9  # the grid alone is ~10% off
+
+
+def test_first_rigid_wall_cusp_is_resolved():
+    """Paper Eqs. 10-11: the first COR minimum at a rigid wall, alpha* = 0.697123,
+    e = 0.178465; the 9-point grid alone misses its depth by 0.028."""
+    table = solve_curve(check_study(PAPER), math.nan)
+    assert (table["status"] == "ok").all() and table["refined"].any()
+    best = table.loc[table["cor"].idxmin()]
+    assert best["alpha"] == pytest.approx(0.697123, abs=1e-6)
+    assert best["cor"] == pytest.approx(0.178465, abs=2e-6)
+    assert table.loc[~table["refined"], "cor"].min() > best["cor"] + 0.02
+
+
+# --- the workflow's study target ------------------------------------------------------------
+
+TINY = {
+    "name": "tiny",
+    "scene": {"beta": 0.0},
+    "axes": [
+        {"param": "alpha", "logspace": {"start": 0.5, "stop": 3.0, "num": 11}},
+        {"param": "xi", "values": [0.0, 0.3]},
+    ],
+    "refine_steps": 30,
+    "chunk_size": 5,
+}
+
+
+@pytest.mark.pipeline
+def test_study_target_end_to_end(tmp_path):
+    work = copy_workflow(tmp_path)
+    (work / "tiny.yaml").write_text(yaml.safe_dump(TINY))
+    result = run_snakemake("-c2", "study", "--config", "study=tiny.yaml", cwd=work, timeout=900)
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-5000:]
+    out = work / "results" / "studies" / "tiny"
+    chunks = sorted(out.glob("curve~*/chunk_*.parquet"))
+    assert len(chunks) == 2 * 2  # two curves, ceil((11 - 1) / 5) = 2 chunks each
+    meta = json.loads(pq.read_schema(out / "sweep.parquet").metadata[b"restitution"])
+    assert meta["config"]["study"]["name"] == "tiny" and meta["git_commit"]
+    sweep = pq.read_table(out / "sweep.parquet").to_pandas()
+    assert set(sweep["curve"]) == {0.0, 0.3} and (sweep["status"] == "ok").all()
+    minima = pd.read_csv(out / "minima.csv")
+    first = minima[(minima["curve"] == 0.0) & (minima["minimum"] == 1)].iloc[0]
+    assert first["alpha"] == pytest.approx(0.697123, abs=1e-6)  # paper Eq. 10
+    for name in ("cor", "n_collisions"):
+        png = work / "figures" / "studies" / "tiny" / f"{name}.png"
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+    report = run_snakemake(
+        "study", "--config", "study=tiny.yaml", "--report", "report.html", cwd=work
+    )
+    assert report.returncode == 0, report.stderr[-3000:]
+    assert "Studies" in (work / "report.html").read_text()
+
+
+def test_study_target_refuses_bad_files_before_any_job(tmp_path):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(yaml.safe_dump({**TINY, "axes": [{"param": "alpha", "values": [0.5, -1.0]}]}))
+    result = run_snakemake("-n", "study", "--config", f"study={bad}")
+    text = result.stdout + result.stderr
+    assert result.returncode != 0
+    assert "axis alpha = -1.0: alpha must be in (0, 1e8]" in text, text
+    assert "Job stats" not in text
+
+    result = run_snakemake("-n", "study")
+    text = result.stdout + result.stderr
+    assert result.returncode != 0
+    assert "target `study` needs a study file: snakemake -c2 study --config study=" in text

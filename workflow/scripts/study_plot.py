@@ -1,0 +1,73 @@
+"""Draw a user study's standard plots: each output against the first axis, one curve per value
+of the second axis. Only rows with status ok are drawn (the others are counted in the log)."""
+
+import math
+
+SYMBOLS = {"alpha": r"\alpha", "beta": r"\beta", "xi": r"\xi", "n_masses": "N"}
+
+
+def name(param: str) -> str:
+    """Axis text of a parameter: the paper's symbol, else its name (``masses[2]``)."""
+    return f"${SYMBOLS[param]}$" if param in SYMBOLS else param
+
+
+def label(param: str, value: float) -> str:
+    """Legend text of a curve, e.g. ``xi = 0.3`` or ``masses[2] = 1.5``."""
+    if param == "k_contact" and math.isinf(value):
+        return "rigid wall"
+    if param in SYMBOLS:
+        return rf"${SYMBOLS[param]} = {value:g}$"
+    return f"{param} = {value:g}"
+
+
+def draw(table, study, output: str, logger):
+    from restitution import plotting
+    from restitution.study import OUTPUTS
+
+    first = study.axes[0]
+    fig = plotting.new_figure("single", aspect=0.72)
+    ax = fig.add_subplot()
+    for index, part in table.groupby("curve_index"):
+        good = part[part["status"] == "ok"].sort_values(first.param)
+        dropped = len(part) - len(good)
+        if dropped:
+            logger.warning("curve %d: %d rows not ok, not drawn", index, dropped)
+        curve = float(part["curve"].iloc[0])
+        text = None if math.isnan(curve) else label(study.axes[1].param, curve)
+        ax.plot(good[first.param], good[output], lw=0.9, label=text)
+    if first.log:
+        plotting.log_axis(ax, "x")
+    ax.set_xlabel(name(first.param))
+    ax.set_ylabel(OUTPUTS[output])
+    if output == "cor":
+        ax.set_ylim(min(0.0, float(table["cor"].min())), 1.02)
+    if len(study.axes) > 1:
+        ax.legend(loc="best")
+    ax.set_title(study.name, fontsize="medium")
+    return fig
+
+
+def main(sweep_path, pngs, pdfs, study_mapping, logger):
+    from restitution import plotting
+    from restitution.io import read_table
+    from restitution.study import check_study
+
+    study = check_study(study_mapping)
+    table = read_table(sweep_path)
+    for output, png, pdf in zip(study.outputs, pngs, pdfs, strict=True):
+        fig = draw(table, study, output, logger)
+        plotting.save_outputs(fig, png, pdf, logger)
+
+
+if __name__ == "__main__":
+    from _common import Timer, setup
+
+    log = setup(snakemake, numba=False)  # noqa: F821 (injected by Snakemake)
+    with Timer(log, "study plot"):
+        main(
+            snakemake.input.sweep,  # noqa: F821
+            list(snakemake.output.png),  # noqa: F821
+            list(snakemake.output.pdf),  # noqa: F821
+            snakemake.params.study,  # noqa: F821
+            log,
+        )
