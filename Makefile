@@ -101,10 +101,12 @@ notebooks-lock: env
 
 # JupyterLab on notebooks/ (jupytext opens the .py notebooks as notebooks). MPLBACKEND is unset
 # so that figures draw inline. LAB_ARGS adds options, e.g. LAB_ARGS="--no-browser --port 8899".
+# As root (containers, CI) Jupyter refuses to start without --allow-root.
 LAB_ARGS ?=
+LAB_ROOT := $(if $(filter 0,$(shell id -u)),--allow-root)
 lab: notebooks-env
 	env -u MPLBACKEND RESTITUTION_RESULTS=$${RESTITUTION_RESULTS:-$(CURDIR)/results} \
-		$(NB_VENV)/bin/jupyter lab --notebook-dir=notebooks $(LAB_ARGS)
+		$(NB_VENV)/bin/jupyter lab --notebook-dir=notebooks $(LAB_ROOT) $(LAB_ARGS)
 
 # Headless check of `make lab`: starts it with --no-browser on a free local port, waits for the
 # server, fetches the notebook's page and the contents API over HTTP, and stops the server.
