@@ -156,8 +156,9 @@ bench-smoke: env
 
 # The documentation: docs/*.md (readable as sources), API reference generated from the
 # docstrings by mkdocstrings; --strict turns every warning (broken link, unknown object) into an error.
+# NO_MKDOCS_2_WARNING silences mkdocs-material's banner about its successor (not a build warning).
 docs: env
-	$(BIN)/mkdocs build --strict --site-dir site
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --site-dir site
 
 # The wheel as a user gets it: built from the sources, installed (not editable) into a fresh venv
 # without the extras, then the CLI, solve_many and the plotting style are run from there.
