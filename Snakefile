@@ -69,3 +69,4 @@ rule all:
         rules.fig7d.output.png,
         rules.fig7d.output.pdf,
         rules.reproduction.output.table,
+        rules.reproduction_page.output.page,

@@ -8,7 +8,8 @@ missing and running as root), opens report.html and takes:
   page's first line is not visible there (a long front page used to overflow above the pane's
   top, out of the scrollbar's reach: see workflow/report/style.css);
 - ``figure-1.png``, ``figure-2.png``: two figure pages, reached as a reader does: a category in
-  the menu, a figure's subcategory, then the "view" (eye) button of its first PNG result.
+  the menu, a figure's subcategory, then the "view" (eye) button of its first PNG result;
+- ``reproduction.png``: the reproduction table's own page (category Reproduction).
 
 Usage: python .ci/report_shots.py REPORT.html OUTDIR. Look at the PNGs: they are the check.
 """
@@ -38,7 +39,8 @@ FLAGS = [
     "--disable-dev-shm-usage",
     "--window-size=1400,1000",
 ]
-FIGURE_CATEGORIES = ("Sect. 2", "Sect. 3.4")  # prefixes of the categories of the two shots
+# The two figure pages: (category, subcategory) by the start of their menu labels.
+FIGURES = (("Sect. 2", "Fig. 2"), ("Sect. 3.4", "Fig. 7"))
 TIMEOUT_S = 60
 
 
@@ -70,7 +72,7 @@ def click_text(driver, text: str, prefix: bool = False):
     from selenium.webdriver.common.by import By
 
     def find():
-        for link in driver.find_elements(By.CSS_SELECTOR, "nav a, a"):
+        for link in driver.find_elements(By.CSS_SELECTOR, "a"):
             label = link.text.strip()
             if label and (label.startswith(text) if prefix else label == text):
                 return link
@@ -81,6 +83,18 @@ def click_text(driver, text: str, prefix: bool = False):
     link.click()
     time.sleep(0.5)
     return label
+
+
+def figure_rows(driver):
+    """Rows of the results list that show a figure (a view button; tables only download)."""
+    from selenium.webdriver.common.by import By
+
+    rows = []
+    for row in driver.find_elements(By.CSS_SELECTOR, "tr"):
+        if "table" in row.text or not row.find_elements(By.CSS_SELECTOR, 'a[href="#"]'):
+            continue
+        rows.append(row)
+    return rows
 
 
 def content_pane(driver):
@@ -111,7 +125,7 @@ def main(argv: list[str]) -> int:
     driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
     try:
         driver.get(report.as_uri())
-        wait_for(driver, lambda: driver.find_elements(By.CSS_SELECTOR, "nav a"), "the menu")
+        wait_for(driver, lambda: driver.find_elements(By.CSS_SELECTOR, "a"), "the menu")
         pane = wait_for(driver, lambda: content_pane(driver), "the content pane")
 
         # Front page: scroll its pane to the top; its first paragraph must be inside the window.
@@ -129,27 +143,42 @@ def main(argv: list[str]) -> int:
         if top < 0:
             sys.exit(f"report_shots: the front page's first line is above the window ({top} px)")
 
-        for i, prefix in enumerate(FIGURE_CATEGORIES, start=1):
-            click_text(driver, "Results")  # the menu's top level (no-op if already there)
-            category = click_text(driver, prefix, prefix=True)
-            subcategory = click_text(driver, "Fig.", prefix=True)
-            eye = wait_for(
-                driver,
-                lambda: [
-                    b
-                    for b in driver.find_elements(By.CSS_SELECTOR, "nav a")
-                    if b.find_elements(By.CSS_SELECTOR, "svg") and not b.text.strip()
-                ],
-                "a result's view button",
-            )[0]
-            eye.click()
+        for i, (category_prefix, subcategory_prefix) in enumerate(FIGURES, start=1):
+            category = click_text(driver, category_prefix, prefix=True)
+            # A category with one subcategory lists its results at once; others list figures.
+            time.sleep(1.0)
+            if figure_rows(driver):
+                subcategory = "(its only subcategory)"
+            else:
+                subcategory = click_text(driver, subcategory_prefix, prefix=True)
+            row = wait_for(driver, lambda: figure_rows(driver), "a figure's row in the results")[0]
+            label = " ".join(row.text.split())
+            row.find_elements(By.CSS_SELECTOR, 'a[href="#"]')[0].click()  # the eye: view it
             wait_for(driver, lambda: driver.find_elements(By.CSS_SELECTOR, "img"), "the figure")
             time.sleep(1.0)
             path = outdir / f"figure-{i}.png"
             driver.save_screenshot(str(path))
-            print(f"{path}: {category} > {subcategory}")
+            print(f"{path}: {category} > {subcategory} > {label}")
             driver.get(report.as_uri())  # back to the start for the next one
-            wait_for(driver, lambda: driver.find_elements(By.CSS_SELECTOR, "nav a"), "the menu")
+            wait_for(driver, lambda: driver.find_elements(By.CSS_SELECTOR, "a"), "the menu")
+
+        # The reproduction table's own page (an HTML result, shown in the content pane).
+        click_text(driver, "Reproduction")
+        # Its two results (CSV, page) differ in the label "quantity": the report shows a toggle.
+        toggle = wait_for(
+            driver,
+            lambda: driver.find_elements(By.XPATH, "//label[contains(., 'as a page')]"),
+            "the toggle to the reproduction page",
+        )[0]
+        toggle.click()
+        time.sleep(0.5)
+        row = wait_for(driver, lambda: figure_rows(driver), "the reproduction page's row")[0]
+        row.find_elements(By.CSS_SELECTOR, 'a[href="#"]')[0].click()
+        wait_for(driver, lambda: driver.find_elements(By.CSS_SELECTOR, "iframe"), "the page")
+        time.sleep(1.5)
+        path = outdir / "reproduction.png"
+        driver.save_screenshot(str(path))
+        print(f"{path}: Reproduction > {' '.join(toggle.text.split())}")
         return 0
     finally:
         driver.quit()
