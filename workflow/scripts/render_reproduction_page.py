@@ -21,7 +21,7 @@ th { background: #f1f5f9; position: sticky; top: 0; }
 td.num { font-variant-numeric: tabular-nums; white-space: nowrap; }
 td.quantity { min-width: 12em; }
 td.note { min-width: 16em; }
-td.source { color: #475569; }
+td.source { color: #475569; overflow-wrap: anywhere; min-width: 10em; }
 td.agrees { color: #047857; font-weight: 600; }
 td.differs { color: #b91c1c; font-weight: 600; }
 td.missing { color: #92400e; font-weight: 600; }
