@@ -7,6 +7,7 @@ that snakemake is *not* there, and runs from that environment:
 
 - ``restitution --version`` (the installed version must equal pyproject.toml's),
 - ``restitution cor --alpha 0.7 --json`` (valid JSON with a COR in (0, 1)),
+- ``restitution batch scenes.csv -o out.parquet`` (a parquet table is written),
 - ``solve_many`` on rigid-wall scenes below alpha*_1, against the closed form (1 - a)/(1 + a),
 - ``restitution.plotting.use_style()`` (the installed style file is found and applied).
 
@@ -74,7 +75,8 @@ def find_uv() -> str:
 
 
 def run(cmd: list[str], **kwargs) -> subprocess.CompletedProcess:
-    print("$", " ".join(str(c) for c in cmd), flush=True)
+    shown = ["<probe script>" if "\n" in str(c) else str(c) for c in cmd]
+    print("$", " ".join(shown), flush=True)
     result = subprocess.run(cmd, capture_output=True, text=True, **kwargs)
     if result.stdout.strip():
         print(result.stdout.rstrip())
@@ -177,6 +179,15 @@ def main(argv: list[str] | None = None) -> int:
         record = json.loads(out)
         if not 0.0 < float(record["cor"]) < 1.0:
             sys.exit(f"wheel_check: COR out of (0, 1): {record}")
+
+        # A table in, a parquet table out (pyarrow, provenance) through the installed CLI.
+        (work / "scenes.csv").write_text("alpha,beta\n0.5,0.0\n2.0,0.01\n")
+        check(
+            run([str(bindir / "restitution"), "batch", "scenes.csv", "-o", "out.parquet"], **kw),
+            "restitution batch scenes.csv -o out.parquet",
+        )
+        if not (work / "out.parquet").is_file():
+            sys.exit("wheel_check: restitution batch wrote no out.parquet")
 
         result = json.loads(
             check(run([str(python), "-c", PROBE], **kw), "solve_many and use_style")
