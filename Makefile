@@ -16,12 +16,14 @@ export UV_COMPILE_BYTECODE := 1
 unexport PYTHONDONTWRITEBYTECODE
 
 .PHONY: all test env lock report notebooks benchmarks bench-report bench-smoke lint clean distclean help
-.PHONY: cluster-env cluster-lock slurm-test
+.PHONY: cluster-env cluster-lock slurm-test notebooks-env notebooks-lock lab lab-check docs
+.PHONY: report-shots wheel-check cff-check
 
 help:
 	@echo "make all        build .venv from requirements.lock, then snakemake -c$(CORES) all"
 	@echo "make test       build .venv, then run the whole test suite"
-	@echo "make lock       re-resolve requirements.lock from pyproject.toml"
+	@echo "make lock       re-resolve requirements.lock, then the cluster and notebooks locks"
+	@echo "make docs       build the documentation (MkDocs, warnings are errors) into site/"
 	@echo "make report     build report.html: figures, tables, captions (runs 'all' first)"
 	@echo "make notebooks  execute notebooks/*.py into notebooks/executed/ (after 'make all')"
 	@echo "make benchmarks work-precision study (results/ and figures/benchmarks/, < 10 min)"
@@ -32,6 +34,10 @@ help:
 	@echo "make cluster-env    build .venv-cluster (.venv + SLURM executor plugin) from its lock"
 	@echo "make cluster-lock   re-resolve requirements-cluster.lock (pins of requirements.lock kept)"
 	@echo "make slurm-test     start a one-node SLURM here (root), run a small workflow through it"
+	@echo "make lab            JupyterLab (.venv-notebooks) on notebooks/; LAB_ARGS=--no-browser etc."
+	@echo "make lab-check      start JupyterLab headless, probe it over HTTP, stop it"
+	@echo "make report-shots   report.html in headless Chromium: PNGs under results/report-shots/"
+	@echo "make wheel-check    build the wheel, install it in a fresh venv without snakemake, run it"
 
 all: env
 	$(BIN)/snakemake -c$(CORES) all
@@ -50,9 +56,13 @@ $(STAMP): requirements.lock pyproject.toml
 	$(BIN)/uv pip install --python $(BIN)/python --no-deps -e .
 	touch $(STAMP)
 
+# .venv holds the package with the extras `make all`, `make test`, `make lint` and `make docs`
+# need; the cluster and notebooks locks are constrained by it, so every shared package has one pin.
+LOCK_EXTRAS := --extra workflow --extra test --extra docs
 lock:
-	$(BIN)/uv pip compile pyproject.toml --extra test --python-version 3.11.7 -o requirements.lock \
-		|| uv pip compile pyproject.toml --extra test --python-version 3.11.7 -o requirements.lock
+	$(BIN)/uv pip compile pyproject.toml $(LOCK_EXTRAS) --python-version 3.11.7 -o requirements.lock \
+		|| uv pip compile pyproject.toml $(LOCK_EXTRAS) --python-version 3.11.7 -o requirements.lock
+	$(MAKE) cluster-lock notebooks-lock
 
 # Cluster environment: .venv plus the SLURM executor plugin, in its own venv so that local runs
 # never load the plugin (with `sinfo` on PATH it queries the controller on every snakemake call).
@@ -69,8 +79,39 @@ $(CLUSTER_STAMP): requirements-cluster.lock pyproject.toml | $(STAMP)
 	touch $(CLUSTER_STAMP)
 
 cluster-lock: env
-	$(BIN)/uv pip compile pyproject.toml --extra test --extra cluster --constraint requirements.lock \
-		--python-version 3.11.7 -o requirements-cluster.lock
+	$(BIN)/uv pip compile pyproject.toml $(LOCK_EXTRAS) --extra cluster \
+		--constraint requirements.lock --python-version 3.11.7 -o requirements-cluster.lock
+
+# Notebooks environment: the package plus JupyterLab, jupytext and ipympl, in its own venv (the
+# Jupyter server's dependencies slow every snakemake configuration check in .venv ~10 times).
+NB_VENV := .venv-notebooks
+NB_STAMP := $(NB_VENV)/.installed
+
+notebooks-env: $(NB_STAMP)
+
+$(NB_STAMP): requirements-notebooks.lock pyproject.toml | $(STAMP)
+	test -x $(NB_VENV)/bin/python || $(PYTHON) -m venv $(NB_VENV)
+	$(BIN)/uv pip sync --python $(NB_VENV)/bin/python requirements-notebooks.lock
+	$(BIN)/uv pip install --python $(NB_VENV)/bin/python --no-deps -e .
+	touch $(NB_STAMP)
+
+notebooks-lock: env
+	$(BIN)/uv pip compile pyproject.toml --extra notebooks --constraint requirements.lock \
+		--python-version 3.11.7 -o requirements-notebooks.lock
+
+# JupyterLab on notebooks/ (jupytext opens the .py notebooks as notebooks). MPLBACKEND is unset
+# so that figures draw inline. LAB_ARGS adds options, e.g. LAB_ARGS="--no-browser --port 8899".
+# As root (containers, CI) Jupyter refuses to start without --allow-root.
+LAB_ARGS ?=
+LAB_ROOT := $(if $(filter 0,$(shell id -u)),--allow-root)
+lab: notebooks-env
+	env -u MPLBACKEND RESTITUTION_RESULTS=$${RESTITUTION_RESULTS:-$(CURDIR)/results} \
+		$(NB_VENV)/bin/jupyter lab --notebook-dir=notebooks $(LAB_ROOT) $(LAB_ARGS)
+
+# Headless check of `make lab`: starts it with --no-browser on a free local port, waits for the
+# server, fetches the notebook's page and the contents API over HTTP, and stops the server.
+lab-check: notebooks-env
+	$(NB_VENV)/bin/python .ci/lab_check.py --make "$(MAKE)"
 
 slurm-test: env cluster-env
 	.ci/slurm_test.sh
@@ -78,10 +119,13 @@ slurm-test: env cluster-env
 # --report never runs a job and fails on a missing output, so the targets are brought up to date
 # first (nothing runs after `make all`). REPORT_TARGETS="all benchmarks" adds the work-precision
 # study. Open report.html in a browser (self-contained; JavaScript on).
+# workflow/report/style.css fixes the report template's vertical centring (a long page could not
+# be scrolled to its top).
 REPORT_TARGETS ?= all
+REPORT_STYLE := workflow/report/style.css
 report: env
 	$(BIN)/snakemake -c$(CORES) $(REPORT_TARGETS)
-	$(BIN)/snakemake $(REPORT_TARGETS) --report report.html
+	$(BIN)/snakemake $(REPORT_TARGETS) --report report.html --report-stylesheet $(REPORT_STYLE)
 
 # Each notebooks/*.py (jupytext percent format) is converted and executed into notebooks/executed/
 # (git-ignored), reading results/ (first brought up to date: the notebook loads the Fig. 2(a) sweep);
@@ -103,7 +147,8 @@ benchmarks: env
 
 # The benchmarks' own report (the main report covers target `all` only).
 bench-report: env
-	$(BIN)/snakemake -c$(CORES) benchmarks --report results/benchmarks/report.html
+	$(BIN)/snakemake -c$(CORES) benchmarks --report results/benchmarks/report.html \
+		--report-stylesheet $(REPORT_STYLE)
 
 # The reduced benchmarks (config/benchmarks-smoke.yaml, ~1-2 min) in a scratch folder, for CI:
 # proves every rule of the target runs; its timings are not meant to be read.
@@ -113,14 +158,40 @@ bench-smoke: env
 	$(BIN)/snakemake -c$(CORES) benchmarks --configfile $(CURDIR)/config/benchmarks-smoke.yaml \
 		--directory $(BENCH_SMOKE_DIR)
 
+# The documentation: docs/*.md (readable as sources), API reference generated from the
+# docstrings by mkdocstrings; --strict turns every warning (broken link, unknown object) into an error.
+# NO_MKDOCS_2_WARNING silences mkdocs-material's banner about its successor (not a build warning).
+docs: env
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --site-dir site
+
+# The wheel as a user gets it: built from the sources, installed (not editable) into a fresh venv
+# without the extras, then the CLI, solve_many and the plotting style are run from there.
+wheel-check: env
+	$(BIN)/python .ci/wheel_check.py
+
+# CITATION.cff against the Citation File Format schema (cffconvert, run by uv in a throw-away
+# environment: its pins of jsonschema clash with snakemake's).
+CFFCONVERT_VERSION := 2.0.0
+cff-check: env
+	$(BIN)/uv tool run --python $(BIN)/python --from cffconvert==$(CFFCONVERT_VERSION) \
+		cffconvert --validate --infile CITATION.cff
+
+# Screenshots of report.html in Debian's headless Chromium (driven by selenium through Debian's
+# chromium-driver; both installed with apt-get when missing, as root): the front page and two
+# figure pages, under results/report-shots/. Needs report.html (`make report`).
+report-shots: env
+	test -s report.html || $(MAKE) report
+	$(BIN)/python .ci/report_shots.py report.html results/report-shots
+
 lint: env
-	$(BIN)/ruff check src tests workflow/scripts benchmarks notebooks .ci
-	$(BIN)/ruff format --check src tests workflow/scripts benchmarks notebooks .ci
+	$(BIN)/ruff check src tests workflow/scripts benchmarks notebooks .ci docs/hooks.py
+	$(BIN)/ruff format --check src tests workflow/scripts benchmarks notebooks .ci docs/hooks.py
 	$(BIN)/snakefmt --check Snakefile workflow/rules
 	$(BIN)/snakemake --lint
 
 clean:
-	rm -rf results logs .cache .snakemake/incomplete .pytest_cache report.html notebooks/executed
+	rm -rf results logs .cache .snakemake/incomplete .pytest_cache report.html notebooks/executed \
+		site dist
 
 distclean: clean
-	rm -rf $(VENV) $(CLUSTER_VENV) .snakemake
+	rm -rf $(VENV) $(CLUSTER_VENV) $(NB_VENV) .snakemake

@@ -25,3 +25,24 @@ rule reproduction:
         "../envs/restitution.yaml"
     script:
         "../scripts/reproduction.py"
+
+
+rule reproduction_page:
+    """results/reproduction.html: the reproduction table as its own page of the report."""
+    input:
+        table=rules.reproduction.output.table,
+    output:
+        page=report(
+            "results/reproduction.html",
+            caption="../report/reproduction.rst",
+            category="Reproduction",
+            labels={"figure": "-", "quantity": "paper vs ours, as a page"},
+        ),
+    log:
+        "logs/reproduction_page.log",
+    benchmark:
+        "logs/benchmarks/reproduction_page.tsv"
+    conda:
+        "../envs/restitution.yaml"
+    script:
+        "../scripts/render_reproduction_page.py"
