@@ -271,10 +271,13 @@ rule fig5a:
         laws="src/restitution/laws.py",
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig5a.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig5a.png",
-            caption="../report/fig5a.rst",
+            caption="../../results/captions/fig5a.rst",
             category="Sect. 3.2: scissor structural spring",
             subcategory="Fig. 5",
             labels={
@@ -283,6 +286,7 @@ rule fig5a:
             },
         ),
         pdf="figures/fig5a.pdf",
+        caption="results/captions/fig5a.rst",
     log:
         "logs/fig5/render_a.log",
     benchmark:
@@ -303,10 +307,13 @@ rule fig5b:
         sweep=rules.simulate_fig5b.output.table,
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig5b.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig5b.png",
-            caption="../report/fig5b.rst",
+            caption="../../results/captions/fig5b.rst",
             category="Sect. 3.2: scissor structural spring",
             subcategory="Fig. 5",
             labels={
@@ -315,6 +322,7 @@ rule fig5b:
             },
         ),
         pdf="figures/fig5b.pdf",
+        caption="results/captions/fig5b.rst",
     log:
         "logs/fig5/render_b.log",
     benchmark:
