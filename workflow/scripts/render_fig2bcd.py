@@ -18,7 +18,7 @@ BLACK, ORANGE, BLUE, GREEN, RED = "black", "#E69F00", "#0072B2", "#009E73", "#D5
 def small_alpha_limit(alpha, beta):
     """omega t_col / 2 pi of a single contact as alpha -> 0: (1/2) sqrt(beta (1 + alpha)/alpha).
 
-    m1 bounces alone on k1 for half a period pi sqrt(m1/k1), and omega^2 = k2 (1 + alpha)/(alpha m1).
+    m1 bounces alone on k1 for half a period pi sqrt(m1/k1); omega^2 = k2 (1 + alpha)/(alpha m1).
     """
     alpha = np.asarray(alpha, dtype=float)
     return 0.5 * np.sqrt(beta * (1 + alpha) / alpha)

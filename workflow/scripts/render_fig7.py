@@ -52,7 +52,7 @@ def draw(sweep: pd.DataFrame, panel: str, fig7: dict, logger):
     column, ylabel = PANELS[panel]
     fig = plotting.new_figure("single", aspect=0.72)
     ax = fig.add_subplot()
-    for i, xi in enumerate(sorted(fig7["xis"])):
+    for xi in sorted(fig7["xis"]):
         rows = sweep[sweep["xi"] == xi].sort_values("alpha")
         curve = rows[rows["status"] == "ok"]
         if curve.empty:
@@ -146,7 +146,8 @@ def caption_data(sweep: pd.DataFrame, panel: str, fig7: dict) -> dict:
             if all(
                 b < a
                 for a, b in zip(
-                    [second[x]["alpha"] for x in second], [second[x]["alpha"] for x in second][1:],
+                    [second[x]["alpha"] for x in second],
+                    [second[x]["alpha"] for x in second][1:],
                     strict=False,
                 )
             )
