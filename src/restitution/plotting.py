@@ -113,8 +113,8 @@ BETA_COLOURS = {0.0: "#000000", 1e-3: "#0072B2", 1e-2: "#009E73", 0.1: "#E69F00"
 BETA_EXTRA = ("#56B4E9", "#D55E00", "#F0E442")
 XI_COLOURS = {0.1: "#332288", 0.3: "#CC6677", 1.0: "#999933", 1.2: "#882255", 3.0: "#88CCEE"}
 XI_EXTRA = ("#DDCC77", "#117733", "#AA4499")
-ALPHA_COLOURS = {2.0: "#8C510A", 2.2: "#DDAA33", 2.5: "#555555", 100.0: "#BF812D", 200.0: "#01665E"}
-ALPHA_EXTRA = ("#35978F", "#543005", "#999999")
+ALPHA_COLOURS = {2.0: "#8C510A", 2.2: "#DDAA33", 2.5: "#555555", 100.0: "#5AB4AC", 200.0: "#01665E"}
+ALPHA_EXTRA = ("#BF812D", "#543005", "#999999")
 
 #: Axis labels of the collision duration in the paper's two normalisations, in one style.
 T_COL_LABELS = {

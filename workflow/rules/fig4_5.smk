@@ -129,6 +129,13 @@ rule simulate_fig5b:
             subcategory="Fig. 5",
             labels={"figure": "5(b)", "quantity": "table: minima per curve"},
         ),
+        scan=report(
+            "results/fig5/b/free_choice_scan.csv",
+            caption="../report/fig5b_scan.rst",
+            category="Sect. 3.2: scissor structural spring",
+            subcategory="Fig. 5",
+            labels={"figure": "5(b)", "quantity": "table: L trend vs theta0, corner"},
+        ),
     log:
         "logs/fig5/simulate_b.log",
     benchmark:
@@ -305,6 +312,7 @@ rule fig5b:
     """Draw Fig. 5(b): COR against alpha with the scissor spring, several L."""
     input:
         sweep=rules.simulate_fig5b.output.table,
+        scan=rules.simulate_fig5b.output.scan,
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
         paper="config/paper_values.yaml",

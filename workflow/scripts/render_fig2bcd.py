@@ -70,7 +70,7 @@ def fig2b(sweep, points, fit, plot):
     ax2.plot(a, 1 + a**p, color=GREEN, lw=0.9, label=rf"Eq. 19, $p = {p:.4f}$ (fit)")
     ax2.plot(a, 1 + a**0.8, color=ORANGE, lw=0.9, ls="--", label=r"Eq. 19, $p = 0.8$ (paper)",
              zorder=3)  # fmt: skip
-    ax2.set_yscale("log")
+    plotting.log_axis(ax2, "y")
     ax2.set_ylabel("number of contacts $n$")
     ax2.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="x-small")
     c_fit = fit["fits"]["minima_c_n1"]["params"]["c"]

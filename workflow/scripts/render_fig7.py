@@ -174,14 +174,18 @@ def caption_data(sweep: pd.DataFrame, panel: str, fig7: dict) -> dict:
         first = min(float(c["omega_t_col"].iloc[0]) for c in by_xi.values())
         last = [float(c["omega_t_col"].iloc[-1]) for c in by_xi.values()]
         data.update(
-            fit_lo=_fmt(lo),
-            fit_hi=_fmt(hi),
+            fit_lo=f"{lo:g}",
+            fit_hi=f"{hi:g}",
             slopes=", ".join(f"{v:.2f}" for v in slopes),
             slope_word=(
-                "close to one half: omega t_col grows about as the square root of alpha, "
+                "close to one half, so omega t_col grows about as the square root of alpha, "
                 "not linearly"
                 if abs(mean - 0.5) < 0.1
-                else ("close to one: about linear" if abs(mean - 1) < 0.1 else "neither")
+                else (
+                    "close to one: about linear"
+                    if abs(mean - 1) < 0.1
+                    else "neither one half nor one"
+                )
             ),
             t_first=_fmt(first, 2),
             t_last=", ".join(_fmt(v) for v in last),
