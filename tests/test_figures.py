@@ -41,7 +41,8 @@ def test_fig2b_small_alpha_limit_against_the_solver(beta):
 
 
 def test_fig2b_limit_is_half_the_contact_period():
-    """Closed form: m1 alone on k1 stays in contact pi sqrt(m1/k1); omega^2 = k2(1+alpha)/(alpha m1)."""
+    """Closed form: m1 alone on k1 stays in contact pi sqrt(m1/k1), and
+    omega^2 = k2 (1 + alpha)/(alpha m1)."""
     m1, k1, beta, alpha = 1.0, 50.0, 0.2, 0.3
     k2 = beta * k1
     omega = math.sqrt(k2 / m1 + k2 / (alpha * m1))
@@ -54,7 +55,10 @@ def test_limit_check_reads_the_smallest_alpha_per_beta():
     rows = []
     for beta in (0.0, 0.1):
         t = 2 * math.pi * render_fig2bcd.small_alpha_limit(alpha, beta) if beta else [0, 0]
-        rows += [dict(alpha=a, beta=beta, omega_t_col=x, status="ok") for a, x in zip(alpha, t)]
+        rows += [
+            dict(alpha=a, beta=beta, omega_t_col=x, status="ok")
+            for a, x in zip(alpha, t, strict=True)
+        ]
     check = render_fig2bcd.limit_check(pd.DataFrame(rows))
     assert check["beta"].tolist() == [0.1] and check["alpha"].tolist() == [1e-3]
     assert check["ratio"].iloc[0] == pytest.approx(1.0, rel=1e-14)

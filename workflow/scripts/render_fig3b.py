@@ -38,7 +38,7 @@ def draw(compression: pd.DataFrame, contacts: pd.DataFrame, marginal: pd.Series,
         curve = compression[compression["beta"] == beta].sort_values("omega_t")
         n = int((contacts["beta"] == beta).sum())
         cor = float(contacts.loc[contacts["beta"] == beta, "cor"].iloc[0])
-        style = dict(color=plotting.beta_colour(beta), ls=DASHES[k % len(DASHES)], lw=1.0)
+        style = dict(color=plotting.beta_colour(beta, betas), ls=DASHES[k % len(DASHES)], lw=1.0)
         label = rf"$\beta = {beta:g}$: {n} contacts, $e = {cor:.3f}$"
         paper_ax.plot(alpha * curve["omega_t"], alpha * curve["compression"], label=label, **style)
         ax.plot(curve["omega_t"], curve["compression"], **style)

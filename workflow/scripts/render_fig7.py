@@ -87,7 +87,16 @@ def draw(sweep: pd.DataFrame, panel: str, fig7: dict, logger):
         ax.legend(loc="upper left", title=title)
     else:
         plotting.log_axis(ax, "y")
-        ax.legend(loc="upper left", title=title)
+        # The fitted large-alpha power law (caption: slope per xi), drawn below the curves.
+        data = caption_data(sweep, "c", fig7)
+        slope = float(np.mean([float(v) for v in data["slopes"].split(", ")]))
+        hi = float(fig7["alpha_max"])
+        a = np.geomspace(hi / 10, hi, 50)
+        ref = sweep[(sweep["alpha"] >= hi / 10) & (sweep["status"] == "ok")]["omega_t_col"]
+        y0 = float(np.exp(np.log(ref).mean())) / np.sqrt(hi / 10 * hi) ** slope
+        ax.plot(a, 0.55 * y0 * a**slope, color="0.35", lw=0.8, ls=(0, (4, 2)),
+                label=rf"$\propto \alpha^{{{slope:.2f}}}$ (fit, mean slope)")  # fmt: skip
+        ax.legend(loc="lower right", title=title)
     return fig
 
 

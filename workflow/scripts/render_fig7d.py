@@ -14,6 +14,27 @@ DAMPING = {True: "underdamped", False: "overdamped"}
 ZOOM = 0.12
 
 
+#: Width of the envelope's time bins in periods of m1 ringing on the contact spring, whose
+#: period is omega t / 2 pi = sqrt(beta (1 + alpha)/alpha): far too fast to draw as a line.
+PERIODS = 1.5
+
+
+def envelope(t: np.ndarray, s: np.ndarray, width: float):
+    """Smallest and largest s in equal time bins about ``width`` wide (empty: NaN), bin centres.
+
+    On the full time axis the contact-spring ringing would draw as a solid band of lines; the
+    range it sweeps per bin is what the eye can read, and the insets show the ringing itself.
+    """
+    bins = max(1, int(np.ceil((t.max() - t.min()) / width)))
+    edges = np.linspace(t.min(), t.max(), bins + 1)
+    which = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, bins - 1)
+    lo = np.full(bins, np.nan)
+    hi = np.full(bins, np.nan)
+    np.fmin.at(lo, which, s)
+    np.fmax.at(hi, which, s)
+    return lo, hi, 0.5 * (edges[1:] + edges[:-1])
+
+
 def trace_stats(hist: pd.DataFrame) -> dict:
     """Contacts, omega t_col, last contact duration and share, longest earlier contact."""
     duration = hist["omega_t_end"] - hist["omega_t_start"]
@@ -55,7 +76,10 @@ def draw(traces: pd.DataFrame, contacts: pd.DataFrame, settings: dict, beta: flo
             st = stats[(xi, alpha)] = trace_stats(hist)
             colour = plotting.alpha_colour(alpha, alphas)
             t = curve["omega_t"].to_numpy() / (2 * np.pi)
-            ax.plot(t, curve["s1"], color=colour, lw=0.45)
+            ring = np.sqrt(beta * (1 + alpha) / alpha)  # ringing period, omega t / 2 pi
+            lo, hi, centres = envelope(t, curve["s1"].to_numpy(), PERIODS * ring)
+            ax.fill_between(centres, lo, hi, color=colour, alpha=0.35, lw=0)
+            ax.plot(centres, hi, color=colour, lw=0.6)
             ax.set_xlim(-0.02 * t.max(), t.max() * 1.02)
             ax.set_ylim(0, top * 1.45)
             ax.text(0.02, 0.97, rf"$\xi = {xi:g}$ ({kind}), $\alpha = {alpha:g}$"
@@ -104,6 +128,7 @@ def caption_data(stats: dict) -> dict:
         "longest_earlier": f"{earlier:.2g}",
         "growth": ", ".join(growth) if growth else "not measured (one alpha only)",
         "zoom": f"{ZOOM:g}",
+        "periods": f"{PERIODS:g}",
     }
 
 
