@@ -146,7 +146,7 @@ rule fig2b:
     conda:
         "../envs/restitution.yaml"
     params:
-        panel="b",
+        panel="fig2b",
         approx={k: config["approx"][k] for k in ("plot_alpha_min", "plot_alpha_max")},
     script:
         "../scripts/render_fig2bcd.py"
@@ -179,7 +179,7 @@ rule fig2c:
     conda:
         "../envs/restitution.yaml"
     params:
-        panel="c",
+        panel="fig2c",
         approx={k: config["approx"][k] for k in ("plot_alpha_min", "plot_alpha_max")},
     script:
         "../scripts/render_fig2bcd.py"
@@ -213,7 +213,7 @@ rule fig2d:
     conda:
         "../envs/restitution.yaml"
     params:
-        panel="d",
+        panel="fig2d",
         approx={k: config["approx"][k] for k in ("plot_alpha_min", "plot_alpha_max")},
     script:
         "../scripts/render_fig2bcd.py"

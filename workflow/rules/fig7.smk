@@ -120,7 +120,7 @@ rule fig7a:
     conda:
         "../envs/restitution.yaml"
     params:
-        panel="a",
+        panel="fig7a",
         fig7=FIG7_PLOT,
     script:
         "../scripts/render_fig7.py"
@@ -152,7 +152,7 @@ rule fig7b:
     conda:
         "../envs/restitution.yaml"
     params:
-        panel="b",
+        panel="fig7b",
         fig7=FIG7_PLOT,
     script:
         "../scripts/render_fig7.py"
@@ -184,7 +184,7 @@ rule fig7c:
     conda:
         "../envs/restitution.yaml"
     params:
-        panel="c",
+        panel="fig7c",
         fig7=FIG7_PLOT,
     script:
         "../scripts/render_fig7.py"

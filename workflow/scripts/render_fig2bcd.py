@@ -1,4 +1,4 @@
-"""Render Fig. 2(b), 2(c) or 2(d) (``params.panel``) from the results/approx tables.
+"""Render Fig. 2(b), 2(c) or 2(d) (``params.panel``: fig2b, ...) from the results/approx tables.
 
 - 2(b): omega t_col / 2 pi and the number of contacts against alpha (from the Fig. 2(a) sweep),
   with the exact unity points alpha#_n and Eq. 19 (paper p = 0.8 and our fit); a third panel
@@ -205,12 +205,15 @@ def main(inp, out, params, logger, smk=None):
     }
     with open(inp.fit) as fh:
         fit = json.load(fh)
-    if params.panel == "b":
+    # The rule passes the figure name ("fig2c"): a bare letter would be a prefix of input paths
+    # such as config/paper_values.yaml, which snakemake --lint reports.
+    panel = params.panel.removeprefix("fig2")
+    if panel == "b":
         sweep = read_table(inp.sweep)
         fig = fig2b(sweep, read_table(inp.points), fit, plot)
-    elif params.panel == "c":
+    elif panel == "c":
         fig = fig2c(read_table(inp.residuals), fit)
-    elif params.panel == "d":
+    elif panel == "d":
         fig = fig2d(read_table(inp.curves), read_table(inp.errors), plot)
     else:
         raise ValueError(f"unknown panel {params.panel!r}; expected 'b', 'c' or 'd'")
@@ -220,7 +223,7 @@ def main(inp, out, params, logger, smk=None):
     if smk is not None:
         from render_caption import write_caption
 
-        write_caption(smk, caption_data(params.panel, inp, fit), logger)
+        write_caption(smk, caption_data(panel, inp, fit), logger)
 
 
 if __name__ == "__main__":
@@ -228,5 +231,5 @@ if __name__ == "__main__":
 
     smk = snakemake  # noqa: F821 (injected by Snakemake)
     log = setup(smk, numba=False)
-    with Timer(log, f"render fig2{smk.params.panel}"):
+    with Timer(log, f"render {smk.params.panel}"):
         main(smk.input, smk.output, smk.params, log, smk)

@@ -1,4 +1,4 @@
-"""Render Fig. 7(a), 7(b) or 7(c) (``params.panel``) from the Fig. 7 sweep table.
+"""Render Fig. 7(a), 7(b) or 7(c) (``params.panel``: fig7a, ...) from the Fig. 7 sweep table.
 
 - 7(a): COR against alpha = m2/m1 (log axis), one curve per damping ratio xi.
 - 7(b): number of contacts n_collisions against alpha (a step curve: the count is constant
@@ -207,18 +207,21 @@ def main(sweep_path, png_path, pdf_path, params, logger, smk=None):
     from restitution import plotting
     from restitution.io import read_table
 
-    if params.panel not in PANELS:
-        raise ValueError(f"panel must be one of {sorted(PANELS)}, got {params.panel!r}")
+    # The rule passes the figure name ("fig7c"): a bare letter would be a prefix of input paths
+    # such as config/paper_values.yaml, which snakemake --lint reports.
+    panel = params.panel.removeprefix("fig7")
+    if panel not in PANELS:
+        raise ValueError(f"panel must be one of fig7{sorted(PANELS)}, got {params.panel!r}")
     sweep = read_table(sweep_path)
     missing = sorted(set(map(float, params.fig7["xis"])) - set(sweep["xi"].unique()))
     if missing:
         raise ValueError(f"{sweep_path}: no rows for xi = {missing}")
-    fig = draw(sweep, params.panel, params.fig7, logger)
+    fig = draw(sweep, panel, params.fig7, logger)
     plotting.save_outputs(fig, png_path, pdf_path, logger)
     if smk is not None:
         from render_caption import write_caption
 
-        write_caption(smk, caption_data(sweep, params.panel, params.fig7), logger)
+        write_caption(smk, caption_data(sweep, panel, params.fig7), logger)
 
 
 if __name__ == "__main__":
