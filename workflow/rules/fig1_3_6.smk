@@ -200,15 +200,19 @@ rule fig6b:
         sweep=rules.aggregate_fig6b.output.sweep,
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig6b.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig6b.png",
-            caption="../report/fig6b.rst",
+            caption="../../results/captions/fig6b.rst",
             category="Sect. 3.3: chains of N masses",
             subcategory="Fig. 6",
             labels={"figure": "6(b)", "quantity": "COR vs (N-1) alpha"},
         ),
         pdf="figures/fig6b.pdf",
+        caption="results/captions/fig6b.rst",
     log:
         "logs/fig6/render_fig6b.log",
     benchmark:

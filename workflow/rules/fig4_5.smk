@@ -188,15 +188,19 @@ rule fig4b:
         sweep=rules.simulate_fig4b.output.table,
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig4b.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig4b.png",
-            caption="../report/fig4b.rst",
+            caption="../../results/captions/fig4b.rst",
             category="Sect. 3.1: contact stiffness and plastic contact",
             subcategory="Fig. 4",
             labels={"figure": "4(b)", "quantity": "COR vs alpha, several DR"},
         ),
         pdf="figures/fig4b.pdf",
+        caption="results/captions/fig4b.rst",
     log:
         "logs/fig4/render_b.log",
     benchmark:
@@ -216,10 +220,13 @@ rule fig4c:
         sweep=rules.simulate_fig4c.output.table,
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig4c.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig4c.png",
-            caption="../report/fig4c.rst",
+            caption="../../results/captions/fig4c.rst",
             category="Sect. 3.1: contact stiffness and plastic contact",
             subcategory="Fig. 4",
             labels={
@@ -228,6 +235,7 @@ rule fig4c:
             },
         ),
         pdf="figures/fig4c.pdf",
+        caption="results/captions/fig4c.rst",
     log:
         "logs/fig4/render_c.log",
     benchmark:
@@ -247,10 +255,13 @@ rule fig4d:
         sweep=rules.simulate_fig4d.output.table,
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig4d.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig4d.png",
-            caption="../report/fig4d.rst",
+            caption="../../results/captions/fig4d.rst",
             category="Sect. 3.1: contact stiffness and plastic contact",
             subcategory="Fig. 4",
             labels={
@@ -259,6 +270,7 @@ rule fig4d:
             },
         ),
         pdf="figures/fig4d.pdf",
+        caption="results/captions/fig4d.rst",
     log:
         "logs/fig4/render_d.log",
     benchmark:
