@@ -176,7 +176,7 @@ rule fig4a:
     conda:
         "../envs/restitution.yaml"
     params:
-        name="a",
+        name="fig4a",
         panel=config["fig4"]["a"],
     script:
         "../scripts/render_fig4.py"
@@ -208,7 +208,7 @@ rule fig4b:
     conda:
         "../envs/restitution.yaml"
     params:
-        name="b",
+        name="fig4b",
         panel=config["fig4"]["b"],
     script:
         "../scripts/render_fig4.py"
@@ -243,7 +243,7 @@ rule fig4c:
     conda:
         "../envs/restitution.yaml"
     params:
-        name="c",
+        name="fig4c",
         panel=config["fig4"]["c"],
     script:
         "../scripts/render_fig4.py"
@@ -278,7 +278,7 @@ rule fig4d:
     conda:
         "../envs/restitution.yaml"
     params:
-        name="d",
+        name="fig4d",
         panel=config["fig4"]["d"],
     script:
         "../scripts/render_fig4.py"

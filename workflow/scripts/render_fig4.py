@@ -1,4 +1,4 @@
-"""Render Fig. 4(a), (b), (c) or (d) (``params.name``): the plastic contact of Section 3.1.
+"""Render Fig. 4(a), (b), (c) or (d) (``params.name``: fig4a, ...): the plastic contact of Section 3.1.
 
 - 4(a): loading-unloading curves F1(x) of one first contact of m1 alone at V0 (no simulation):
   power-law loading kappa*x**eta to (xmax, Fmax), linear unloading with slope k1 down to the
@@ -166,7 +166,9 @@ def main(sweep_path, png_path, pdf_path, params, logger, smk=None):
     from restitution import plotting
     from restitution.io import read_table
 
-    name, panel = params.name, params.panel
+    # The rule passes the figure name ("fig4c"): a bare letter would be a prefix of input paths
+    # such as config/paper_values.yaml, which snakemake --lint reports.
+    name, panel = params.name.removeprefix("fig4"), params.panel
     if name == "a":
         fig = draw_a(panel, logger)
     else:
