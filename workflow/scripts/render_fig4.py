@@ -1,4 +1,4 @@
-"""Render Fig. 4(a), (b), (c) or (d) (``params.name``: fig4a, ...): the plastic contact of Section 3.1.
+"""Render Fig. 4(a)-(d) (``params.name``: fig4a, ...): the plastic contact of Section 3.1.
 
 - 4(a): loading-unloading curves F1(x) of one first contact of m1 alone at V0 (no simulation):
   power-law loading kappa*x**eta to (xmax, Fmax), linear unloading with slope k1 down to the
