@@ -82,4 +82,3 @@ rule all:
         # Every documented result table (workflow/tables.yaml, docs/tables.md): a deleted one is
         # rebuilt even when no figure needs it.
         result_tables(),
-        rules.reproduction_page.output.page,

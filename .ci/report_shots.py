@@ -167,7 +167,7 @@ def main(argv: list[str]) -> int:
         # Its two results (CSV, page) differ in the label "quantity": the report shows a toggle.
         toggle = wait_for(
             driver,
-            lambda: driver.find_elements(By.XPATH, "//label[contains(., 'as a page')]"),
+            lambda: driver.find_elements(By.XPATH, "//label[contains(., 'readable page')]"),
             "the toggle to the reproduction page",
         )[0]
         toggle.click()

@@ -101,3 +101,50 @@ def beta_text(beta: float) -> str:
     if abs(exponent - round(exponent)) < 1e-12 and round(exponent) != 0:
         return rf"$\beta = 10^{{{round(exponent)}}}$"
     return rf"$\beta = {beta:g}$"
+
+
+# ---------------------------------------------------------------------------------------------
+# One colour per parameter value across the whole paper. Three disjoint sets, so a colour never
+# means a beta in one panel and a xi or an alpha in another: beta from Okabe & Ito's palette,
+# xi from Paul Tol's "muted" palette, alpha from earth tones (brown, gold, grey, teal) that differ
+# in lightness. All are distinguishable with the common colour-vision deficiencies.
+# ---------------------------------------------------------------------------------------------
+BETA_COLOURS = {0.0: "#000000", 1e-3: "#0072B2", 1e-2: "#009E73", 0.1: "#E69F00", 1.0: "#CC79A7"}
+BETA_EXTRA = ("#56B4E9", "#D55E00", "#F0E442")
+XI_COLOURS = {0.1: "#332288", 0.3: "#CC6677", 1.0: "#999933", 1.2: "#882255", 3.0: "#88CCEE"}
+XI_EXTRA = ("#DDCC77", "#117733", "#AA4499")
+ALPHA_COLOURS = {2.0: "#8C510A", 2.2: "#DDAA33", 2.5: "#555555", 100.0: "#5AB4AC", 200.0: "#01665E"}
+ALPHA_EXTRA = ("#BF812D", "#543005", "#999999")
+
+#: Axis labels of the collision duration in the paper's two normalisations, in one style.
+T_COL_LABELS = {
+    "2pi": r"collision duration $\omega t_\mathrm{col} / 2\pi$",
+    "omega": r"collision duration $\omega t_\mathrm{col}$",
+}
+#: The one sign convention for the contact compression: s1 = -u1 >= 0, positive into the wall.
+COMPRESSION_LABEL = r"contact compression $\omega s_1 / V_0$"
+
+
+def _pick(table: dict, extra: tuple, value: float, others) -> str:
+    """The colour of ``value`` in ``table``; values not in it take ``extra`` in sorted order."""
+    value = float(value)
+    for key, colour in table.items():
+        if math.isclose(key, value, rel_tol=1e-9, abs_tol=1e-15):
+            return colour
+    unknown = sorted(float(v) for v in others if not any(math.isclose(k, float(v)) for k in table))
+    return extra[unknown.index(value) % len(extra)] if value in unknown else extra[0]
+
+
+def beta_colour(beta: float, others=()) -> str:
+    """The colour of a stiffness ratio beta (``others``: all betas drawn, for unlisted ones)."""
+    return _pick(BETA_COLOURS, BETA_EXTRA, beta, others or (beta,))
+
+
+def xi_colour(xi: float, others=()) -> str:
+    """The colour of a damping ratio xi."""
+    return _pick(XI_COLOURS, XI_EXTRA, xi, others or (xi,))
+
+
+def alpha_colour(alpha: float, others=()) -> str:
+    """The colour of a mass ratio alpha."""
+    return _pick(ALPHA_COLOURS, ALPHA_EXTRA, alpha, others or (alpha,))

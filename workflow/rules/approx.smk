@@ -126,15 +126,19 @@ rule fig2b:
         fit=rules.approx_fit.output.fit,
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig2b.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig2b.png",
-            caption="../report/fig2b.rst",
+            caption="../../results/captions/fig2b.rst",
             category="Sect. 2: two-mass model, rigid and elastic contact",
             subcategory="Fig. 2",
             labels={"figure": "2(b)", "quantity": "t_col and contacts vs alpha"},
         ),
         pdf="figures/fig2b.pdf",
+        caption="results/captions/fig2b.rst",
     log:
         "logs/approx/render_fig2b.log",
     benchmark:
@@ -142,7 +146,7 @@ rule fig2b:
     conda:
         "../envs/restitution.yaml"
     params:
-        panel="b",
+        panel="fig2b",
         approx={k: config["approx"][k] for k in ("plot_alpha_min", "plot_alpha_max")},
     script:
         "../scripts/render_fig2bcd.py"
@@ -155,15 +159,19 @@ rule fig2c:
         fit=rules.approx_fit.output.fit,
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig2c.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig2c.png",
-            caption="../report/fig2c.rst",
+            caption="../../results/captions/fig2c.rst",
             category="Sect. 2: two-mass model, rigid and elastic contact",
             subcategory="Fig. 2",
             labels={"figure": "2(c)", "quantity": "alpha* - alpha# vs n"},
         ),
         pdf="figures/fig2c.pdf",
+        caption="results/captions/fig2c.rst",
     log:
         "logs/approx/render_fig2c.log",
     benchmark:
@@ -171,7 +179,7 @@ rule fig2c:
     conda:
         "../envs/restitution.yaml"
     params:
-        panel="c",
+        panel="fig2c",
         approx={k: config["approx"][k] for k in ("plot_alpha_min", "plot_alpha_max")},
     script:
         "../scripts/render_fig2bcd.py"
@@ -185,15 +193,19 @@ rule fig2d:
         fit=rules.approx_fit.output.fit,
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig2d.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig2d.png",
-            caption="../report/fig2d.rst",
+            caption="../../results/captions/fig2d.rst",
             category="Sect. 2: two-mass model, rigid and elastic contact",
             subcategory="Fig. 2",
             labels={"figure": "2(d)", "quantity": "approximate COR"},
         ),
         pdf="figures/fig2d.pdf",
+        caption="results/captions/fig2d.rst",
     log:
         "logs/approx/render_fig2d.log",
     benchmark:
@@ -201,7 +213,7 @@ rule fig2d:
     conda:
         "../envs/restitution.yaml"
     params:
-        panel="d",
+        panel="fig2d",
         approx={k: config["approx"][k] for k in ("plot_alpha_min", "plot_alpha_max")},
     script:
         "../scripts/render_fig2bcd.py"

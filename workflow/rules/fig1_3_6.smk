@@ -43,15 +43,19 @@ rule fig3a:
         sweep=rules.simulate_fig3a.output.sweep,
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig3a.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig3a.png",
-            caption="../report/fig3a.rst",
+            caption="../../results/captions/fig3a.rst",
             category="Sect. 3.1: contact stiffness and plastic contact",
             subcategory="Fig. 3",
             labels={"figure": "3(a)", "quantity": "COR vs beta"},
         ),
         pdf="figures/fig3a.pdf",
+        caption="results/captions/fig3a.rst",
     log:
         "logs/fig3/render_fig3a.log",
     benchmark:
@@ -112,15 +116,19 @@ rule fig3b:
         marginal=rules.simulate_fig3b.output.marginal,
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig3b.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig3b.png",
-            caption="../report/fig3b.rst",
+            caption="../../results/captions/fig3b.rst",
             category="Sect. 3.1: contact stiffness and plastic contact",
             subcategory="Fig. 3",
             labels={"figure": "3(b)", "quantity": "contact compression vs omega t"},
         ),
         pdf="figures/fig3b.pdf",
+        caption="results/captions/fig3b.rst",
     log:
         "logs/fig3/render_fig3b.log",
     benchmark:
@@ -192,15 +200,19 @@ rule fig6b:
         sweep=rules.aggregate_fig6b.output.sweep,
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig6b.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig6b.png",
-            caption="../report/fig6b.rst",
+            caption="../../results/captions/fig6b.rst",
             category="Sect. 3.3: chains of N masses",
             subcategory="Fig. 6",
             labels={"figure": "6(b)", "quantity": "COR vs (N-1) alpha"},
         ),
         pdf="figures/fig6b.pdf",
+        caption="results/captions/fig6b.rst",
     log:
         "logs/fig6/render_fig6b.log",
     benchmark:

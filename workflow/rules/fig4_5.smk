@@ -129,6 +129,13 @@ rule simulate_fig5b:
             subcategory="Fig. 5",
             labels={"figure": "5(b)", "quantity": "table: minima per curve"},
         ),
+        scan=report(
+            "results/fig5/b/free_choice_scan.csv",
+            caption="../report/fig5b_scan.rst",
+            category="Sect. 3.2: scissor structural spring",
+            subcategory="Fig. 5",
+            labels={"figure": "5(b)", "quantity": "table: L trend vs theta0, corner"},
+        ),
     log:
         "logs/fig5/simulate_b.log",
     benchmark:
@@ -169,7 +176,7 @@ rule fig4a:
     conda:
         "../envs/restitution.yaml"
     params:
-        name="a",
+        name="fig4a",
         panel=config["fig4"]["a"],
     script:
         "../scripts/render_fig4.py"
@@ -181,15 +188,19 @@ rule fig4b:
         sweep=rules.simulate_fig4b.output.table,
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig4b.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig4b.png",
-            caption="../report/fig4b.rst",
+            caption="../../results/captions/fig4b.rst",
             category="Sect. 3.1: contact stiffness and plastic contact",
             subcategory="Fig. 4",
             labels={"figure": "4(b)", "quantity": "COR vs alpha, several DR"},
         ),
         pdf="figures/fig4b.pdf",
+        caption="results/captions/fig4b.rst",
     log:
         "logs/fig4/render_b.log",
     benchmark:
@@ -197,7 +208,7 @@ rule fig4b:
     conda:
         "../envs/restitution.yaml"
     params:
-        name="b",
+        name="fig4b",
         panel=config["fig4"]["b"],
     script:
         "../scripts/render_fig4.py"
@@ -209,10 +220,13 @@ rule fig4c:
         sweep=rules.simulate_fig4c.output.table,
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig4c.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig4c.png",
-            caption="../report/fig4c.rst",
+            caption="../../results/captions/fig4c.rst",
             category="Sect. 3.1: contact stiffness and plastic contact",
             subcategory="Fig. 4",
             labels={
@@ -221,6 +235,7 @@ rule fig4c:
             },
         ),
         pdf="figures/fig4c.pdf",
+        caption="results/captions/fig4c.rst",
     log:
         "logs/fig4/render_c.log",
     benchmark:
@@ -228,7 +243,7 @@ rule fig4c:
     conda:
         "../envs/restitution.yaml"
     params:
-        name="c",
+        name="fig4c",
         panel=config["fig4"]["c"],
     script:
         "../scripts/render_fig4.py"
@@ -240,10 +255,13 @@ rule fig4d:
         sweep=rules.simulate_fig4d.output.table,
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig4d.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig4d.png",
-            caption="../report/fig4d.rst",
+            caption="../../results/captions/fig4d.rst",
             category="Sect. 3.1: contact stiffness and plastic contact",
             subcategory="Fig. 4",
             labels={
@@ -252,6 +270,7 @@ rule fig4d:
             },
         ),
         pdf="figures/fig4d.pdf",
+        caption="results/captions/fig4d.rst",
     log:
         "logs/fig4/render_d.log",
     benchmark:
@@ -259,7 +278,7 @@ rule fig4d:
     conda:
         "../envs/restitution.yaml"
     params:
-        name="d",
+        name="fig4d",
         panel=config["fig4"]["d"],
     script:
         "../scripts/render_fig4.py"
@@ -271,10 +290,13 @@ rule fig5a:
         laws="src/restitution/laws.py",
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig5a.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig5a.png",
-            caption="../report/fig5a.rst",
+            caption="../../results/captions/fig5a.rst",
             category="Sect. 3.2: scissor structural spring",
             subcategory="Fig. 5",
             labels={
@@ -283,6 +305,7 @@ rule fig5a:
             },
         ),
         pdf="figures/fig5a.pdf",
+        caption="results/captions/fig5a.rst",
     log:
         "logs/fig5/render_a.log",
     benchmark:
@@ -301,12 +324,16 @@ rule fig5b:
     """Draw Fig. 5(b): COR against alpha with the scissor spring, several L."""
     input:
         sweep=rules.simulate_fig5b.output.table,
+        scan=rules.simulate_fig5b.output.scan,
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig5b.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig5b.png",
-            caption="../report/fig5b.rst",
+            caption="../../results/captions/fig5b.rst",
             category="Sect. 3.2: scissor structural spring",
             subcategory="Fig. 5",
             labels={
@@ -315,6 +342,7 @@ rule fig5b:
             },
         ),
         pdf="figures/fig5b.pdf",
+        caption="results/captions/fig5b.rst",
     log:
         "logs/fig5/render_b.log",
     benchmark:

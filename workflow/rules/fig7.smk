@@ -100,15 +100,19 @@ rule fig7a:
         sweep=rules.aggregate_fig7.output.sweep,
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig7a.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig7a.png",
-            caption="../report/fig7a.rst",
+            caption="../../results/captions/fig7a.rst",
             category="Sect. 3.4: dashpot between the masses",
             subcategory="Fig. 7",
             labels={"figure": "7(a)", "quantity": "COR vs alpha, dashpot"},
         ),
         pdf="figures/fig7a.pdf",
+        caption="results/captions/fig7a.rst",
     log:
         "logs/fig7/render_fig7a.log",
     benchmark:
@@ -116,7 +120,7 @@ rule fig7a:
     conda:
         "../envs/restitution.yaml"
     params:
-        panel="a",
+        panel="fig7a",
         fig7=FIG7_PLOT,
     script:
         "../scripts/render_fig7.py"
@@ -128,15 +132,19 @@ rule fig7b:
         sweep=rules.aggregate_fig7.output.sweep,
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig7b.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig7b.png",
-            caption="../report/fig7b.rst",
+            caption="../../results/captions/fig7b.rst",
             category="Sect. 3.4: dashpot between the masses",
             subcategory="Fig. 7",
             labels={"figure": "7(b)", "quantity": "contacts vs alpha, dashpot"},
         ),
         pdf="figures/fig7b.pdf",
+        caption="results/captions/fig7b.rst",
     log:
         "logs/fig7/render_fig7b.log",
     benchmark:
@@ -144,7 +152,7 @@ rule fig7b:
     conda:
         "../envs/restitution.yaml"
     params:
-        panel="b",
+        panel="fig7b",
         fig7=FIG7_PLOT,
     script:
         "../scripts/render_fig7.py"
@@ -156,15 +164,19 @@ rule fig7c:
         sweep=rules.aggregate_fig7.output.sweep,
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig7c.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig7c.png",
-            caption="../report/fig7c.rst",
+            caption="../../results/captions/fig7c.rst",
             category="Sect. 3.4: dashpot between the masses",
             subcategory="Fig. 7",
             labels={"figure": "7(c)", "quantity": "omega t_col vs alpha, dashpot"},
         ),
         pdf="figures/fig7c.pdf",
+        caption="results/captions/fig7c.rst",
     log:
         "logs/fig7/render_fig7c.log",
     benchmark:
@@ -172,7 +184,7 @@ rule fig7c:
     conda:
         "../envs/restitution.yaml"
     params:
-        panel="c",
+        panel="fig7c",
         fig7=FIG7_PLOT,
     script:
         "../scripts/render_fig7.py"
@@ -217,15 +229,19 @@ rule fig7d:
         contacts=rules.simulate_fig7d.output.contacts,
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig7d.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig7d.png",
-            caption="../report/fig7d.rst",
+            caption="../../results/captions/fig7d.rst",
             category="Sect. 3.4: dashpot between the masses",
             subcategory="Fig. 7",
             labels={"figure": "7(d)", "quantity": "contact compression vs time"},
         ),
         pdf="figures/fig7d.pdf",
+        caption="results/captions/fig7d.rst",
     log:
         "logs/fig7/render_fig7d.log",
     benchmark:

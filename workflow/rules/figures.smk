@@ -7,15 +7,19 @@ rule fig2a:
         sweep=rules.aggregate_fig2a.output.sweep,
         style="src/restitution/restitution.mplstyle",
         plotting="src/restitution/plotting.py",
+        paper="config/paper_values.yaml",
+        template="workflow/report/fig2a.rst",
+        caption_code="workflow/scripts/render_caption.py",
     output:
         png=report(
             "figures/fig2a.png",
-            caption="../report/fig2a.rst",
+            caption="../../results/captions/fig2a.rst",
             category="Sect. 2: two-mass model, rigid and elastic contact",
             subcategory="Fig. 2",
             labels={"figure": "2(a)", "quantity": "COR vs alpha"},
         ),
         pdf="figures/fig2a.pdf",
+        caption="results/captions/fig2a.rst",
     log:
         "logs/fig2a/render.log",
     benchmark:

@@ -10,12 +10,19 @@ rule reproduction:
         fit=rules.approx_fit.output.fit,
         minima=rules.aggregate_fig2a.output.minima,
         marginal=rules.simulate_fig3b.output.marginal,
+        paper="config/paper_values.yaml",
     output:
         table=report(
             "results/reproduction.csv",
             caption="../report/reproduction.rst",
             category="Reproduction",
             labels={"figure": "-", "quantity": "paper vs ours"},
+        ),
+        page=report(
+            "results/reproduction.html",
+            caption="../report/reproduction_page.rst",
+            category="Reproduction",
+            labels={"figure": "-", "quantity": "paper vs ours (readable page)"},
         ),
     log:
         "logs/reproduction.log",
@@ -26,23 +33,3 @@ rule reproduction:
     script:
         "../scripts/reproduction.py"
 
-
-rule reproduction_page:
-    """results/reproduction.html: the reproduction table as its own page of the report."""
-    input:
-        table=rules.reproduction.output.table,
-    output:
-        page=report(
-            "results/reproduction.html",
-            caption="../report/reproduction.rst",
-            category="Reproduction",
-            labels={"figure": "-", "quantity": "paper vs ours, as a page"},
-        ),
-    log:
-        "logs/reproduction_page.log",
-    benchmark:
-        "logs/benchmarks/reproduction_page.tsv"
-    conda:
-        "../envs/restitution.yaml"
-    script:
-        "../scripts/render_reproduction_page.py"

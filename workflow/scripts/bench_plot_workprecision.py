@@ -2,12 +2,12 @@
 
 One line per method family (its settings joined from loose to tight), the exact solvers as single
 points. A red cross marks a result with the wrong number of contacts; errors below the floor
-(round-off, exactly 0) are drawn at the floor; the grey band is the reference's own error bound,
-below which a measured error only says "at most the bound".
+(round-off, exactly 0) are drawn at the floor; the grey band (in the legend) is the reference's
+own error bound, below which a measured error only says "at most the bound". Panel titles are
+mathtext built from each scene's parameters.
 """
 
 import math
-import textwrap
 
 import numpy as np
 
@@ -61,7 +61,7 @@ def draw(records, titles):
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlim(FLOOR / 3, 1.0)
-        ax.set_title(textwrap.fill(titles.get(scene, scene), 44), fontsize="x-small")
+        ax.set_title(titles.get(scene, scene), fontsize="x-small")
         ax.grid(True, which="major", lw=0.3, color="0.85")
     for ax in axes[len(scenes) :]:
         ax.set_visible(False)
@@ -76,13 +76,53 @@ def draw(records, titles):
                 handles.append(h)
                 labels.append(lab)
     from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
 
     handles.append(Line2D([], [], ls="none", marker="x", color="red", ms=6))
     labels.append("wrong contact count")
+    handles.append(Patch(color="0.9", lw=0))
+    labels.append("below the reference's error bound")
     # The house style uses constrained layout: "outside" reserves room below the panels.
     fig.legend(handles, labels, loc="outside lower center", ncol=min(len(labels), 6),
                fontsize="x-small", frameon=False)  # fmt: skip
     return fig
+
+
+def tex_number(value: float) -> str:
+    """Mathtext of a number: powers of ten as 10^{k}, others with four significant digits."""
+    if value == 0:
+        return "0"
+    exponent = math.log10(abs(value))
+    if abs(exponent - round(exponent)) < 1e-6 and abs(round(exponent)) >= 2:
+        return rf"10^{{{round(exponent)}}}"
+    return f"{value:.4g}"
+
+
+def scene_title(scene, scenes=()) -> str:
+    """Panel title in mathtext from the scene's parameters (name, alpha, beta, xi, N, law).
+
+    A grazing scene "grazeN" sits at alpha*_N; "grazeN_past" is given relative to it.
+    """
+    alpha = rf"\alpha = {tex_number(scene.alpha)}"
+    base = scene.name.removesuffix("_past")
+    if base.startswith("graze") and base[5:].isdigit():
+        star = rf"\alpha^*_{{{base[5:]}}}"
+        alpha = rf"\alpha = {star}"
+        ref = {s.name: s for s in scenes}.get(base)
+        if scene.name != base and ref is not None:
+            alpha += rf"(1 + {tex_number(scene.alpha / ref.alpha - 1)})"
+    parts = [alpha, rf"\beta = {tex_number(scene.beta)}"]
+    if scene.xi:
+        parts.append(rf"\xi = {tex_number(scene.xi)}")
+    if scene.n_masses != 2:
+        parts.append(rf"N = {scene.n_masses}")
+    symbols = {"eta": r"\eta", "dr": r"\mathrm{DR}", "ks_ratio": r"k_s/k_1", "L": "L"}
+    for key, value in scene.law.items():
+        if key in symbols:
+            parts.append(rf"{symbols[key]} = {tex_number(value)}")
+    kind = scene.law.get("contact") or scene.law.get("structure") or ""
+    kind = f" ({kind})" if kind and kind != scene.name else ""
+    return f"{scene.name}{kind}: " + "$" + ",\\ ".join(parts) + "$"
 
 
 def main(table_path, png_path, pdf_path, logger):
@@ -91,7 +131,7 @@ def main(table_path, png_path, pdf_path, logger):
     from restitution.io import read_table
 
     records = read_table(table_path)
-    titles = {s.name: f"{s.name}: {s.title}" for s in SCENES}
+    titles = {s.name: scene_title(s, SCENES) for s in SCENES}
     fig = draw(records, titles)
     plotting.save_outputs(fig, png_path, pdf_path, logger)
 

@@ -1,8 +1,8 @@
 """Render Fig. 2(a): COR against alpha = m2/m1 on a log axis, one curve per beta.
 
 Only rows with status "ok" are drawn (others are counted in the log). The local minima of each
-curve (the cusps) are written to the log, so the depths can be compared with the paper's
-0.178, 0.557, 0.710 at alpha = 0.697, 2.07, 3.64 (rigid wall).
+curve (the cusps) are written to the log and the first three rigid-wall minima to the caption,
+next to the paper's values (config/paper_values.yaml).
 """
 
 import numpy as np
@@ -23,10 +23,9 @@ def draw(sweep: pd.DataFrame, betas, logger):
 
     fig = plotting.new_figure("single", aspect=0.72)
     ax = fig.add_subplot()
-    # Rigid wall as a broad black line underneath, finite betas thinner on top in the colour
-    # cycle: beta = 1e-3 coincides with the rigid wall almost everywhere and stays visible.
-    colours = ["#E69F00", "#56B4E9", "#009E73", "#D55E00", "#CC79A7", "#0072B2", "#F0E442"]
-    finite = iter(colours * (1 + len(betas) // len(colours)))
+    # Finite betas as broad lines underneath, the rigid wall as a thin black line on top: at
+    # alpha > 10 its many narrow peaks would otherwise be hidden under the finite-beta curves,
+    # and beta = 1e-3, which coincides with it almost everywhere, still shows as a coloured rim.
     for beta in sorted(betas):
         curve = sweep[(sweep["beta"] == beta) & (sweep["status"] == "ok")].sort_values("alpha")
         dropped = int(((sweep["beta"] == beta) & (sweep["status"] != "ok")).sum())
@@ -38,9 +37,9 @@ def draw(sweep: pd.DataFrame, betas, logger):
         ax.plot(
             curve["alpha"],
             curve["cor"],
-            color="black" if rigid else next(finite),
-            lw=1.3 if rigid else 0.75,
-            zorder=2 if rigid else 3,
+            color=plotting.beta_colour(beta, betas),
+            lw=0.55 if rigid else 1.1,
+            zorder=4 if rigid else 3 - 0.1 * sorted(betas).index(beta),
             label=plotting.beta_text(beta),
         )
         logger.info(
@@ -57,7 +56,17 @@ def draw(sweep: pd.DataFrame, betas, logger):
     return fig
 
 
-def main(sweep_path, png_path, pdf_path, params, logger):
+def caption_data(sweep: pd.DataFrame) -> dict:
+    """The first three rigid-wall minima of this run (alpha, COR), as caption text."""
+    rigid = sweep[(sweep["beta"] == 0) & (sweep["status"] == "ok")].sort_values("alpha")
+    minima = cusp_minima(rigid) if len(rigid) else []
+    return {
+        "rigid_minima_cor": ", ".join(f"{c:.4f}" for _, c in minima) or "none in range",
+        "rigid_minima_alpha": ", ".join(f"{a:.4f}" for a, _ in minima) or "none in range",
+    }
+
+
+def main(sweep_path, png_path, pdf_path, params, logger, smk=None):
 
     from restitution import plotting
     from restitution.io import read_table
@@ -68,6 +77,10 @@ def main(sweep_path, png_path, pdf_path, params, logger):
         raise ValueError(f"{sweep_path}: no rows for beta = {missing}")
     fig = draw(sweep, params.betas, logger)
     plotting.save_outputs(fig, png_path, pdf_path, logger)
+    if smk is not None:
+        from render_caption import write_caption
+
+        write_caption(smk, caption_data(sweep), logger)
 
 
 if __name__ == "__main__":
@@ -81,4 +94,5 @@ if __name__ == "__main__":
             snakemake.output.pdf,  # noqa: F821
             snakemake.params,  # noqa: F821
             log,
+            snakemake,  # noqa: F821
         )

@@ -1,4 +1,4 @@
-"""Render Fig. 2(b), 2(c) or 2(d) (``params.panel``) from the results/approx tables.
+"""Render Fig. 2(b), 2(c) or 2(d) (``params.panel``: fig2b, ...) from the results/approx tables.
 
 - 2(b): omega t_col / 2 pi and the number of contacts against alpha (from the Fig. 2(a) sweep),
   with the exact unity points alpha#_n and Eq. 19 (paper p = 0.8 and our fit); a third panel
@@ -10,26 +10,56 @@
 import json
 
 import numpy as np
+import pandas as pd
 
 BLACK, ORANGE, BLUE, GREEN, RED = "black", "#E69F00", "#0072B2", "#009E73", "#D55E00"
+
+
+def small_alpha_limit(alpha, beta):
+    """omega t_col / 2 pi of a single contact as alpha -> 0: (1/2) sqrt(beta (1 + alpha)/alpha).
+
+    m1 bounces alone on k1 for half a period pi sqrt(m1/k1); omega^2 = k2 (1 + alpha)/(alpha m1).
+    """
+    alpha = np.asarray(alpha, dtype=float)
+    return 0.5 * np.sqrt(beta * (1 + alpha) / alpha)
+
+
+def limit_check(sweep) -> pd.DataFrame:
+    """Per finite beta: the smallest alpha of the sweep and omega t_col / 2 pi over the limit."""
+    rows = []
+    for beta in sorted(b for b in sweep["beta"].unique() if b > 0):
+        c = sweep[(sweep["beta"] == beta) & (sweep["status"] == "ok")].sort_values("alpha")
+        first = c.iloc[0]
+        ratio = first["omega_t_col"] / (2 * np.pi) / small_alpha_limit(first["alpha"], beta)
+        rows.append({"beta": beta, "alpha": float(first["alpha"]), "ratio": float(ratio)})
+    return pd.DataFrame(rows, columns=["beta", "alpha", "ratio"])
 
 
 def fig2b(sweep, points, fit, plot):
     from restitution import plotting
 
-    fig = plotting.new_figure("single", aspect=1.55)
-    ax1, ax2, ax3 = fig.subplots(3, 1, sharex=True, gridspec_kw={"hspace": 0.08})
-    colours = iter([ORANGE, BLUE, GREEN, RED, "#CC79A7", "#56B4E9"] * 4)
-    for beta in sorted(sweep["beta"].unique()):
+    fig = plotting.new_figure("single", aspect=1.75)
+    ax1, ax2, ax3 = fig.subplots(
+        3, 1, sharex=True, gridspec_kw={"hspace": 0.08, "height_ratios": [1.3, 1, 1]}
+    )
+    betas = sorted(sweep["beta"].unique())
+    a = np.geomspace(plot["alpha_min"], plot["alpha_max"], 400)
+    for beta in betas:
         c = sweep[(sweep["beta"] == beta) & (sweep["status"] == "ok")].sort_values("alpha")
-        colour = BLACK if beta == 0 else next(colours)
-        ax1.plot(c["alpha"], c["omega_t_col"] / (2 * np.pi), color=colour, lw=0.8,
-                 label=plotting.beta_text(beta))  # fmt: skip
+        colour = plotting.beta_colour(beta, betas)
+        t = (c["omega_t_col"] / (2 * np.pi)).where(c["omega_t_col"] > 0)  # log axis: no zeros
+        ax1.plot(c["alpha"], t, color=colour, lw=0.8, label=plotting.beta_text(beta))
+        if beta > 0:
+            ax1.plot(a, small_alpha_limit(a, beta), color=colour, lw=0.6, ls=(0, (2, 2)))
         if beta == 0:
             ax2.step(c["alpha"], c["n_collisions"], where="post", color=BLACK, lw=0.8,
                      label=r"exact, $\beta = 0$")  # fmt: skip
-    ax1.set_ylabel(r"$\omega t_\mathrm{col} / 2\pi$")
-    ax1.legend(loc="upper left", fontsize="x-small")
+    ax1.plot([], [], color="0.3", lw=0.6, ls=(0, (2, 2)),
+             label=r"$\frac{1}{2}\sqrt{\beta(1+\alpha)/\alpha}$ ($\alpha \to 0$)")  # fmt: skip
+    ax1.set_ylabel(plotting.T_COL_LABELS["2pi"])
+    plotting.log_axis(ax1, "y")
+    ax1.set_ylim(1e-2, None)
+    ax1.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="x-small")
     a = np.geomspace(plot["alpha_min"], plot["alpha_max"], 400)
     p = fit["fits"]["eq19_unity"]["params"]["p"]
     sel = (points["alpha_unity"] >= plot["alpha_min"]) & (
@@ -40,9 +70,9 @@ def fig2b(sweep, points, fit, plot):
     ax2.plot(a, 1 + a**p, color=GREEN, lw=0.9, label=rf"Eq. 19, $p = {p:.4f}$ (fit)")
     ax2.plot(a, 1 + a**0.8, color=ORANGE, lw=0.9, ls="--", label=r"Eq. 19, $p = 0.8$ (paper)",
              zorder=3)  # fmt: skip
-    ax2.set_yscale("log")
+    plotting.log_axis(ax2, "y")
     ax2.set_ylabel("number of contacts $n$")
-    ax2.legend(loc="upper left", fontsize="x-small")
+    ax2.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="x-small")
     c_fit = fit["fits"]["minima_c_n1"]["params"]["c"]
     sel = (points["alpha_star"] >= plot["alpha_min"]) & (points["alpha_star"] <= plot["alpha_max"])
     ax3.plot(points["alpha_star"][sel], points["e_star"][sel], "o", ms=2.5, mfc="none",
@@ -53,7 +83,7 @@ def fig2b(sweep, points, fit, plot):
              label=rf"$c = {c_fit:.3f}$ (fit)")  # fmt: skip
     ax3.set_ylim(0, 1.02)
     ax3.set_ylabel(r"minimum COR $e^*$")
-    ax3.legend(loc="lower right", fontsize="x-small")
+    ax3.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="x-small")
     plotting.log_axis(ax3, "x")
     ax3.set_xlim(plot["alpha_min"], plot["alpha_max"])
     ax3.set_xlabel(r"mass ratio $\alpha = m_2/m_1$")
@@ -63,7 +93,7 @@ def fig2b(sweep, points, fit, plot):
 def fig2c(residuals, fit):
     from restitution import plotting
 
-    fig = plotting.new_figure("single", aspect=1.05)
+    fig = plotting.new_figure("onehalf", aspect=0.7)
     ax1, ax2 = fig.subplots(
         2, 1, sharex=True, gridspec_kw={"height_ratios": [2.2, 1], "hspace": 0.08}
     )
@@ -78,21 +108,28 @@ def fig2c(residuals, fit):
     ax1.plot(nn, qs["A"] * nn ** qs["q"], color=BLUE, lw=0.9, ls=":",
              label=rf"${qs['A']:.3f}\,n^{{{qs['q']:.4f}}}$ (fit, $n \geq 2$)")  # fmt: skip
     ax1.set_ylabel(r"$\alpha^*_n - \alpha^\#_n$")
-    ax1.legend(loc="lower right", fontsize="x-small")
+    ax1.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="x-small")
     ax2.axhline(0, color="0.6", lw=0.5)
     ax2.plot(n, n**0.21 - gap, "o-", ms=2, lw=0.6, color=ORANGE, label="paper law - exact")
     ax2.plot(n, n**q - gap, "s-", ms=2, lw=0.6, color=GREEN, label="fitted law - exact")
     ax2.set_ylabel("residual")
     ax2.set_xlabel("number of contacts $n$")
+    from matplotlib.ticker import FixedLocator, FuncFormatter, NullFormatter
+
     ax2.set_xscale("log")
-    ax2.legend(loc="upper right", fontsize="x-small")
+    ticks = [t for t in (1, 2, 5, 10, 20, 50, 100, 200, 500) if t <= n.max()]
+    ax2.xaxis.set_major_locator(FixedLocator(ticks))
+    ax2.xaxis.set_major_formatter(FuncFormatter(lambda v, _p: f"{v:g}"))
+    ax2.xaxis.set_minor_formatter(NullFormatter())
+    ax2.set_xlim(0.9, n.max() * 1.1)
+    ax2.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="x-small")
     return fig
 
 
 def fig2d(curves, errors, plot):
     from restitution import plotting
 
-    fig = plotting.new_figure("single", aspect=1.25)
+    fig = plotting.new_figure("onehalf", aspect=0.85)
     ax1, ax2 = fig.subplots(
         2, 1, sharex=True, gridspec_kw={"height_ratios": [1.6, 1], "hspace": 0.08}
     )
@@ -107,7 +144,7 @@ def fig2d(curves, errors, plot):
         ax1.plot(c["alpha"], c[name], color=colour, ls=ls, lw=0.8, label=text, zorder=2)
     ax1.set_ylim(0, 1.02)
     ax1.set_ylabel("COR $e$")
-    ax1.legend(loc="lower right", fontsize="x-small")
+    ax1.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="x-small")
     styles_err = styles + [("improved_universal", GREEN, ":", "improved, one shape for all $n$")]
     for name, colour, ls, text in styles_err:
         err = np.abs(c[name] - c["exact"]).clip(lower=1e-12)
@@ -116,14 +153,47 @@ def fig2d(curves, errors, plot):
     ax2.set_yscale("log")
     ax2.set_ylim(1e-8, 1)
     ax2.set_ylabel("|approx - exact|")
-    ax2.legend(loc="lower left", fontsize="xx-small", ncols=1)
+    ax2.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="x-small", ncols=1)
     plotting.log_axis(ax2, "x")
     ax2.set_xlim(plot["alpha_min"], plot["alpha_max"])
     ax2.set_xlabel(r"mass ratio $\alpha = m_2/m_1$")
     return fig
 
 
-def main(inp, out, params, logger):
+def caption_data(panel, inp, fit) -> dict:
+    """Numbers of the caption of ``panel`` from the tables just drawn."""
+    from restitution.io import read_table
+
+    fits = fit["fits"]
+    if panel == "b":
+        check = limit_check(read_table(inp.sweep))
+        worst = float((check["ratio"] - 1).abs().max()) if len(check) else float("nan")
+        return {
+            "p_fit": f"{fits['eq19_unity']['params']['p']:.4f}",
+            "c_fit": f"{fits['minima_c_n1']['params']['c']:.3f}",
+            "limit_alpha": f"{check['alpha'].min():g}" if len(check) else "-",
+            "limit_ratios": ", ".join(f"{r:.4f}" for r in check["ratio"]),
+            "limit_betas": ", ".join(f"{b:g}" for b in check["beta"]),
+            "limit_worst": f"{100 * worst:.1f}%",
+        }
+    if panel == "c":
+        qs = fits["eq22_gap_scaled_n2"]["params"]
+        return {
+            "q_fit": f"{fits['eq22_gap_n1']['params']['q']:.4f}",
+            "A_fit": f"{qs['A']:.3f}",
+            "q2_fit": f"{qs['q']:.4f}",
+        }
+    errors = read_table(inp.errors).set_index("model")
+    paper = float(errors.loc["paper", "max_abs_error"])
+    improved = float(errors.loc["improved", "max_abs_error"])
+    return {
+        "paper_max": f"{paper:.2f}",
+        "improved_max": f"{improved:.1e}",
+        "ratio": f"{paper / improved:.0f}",
+    }
+
+
+def main(inp, out, params, logger, smk=None):
     from pathlib import Path
 
     from restitution import plotting
@@ -135,18 +205,25 @@ def main(inp, out, params, logger):
     }
     with open(inp.fit) as fh:
         fit = json.load(fh)
-    if params.panel == "b":
+    # The rule passes the figure name ("fig2c"): a bare letter would be a prefix of input paths
+    # such as config/paper_values.yaml, which snakemake --lint reports.
+    panel = params.panel.removeprefix("fig2")
+    if panel == "b":
         sweep = read_table(inp.sweep)
         fig = fig2b(sweep, read_table(inp.points), fit, plot)
-    elif params.panel == "c":
+    elif panel == "c":
         fig = fig2c(read_table(inp.residuals), fit)
-    elif params.panel == "d":
+    elif panel == "d":
         fig = fig2d(read_table(inp.curves), read_table(inp.errors), plot)
     else:
         raise ValueError(f"unknown panel {params.panel!r}; expected 'b', 'c' or 'd'")
     stem = Path(out.png).with_suffix("")
     for path in plotting.save_figure(fig, stem, formats=("png", "pdf")):
         logger.info("wrote %s", path)
+    if smk is not None:
+        from render_caption import write_caption
+
+        write_caption(smk, caption_data(panel, inp, fit), logger)
 
 
 if __name__ == "__main__":
@@ -154,5 +231,5 @@ if __name__ == "__main__":
 
     smk = snakemake  # noqa: F821 (injected by Snakemake)
     log = setup(smk, numba=False)
-    with Timer(log, f"render fig2{smk.params.panel}"):
-        main(smk.input, smk.output, smk.params, log)
+    with Timer(log, f"render {smk.params.panel}"):
+        main(smk.input, smk.output, smk.params, log, smk)

@@ -9,7 +9,6 @@ of each branch is written to the log.
 import numpy as np
 import pandas as pd
 
-COLOURS = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000"]
 DASHES = ["-", "--", "-.", ":"]
 
 
@@ -30,7 +29,7 @@ def draw(sweep: pd.DataFrame, alphas, logger):
         ax.plot(
             curve["beta"],
             curve["cor"],
-            color=COLOURS[k % len(COLOURS)],
+            color=plotting.alpha_colour(alpha, alphas),
             ls=DASHES[k % len(DASHES)],
             lw=1.0,
             label=rf"$\alpha = {alpha:g}$",
@@ -53,7 +52,35 @@ def draw(sweep: pd.DataFrame, alphas, logger):
     return fig
 
 
-def main(sweep_path, png_path, pdf_path, params, logger):
+def caption_data(sweep: pd.DataFrame, alphas) -> dict:
+    """Per alpha: where the curve is lowest. An interior lowest point is the sharp minimum the
+    paper discusses; a curve lowest at the smallest beta (the rigid-wall side) has none."""
+    sharp, none = [], []
+    for alpha in alphas:
+        curve = sweep[(sweep["alpha"] == alpha) & (sweep["status"] == "ok")].sort_values("beta")
+        curve = curve.reset_index(drop=True)
+        i = int(curve["cor"].idxmin())
+        start = curve.iloc[0]
+        if i == 0:
+            none.append(
+                f"alpha = {alpha:g} (COR {start['cor']:.3f} at beta = {start['beta']:g}, "
+                f"its lowest point)"
+            )
+        else:
+            low = curve.iloc[i]
+            sharp.append(
+                f"alpha = {alpha:g}: from {start['cor']:.3f} at beta = {start['beta']:g} down to "
+                f"{low['cor']:.3f} at beta = {low['beta']:.4g} ({int(low['n_collisions'])} "
+                "contacts)"
+            )
+    return {
+        "sharp": "; ".join(sharp) or "none of the curves",
+        "none": "; ".join(none) or "none",
+        "none_count": len(none),
+    }
+
+
+def main(sweep_path, png_path, pdf_path, params, logger, smk=None):
 
     from restitution import plotting
     from restitution.io import read_table
@@ -67,6 +94,10 @@ def main(sweep_path, png_path, pdf_path, params, logger):
         raise ValueError(f"{sweep_path}: no rows for alpha = {missing}")
     fig = draw(sweep, params.alphas, logger)
     plotting.save_outputs(fig, png_path, pdf_path, logger)
+    if smk is not None:
+        from render_caption import write_caption
+
+        write_caption(smk, caption_data(sweep, params.alphas), logger)
 
 
 if __name__ == "__main__":
@@ -80,4 +111,5 @@ if __name__ == "__main__":
             snakemake.output.pdf,  # noqa: F821
             snakemake.params,  # noqa: F821
             log,
+            snakemake,  # noqa: F821
         )

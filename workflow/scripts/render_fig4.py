@@ -1,4 +1,4 @@
-"""Render Fig. 4(a), (b), (c) or (d) (``params.name``): the plastic contact of Section 3.1.
+"""Render Fig. 4(a)-(d) (``params.name``: fig4a, ...): the plastic contact of Section 3.1.
 
 - 4(a): loading-unloading curves F1(x) of one first contact of m1 alone at V0 (no simulation):
   power-law loading kappa*x**eta to (xmax, Fmax), linear unloading with slope k1 down to the
@@ -141,12 +141,34 @@ def draw_sweep(name, sweep, panel, logger):
     return fig
 
 
-def main(sweep_path, png_path, pdf_path, params, logger):
+def caption_data(name: str, sweep, panel: dict) -> dict:
+    """Trend words and numbers of panel (b), (c) or (d) from its sweep table."""
+    from render_caption import ordering
+
+    plastic = sweep[(sweep["contact"] != "linear") & (sweep["status"] == "ok")]
+    data = ordering(plastic, "dr" if name == "b" else "eta")
+    if name in ("c", "d"):
+        # Where each curve ends: its COR at the largest alpha against its largest COR above a
+        # tenth of that alpha (a COR falling again at large alpha shows as a drop).
+        top = float(plastic["alpha"].max())
+        ends = []
+        for eta, curve in plastic.groupby("eta", sort=True):
+            upper = curve[curve["alpha"] >= top / 10].sort_values("alpha")
+            peak = upper.loc[upper["cor"].idxmax()]
+            ends.append(f"eta = {eta:g}: {upper['cor'].iloc[-1]:.3f} at alpha = {top:g}, "
+                        f"largest {peak['cor']:.3f} at alpha = {peak['alpha']:.3g}")  # fmt: skip
+        data["ends"] = "; ".join(ends)
+    return data
+
+
+def main(sweep_path, png_path, pdf_path, params, logger, smk=None):
 
     from restitution import plotting
     from restitution.io import read_table
 
-    name, panel = params.name, params.panel
+    # The rule passes the figure name ("fig4c"): a bare letter would be a prefix of input paths
+    # such as config/paper_values.yaml, which snakemake --lint reports.
+    name, panel = params.name.removeprefix("fig4"), params.panel
     if name == "a":
         fig = draw_a(panel, logger)
     else:
@@ -162,6 +184,10 @@ def main(sweep_path, png_path, pdf_path, params, logger):
             )
         fig = draw_sweep(name, sweep, panel, logger)
     plotting.save_outputs(fig, png_path, pdf_path, logger)
+    if smk is not None and "caption" in smk.output.keys():
+        from render_caption import write_caption
+
+        write_caption(smk, caption_data(name, sweep, panel), logger)
 
 
 if __name__ == "__main__":
@@ -175,4 +201,5 @@ if __name__ == "__main__":
             snakemake.output.pdf,  # noqa: F821
             snakemake.params,  # noqa: F821
             log,
+            snakemake,  # noqa: F821
         )

@@ -67,7 +67,14 @@ def draw(sweep: pd.DataFrame, n_masses, logger):
     return fig
 
 
-def main(sweep_path, png_path, pdf_path, params, logger):
+def caption_data(sweep: pd.DataFrame) -> dict:
+    """How the COR orders with N on the shared x grid, minima counts, from the sweep table."""
+    from render_caption import ordering
+
+    return ordering(sweep[sweep["status"] == "ok"], "n_masses", along="x")
+
+
+def main(sweep_path, png_path, pdf_path, params, logger, smk=None):
 
     from restitution import plotting
     from restitution.io import read_table
@@ -81,6 +88,10 @@ def main(sweep_path, png_path, pdf_path, params, logger):
         raise ValueError(f"{sweep_path}: no rows for N = {missing}")
     fig = draw(sweep, params.n_masses, logger)
     plotting.save_outputs(fig, png_path, pdf_path, logger)
+    if smk is not None:
+        from render_caption import write_caption
+
+        write_caption(smk, caption_data(sweep), logger)
 
 
 if __name__ == "__main__":
@@ -94,4 +105,5 @@ if __name__ == "__main__":
             snakemake.output.pdf,  # noqa: F821
             snakemake.params,  # noqa: F821
             log,
+            snakemake,  # noqa: F821
         )

@@ -1,4 +1,4 @@
-"""Render Fig. 7(a), 7(b) or 7(c) (``params.panel``) from the Fig. 7 sweep table.
+"""Render Fig. 7(a), 7(b) or 7(c) (``params.panel``: fig7a, ...) from the Fig. 7 sweep table.
 
 - 7(a): COR against alpha = m2/m1 (log axis), one curve per damping ratio xi.
 - 7(b): number of contacts n_collisions against alpha (a step curve: the count is constant
@@ -13,13 +13,10 @@ along the bottom of the axes at its alpha, never drawn as data (its values are n
 import numpy as np
 import pandas as pd
 
-#: Okabe-Ito colours in the house order, one per xi.
-COLOURS = ["black", "#E69F00", "#0072B2", "#009E73", "#D55E00", "#CC79A7", "#56B4E9"]
-
 PANELS = {
     "a": ("cor", "coefficient of restitution $e$"),
     "b": ("n_collisions", "number of contacts $n$"),
-    "c": ("omega_t_col", r"collision duration $\omega t_\mathrm{col}$"),
+    "c": ("omega_t_col", None),  # plotting.T_COL_LABELS["omega"], the paper's normalisation
 }
 
 
@@ -55,12 +52,12 @@ def draw(sweep: pd.DataFrame, panel: str, fig7: dict, logger):
     column, ylabel = PANELS[panel]
     fig = plotting.new_figure("single", aspect=0.72)
     ax = fig.add_subplot()
-    for i, xi in enumerate(sorted(fig7["xis"])):
+    for xi in sorted(fig7["xis"]):
         rows = sweep[sweep["xi"] == xi].sort_values("alpha")
         curve = rows[rows["status"] == "ok"]
         if curve.empty:
             raise ValueError(f"no rows with status ok for xi = {xi} in the sweep table")
-        colour = COLOURS[i % len(COLOURS)]
+        colour = plotting.xi_colour(xi, fig7["xis"])
         # Rows not ok become NaN: the curve is broken there instead of bridged across them.
         y = rows[column].where(rows["status"] == "ok").astype(float)
         if panel == "b":
@@ -80,33 +77,151 @@ def draw(sweep: pd.DataFrame, panel: str, fig7: dict, logger):
     plotting.log_axis(ax, "x")
     ax.set_xlim(fig7["alpha_min"], fig7["alpha_max"])
     ax.set_xlabel(r"mass ratio $\alpha = m_2/m_1$")
-    ax.set_ylabel(ylabel)
+    ax.set_ylabel(ylabel or plotting.T_COL_LABELS["omega"])
     title = plotting.beta_text(fig7["beta"])
     if panel == "a":
         ax.set_ylim(0.0, 1.02)
-        ax.legend(loc="lower right", title=title)
+        ax.legend(loc="lower right", title=title, ncols=2)
     elif panel == "b":
         ax.set_ylim(0, None)
         ax.legend(loc="upper left", title=title)
     else:
         plotting.log_axis(ax, "y")
-        ax.legend(loc="upper left", title=title)
+        # The fitted large-alpha power law (caption: slope per xi), drawn below the curves.
+        data = caption_data(sweep, "c", fig7)
+        slope = float(np.mean([float(v) for v in data["slopes"].split(", ")]))
+        hi = float(fig7["alpha_max"])
+        a = np.geomspace(hi / 10, hi, 50)
+        ref = sweep[(sweep["alpha"] >= hi / 10) & (sweep["status"] == "ok")]["omega_t_col"]
+        y0 = float(np.exp(np.log(ref).mean())) / np.sqrt(hi / 10 * hi) ** slope
+        ax.plot(a, 0.55 * y0 * a**slope, color="0.35", lw=0.8, ls=(0, (4, 2)),
+                label=rf"$\propto \alpha^{{{slope:.2f}}}$ (fit, mean slope)")  # fmt: skip
+        ax.legend(loc="lower right", title=title)
     return fig
 
 
-def main(sweep_path, png_path, pdf_path, params, logger):
+def _fmt(value, digits=3):
+    return f"{float(value):.{digits}g}"
+
+
+def curves(sweep: pd.DataFrame, xis) -> dict:
+    """The ok rows of each xi, sorted by alpha."""
+    out = {}
+    for xi in sorted(map(float, xis)):
+        rows = sweep[(sweep["xi"] == xi) & (sweep["status"] == "ok")]
+        out[xi] = rows.sort_values("alpha").reset_index(drop=True)
+    return out
+
+
+def local_minima(curve: pd.DataFrame) -> pd.DataFrame:
+    """Rows of ``curve`` where the COR is below both neighbours (the refined cusps)."""
+    cor = curve["cor"].to_numpy()
+    idx = [i for i in range(1, len(cor) - 1) if cor[i] < cor[i - 1] and cor[i] <= cor[i + 1]]
+    return curve.iloc[idx]
+
+
+def caption_data(sweep: pd.DataFrame, panel: str, fig7: dict) -> dict:
+    """Numbers and words of the caption of ``panel``, computed from the sweep table."""
+    by_xi = curves(sweep, fig7["xis"])
+    xis = list(by_xi)
+    xi_list = ", ".join(f"{xi:g}" for xi in xis)
+    data = {"xi_list": xi_list}
+    if panel == "a":
+        minima = {xi: local_minima(c) for xi, c in by_xi.items()}
+        first = {xi: m.iloc[0] for xi, m in minima.items() if len(m)}
+        second = {xi: m.iloc[1] for xi, m in minima.items() if len(m) > 1}
+        low = {xi: c.iloc[0] for xi, c in by_xi.items()}
+        low_cor = [float(low[xi]["cor"]) for xi in xis]
+        rising = all(b > a for a, b in zip(low_cor, low_cor[1:], strict=False))
+        falling = all(b < a for a, b in zip(low_cor, low_cor[1:], strict=False))
+        # Above the largest first minimum: on a common log grid, where is COR falling with xi?
+        start = max(float(first[xi]["alpha"]) for xi in first)
+        grid = np.geomspace(start * 1.0001, fig7["alpha_max"], 2000)
+        values = np.array(
+            [np.interp(np.log(grid), np.log(c["alpha"]), c["cor"]) for c in by_xi.values()]
+        )
+        ordered = np.all(np.diff(values, axis=0) < 0, axis=0)
+        data.update(
+            alpha_low=_fmt(low[xis[0]]["alpha"]),
+            low_values=", ".join(_fmt(v) for v in low_cor),
+            low_trend="rises" if rising else ("falls" if falling else "is not monotonic"),
+            first_minima=", ".join(
+                f"{_fmt(first[xi]['alpha'])} (COR {_fmt(first[xi]['cor'], 2)})" for xi in first
+            ),
+            first_min_max=_fmt(start),
+            second_minima=", ".join(_fmt(second[xi]["alpha"]) for xi in second),
+            second_xis=", ".join(f"{xi:g}" for xi in second),
+            second_trend="moves to smaller alpha"
+            if all(
+                b < a
+                for a, b in zip(
+                    [second[x]["alpha"] for x in second],
+                    [second[x]["alpha"] for x in second][1:],
+                    strict=False,
+                )
+            )
+            else "does not move monotonically",
+            ordered_share=f"{100 * ordered.mean():.0f}%",
+        )
+    elif panel == "b":
+        parts, ends = [], []
+        for xi, c in by_xi.items():
+            peak = int(c["n_collisions"].max())
+            where = c.loc[c["n_collisions"] == peak, "alpha"]
+            parts.append(f"{peak} at alpha = {_fmt(where.iloc[0])} (xi = {xi:g})")
+            ends.append(str(int(c["n_collisions"].iloc[-1])))
+        data.update(peaks="; ".join(parts), ends=", ".join(ends))
+    elif panel == "c":
+        hi = float(fig7["alpha_max"])
+        lo = hi / 10
+        slopes = []
+        for c in by_xi.values():
+            sel = c["alpha"] >= lo
+            slope = np.polyfit(np.log(c.loc[sel, "alpha"]), np.log(c.loc[sel, "omega_t_col"]), 1)
+            slopes.append(float(slope[0]))
+        mean = float(np.mean(slopes))
+        first = min(float(c["omega_t_col"].iloc[0]) for c in by_xi.values())
+        last = [float(c["omega_t_col"].iloc[-1]) for c in by_xi.values()]
+        data.update(
+            fit_lo=f"{lo:g}",
+            fit_hi=f"{hi:g}",
+            slopes=", ".join(f"{v:.2f}" for v in slopes),
+            slope_word=(
+                "close to one half, so omega t_col grows about as the square root of alpha, "
+                "not linearly"
+                if abs(mean - 0.5) < 0.1
+                else (
+                    "close to one: about linear"
+                    if abs(mean - 1) < 0.1
+                    else "neither one half nor one"
+                )
+            ),
+            t_first=_fmt(first, 2),
+            t_last=", ".join(_fmt(v) for v in last),
+        )
+    return data
+
+
+def main(sweep_path, png_path, pdf_path, params, logger, smk=None):
 
     from restitution import plotting
     from restitution.io import read_table
 
-    if params.panel not in PANELS:
-        raise ValueError(f"panel must be one of {sorted(PANELS)}, got {params.panel!r}")
+    # The rule passes the figure name ("fig7c"): a bare letter would be a prefix of input paths
+    # such as config/paper_values.yaml, which snakemake --lint reports.
+    panel = params.panel.removeprefix("fig7")
+    if panel not in PANELS:
+        raise ValueError(f"panel must be one of fig7{sorted(PANELS)}, got {params.panel!r}")
     sweep = read_table(sweep_path)
     missing = sorted(set(map(float, params.fig7["xis"])) - set(sweep["xi"].unique()))
     if missing:
         raise ValueError(f"{sweep_path}: no rows for xi = {missing}")
-    fig = draw(sweep, params.panel, params.fig7, logger)
+    fig = draw(sweep, panel, params.fig7, logger)
     plotting.save_outputs(fig, png_path, pdf_path, logger)
+    if smk is not None:
+        from render_caption import write_caption
+
+        write_caption(smk, caption_data(sweep, panel, params.fig7), logger)
 
 
 if __name__ == "__main__":
@@ -120,4 +235,5 @@ if __name__ == "__main__":
             snakemake.output.pdf,  # noqa: F821
             snakemake.params,  # noqa: F821
             log,
+            snakemake,  # noqa: F821
         )

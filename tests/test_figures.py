@@ -1,0 +1,121 @@
+"""Figure helpers checked against closed forms and the solver: Fig. 2(b)'s small-alpha limit, the
+colour sets of restitution.plotting, and the caption data of Fig. 7(c) on synthetic tables."""
+
+import importlib.util
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+from matplotlib.colors import to_rgb
+
+import restitution
+from restitution import plotting
+
+REPO = Path(__file__).resolve().parents[1]
+SCRIPTS = REPO / "workflow" / "scripts"
+
+
+def _load(name):
+    sys.path.insert(0, str(SCRIPTS))
+    spec = importlib.util.spec_from_file_location(name, SCRIPTS / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+render_fig2bcd = _load("render_fig2bcd")
+render_fig7 = _load("render_fig7")
+
+
+@pytest.mark.parametrize("beta", [1e-3, 1e-2, 0.1, 1.0])
+def test_fig2b_small_alpha_limit_against_the_solver(beta):
+    """omega t_col / 2 pi -> (1/2) sqrt(beta (1 + alpha)/alpha): within 1 % at alpha = 1e-4."""
+    alpha = 1e-4
+    result = restitution.solve(alpha=alpha, beta=beta)
+    assert result.status == "ok" and result.n_collisions == 1
+    ratio = result.omega_t_col / (2 * math.pi) / render_fig2bcd.small_alpha_limit(alpha, beta)
+    assert abs(ratio - 1) < 0.01, ratio
+
+
+def test_fig2b_limit_is_half_the_contact_period():
+    """Closed form: m1 alone on k1 stays in contact pi sqrt(m1/k1), and
+    omega^2 = k2 (1 + alpha)/(alpha m1)."""
+    m1, k1, beta, alpha = 1.0, 50.0, 0.2, 0.3
+    k2 = beta * k1
+    omega = math.sqrt(k2 / m1 + k2 / (alpha * m1))
+    expected = omega * math.pi * math.sqrt(m1 / k1) / (2 * math.pi)
+    assert render_fig2bcd.small_alpha_limit(alpha, beta) == pytest.approx(expected, rel=1e-14)
+
+
+def test_limit_check_reads_the_smallest_alpha_per_beta():
+    alpha = np.array([1e-3, 1e-2])
+    rows = []
+    for beta in (0.0, 0.1):
+        t = 2 * math.pi * render_fig2bcd.small_alpha_limit(alpha, beta) if beta else [0, 0]
+        rows += [
+            dict(alpha=a, beta=beta, omega_t_col=x, status="ok")
+            for a, x in zip(alpha, t, strict=True)
+        ]
+    check = render_fig2bcd.limit_check(pd.DataFrame(rows))
+    assert check["beta"].tolist() == [0.1] and check["alpha"].tolist() == [1e-3]
+    assert check["ratio"].iloc[0] == pytest.approx(1.0, rel=1e-14)
+
+
+def _distance(a, b):
+    return math.dist(to_rgb(a), to_rgb(b))
+
+
+def test_colour_sets_are_disjoint_and_distinct():
+    sets = {
+        "beta": [*plotting.BETA_COLOURS.values(), *plotting.BETA_EXTRA],
+        "xi": [*plotting.XI_COLOURS.values(), *plotting.XI_EXTRA],
+        "alpha": [*plotting.ALPHA_COLOURS.values(), *plotting.ALPHA_EXTRA],
+    }
+    names = list(sets)
+    for i, a in enumerate(names):
+        assert len(set(sets[a])) == len(sets[a]), a
+        for b in names[i + 1 :]:
+            shared = {c.lower() for c in sets[a]} & {c.lower() for c in sets[b]}
+            assert not shared, (a, b, shared)
+    # Within a set, the colours actually used in one panel are far apart in RGB.
+    for table in (plotting.BETA_COLOURS, plotting.XI_COLOURS, plotting.ALPHA_COLOURS):
+        colours = list(table.values())
+        for i, a in enumerate(colours):
+            for b in colours[i + 1 :]:
+                assert _distance(a, b) > 0.25, (a, b)
+
+
+def test_colour_of_a_value_is_the_same_everywhere():
+    assert plotting.beta_colour(0.01) == plotting.beta_colour(1e-2, [0.0, 0.01, 1.0])
+    assert plotting.xi_colour(0.3, [0.1, 0.3]) == plotting.xi_colour(0.3, [0.3, 3.0])
+    assert plotting.alpha_colour(7.0, [2.0, 7.0]) == plotting.ALPHA_EXTRA[0]
+
+
+def test_fig7c_caption_slope_is_fitted_from_the_data():
+    """A synthetic omega t_col = 3 alpha^(1/2) must give slope 0.50 and the words 'one half'."""
+    alpha = np.geomspace(0.1, 1000, 400)
+    sweep = pd.DataFrame(
+        dict(alpha=alpha, xi=0.3, status="ok", omega_t_col=3 * np.sqrt(alpha), cor=0.5,
+             n_collisions=1)
+    )  # fmt: skip
+    data = render_fig7.caption_data(sweep, "c", {"xis": [0.3], "alpha_max": 1000.0})
+    assert data["slopes"] == "0.50" and "one half" in data["slope_word"]
+    linear = sweep.assign(omega_t_col=2 * alpha)
+    data = render_fig7.caption_data(linear, "c", {"xis": [0.3], "alpha_max": 1000.0})
+    assert data["slopes"] == "1.00" and "linear" in data["slope_word"]
+
+
+def test_fig7a_caption_states_the_order_below_the_first_minimum_from_the_data():
+    alpha = np.geomspace(0.1, 10, 200)
+    rows = []
+    for xi, shift in ((0.1, 0.0), (1.0, 0.02)):
+        # COR with a cusp minimum at alpha = 1; below it the damped curve lies higher.
+        cor = np.where(alpha < 1, 0.8 + shift - 0.5 * alpha, 0.3 + 0.05 * alpha - shift)
+        rows.append(pd.DataFrame(dict(alpha=alpha, xi=xi, cor=cor, status="ok", n_collisions=1,
+                                      omega_t_col=1.0)))  # fmt: skip
+    data = render_fig7.caption_data(pd.concat(rows), "a", {"xis": [0.1, 1.0], "alpha_max": 10.0})
+    assert data["low_trend"] == "rises"
+    assert data["ordered_share"] == "100%"
