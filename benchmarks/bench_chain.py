@@ -1,6 +1,9 @@
 """Timings of the general linear-chain kernel (a script, not a test).
 
-Usage: .venv/bin/python benchmarks/bench_chain.py [--quick] [--big]
+Usage: OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/bench_chain.py [--quick] [--big]
+
+(OPENBLAS_NUM_THREADS=1: on a busy two-core machine OpenBLAS's own threads made the eigen
+decomposition of an N = 128 chain 50 times slower, 10 s instead of 0.2 s.)
 
 Prints, one thread, best of several repeats in one process after JIT warm-up:
 
@@ -97,6 +100,8 @@ def main():
     repeat = 3 if args.quick else 7
     rng = np.random.default_rng(1)
     per_contact([paper(2.0, 1e-3, 0.3, 3), paper(2.0, 0.0, 0.0, 2)], 1)  # JIT warm-up
+    for scene in (paper(2.0, 0.0, 0.3, 2), paper(2.0, 1e-3, 0.3, 3)):
+        solve_chain(*scene, 10, NOHIST)
 
     print("1. two masses, cost per contact (alpha sweep 0.5..200, xi = 0 and 0.3)")
     alphas = np.geomspace(0.5, 200.0, 50 if args.quick else 200)
@@ -107,13 +112,17 @@ def main():
 
     print("2. general chain vs uniform chain of the same N, cost per contact")
     for n in (3, 5, 8):
-        for beta in (0.0, 1e-3):
-            uni = [paper(a, beta, 0.0, n) for a in np.geomspace(0.5, 20.0, 20)]
-            gen = [general(rng, n, beta, True) for _ in range(20)]
+        for beta, damped in ((0.0, False), (1e-3, False), (1e-3, True)):
+            # like for like: undamped against undamped; dashpots (on links 2.. of the general
+            # chain, xi = 0.3 on link 1 of the uniform one at the finite-stiffness wall)
+            xi = 0.3 if damped else 0.0
+            uni = [paper(a, beta, xi, n) for a in np.geomspace(0.5, 20.0, 20)]
+            gen = [general(rng, n, beta, damped) for _ in range(20)]
             u_us, u_nc, u_bad = per_contact(uni, repeat)
             g_us, g_nc, g_bad = per_contact(gen, repeat)
             print(
-                f"   N = {n}, beta = {beta:g}: uniform {u_us:.2f} us ({u_nc} contacts), "
+                f"   N = {n}, beta = {beta:g}{' damped' if damped else ''}: "
+                f"uniform {u_us:.2f} us ({u_nc} contacts), "
                 f"general {g_us:.2f} us ({g_nc} contacts), ratio {g_us / u_us:.2f}"
                 + (f"  [not ok: {u_bad} + {g_bad}]" if u_bad + g_bad else "")
             )

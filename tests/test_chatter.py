@@ -165,7 +165,9 @@ def test_tiny_beta_is_the_rigid_limit_within_its_bound(xi, n):
         else:  # solved with the contact spring, or k/beta overflowed to a rigid wall
             assert beta >= BETA_RIGID or scene[3] == math.inf
         if out[OUT_NCOL] == rigid[OUT_NCOL]:
-            assert abs(out[OUT_COR] - rigid[OUT_COR]) <= max(out[OUT_ERR], 1e-12)
+            # the finite-stiffness COR approaches the rigid one like sqrt(beta) (bound 10 sqrt)
+            bound = 10.0 * math.sqrt(beta) + 1e-12
+            assert abs(out[OUT_COR] - rigid[OUT_COR]) <= bound + out[OUT_ERR], beta
 
 
 def test_extreme_parameters_never_raise_in_a_batch():

@@ -61,6 +61,7 @@ import numpy as np
 from numba import njit, prange
 
 from restitution.kernels.layout import (
+    FLAG_STICKING,
     H_IMPULSE,
     H_TEND,
     H_TSTART,
@@ -74,6 +75,7 @@ from restitution.kernels.layout import (
     OUT_ERR,
     OUT_ETRANS,
     OUT_EVIB,
+    OUT_FLAGS,
     OUT_NCOL,
     OUT_NEVENTS,
     OUT_STATUS,
@@ -593,6 +595,7 @@ def _rigid2(alpha, xi, max_events, hist, v_stick):
     out[OUT_EDISS] = (2.0 * xi * mu * diss + lost) / e_kin0
     out[OUT_NEVENTS] = n
     out[OUT_ERR] = err
+    out[OUT_FLAGS] = FLAG_STICKING if lost > 0.0 else 0
     total = out[OUT_ETRANS] + out[OUT_EVIB] + out[OUT_EDISS]
     if status == STATUS_OK and abs(total - 1.0) > _ENERGY_TOL:
         status = STATUS_ENERGY
