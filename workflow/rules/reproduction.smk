@@ -32,4 +32,3 @@ rule reproduction:
         "../envs/restitution.yaml"
     script:
         "../scripts/reproduction.py"
-
