@@ -345,7 +345,7 @@ def _candidates(n_col: int, beta: float):
     return out
 
 
-def _polish(fam, beta, x0, objective: _Objective, progress):
+def _polish(fam, beta, x0, objective: _Objective, progress, box):
     """Polish the global search's best point on the grazing manifold; (x, grazing) or (x0, None)."""
     m, k = fam.chain(x0)
     n_col = objective.solve(m, k).n_collisions
@@ -363,16 +363,40 @@ def _polish(fam, beta, x0, objective: _Objective, progress):
             continue
         j = int(np.argmax(grads))
         y = _solve_on_manifold(fam, beta, x0, j, n, kind)
-        if y is None:
+        if y is None or not _inside(y, box):
             continue
         if fam.dim > 1:
             y = _minimise_on_manifold(fam, beta, y, j, n, kind, objective)
+            if not _inside(y, box):
+                continue
         fy = objective.cor(y)
         if progress:
             progress(f"polish: grazing {kind} n={n}: COR {fy:.15g} (search: {best_f:.15g})")
         if fy <= best_f + 1e-12:
             best_x, best_f, best_g = y, fy, (n, kind)
+    # At beta > 0 the COR may also have a smooth minimum next to the cusp (the new contact's
+    # impulse then grows smoothly, not like a square root): a tight local search finds it.
+    loc = minimize(
+        objective.cor,
+        x0,
+        method="Nelder-Mead",
+        bounds=box,
+        options={
+            "xatol": 1e-13,
+            "fatol": 1e-16,
+            "maxfev": 400 * fam.dim,
+            "initial_simplex": np.vstack([x0, x0 + 1e-4 * np.eye(fam.dim)]),
+        },
+    )
+    if loc.fun < best_f - 1e-12:  # more than round-off below the grazing point
+        if progress:
+            progress(f"polish: smooth minimum: COR {loc.fun:.15g}")
+        best_x, best_f, best_g = loc.x, loc.fun, None
     return best_x, best_g
+
+
+def _inside(x, box) -> bool:
+    return all(lo <= xi <= hi for xi, (lo, hi) in zip(x, box, strict=True))
 
 
 def _minimise_on_manifold(fam, beta, y0, j, n, kind, objective):
@@ -452,8 +476,8 @@ def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, 
     x, graz = res.x, None
     method = "differential_evolution"
     if polish and tolerance == 0.0:
-        x, graz = _polish(fam, beta, res.x, objective, progress)
-        method += " + grazing-manifold polish" if graz else " (no grazing root near the optimum)"
+        x, graz = _polish(fam, beta, res.x, objective, progress, list(zip(lb, ub, strict=True)))
+        method += " + grazing-manifold polish" if graz else " + local polish (smooth minimum)"
     elif tolerance > 0.0:
         # Robust objective is not a cusp of one condition: refine it where it is (bounded Powell).
         loc = minimize(
