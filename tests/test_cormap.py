@@ -102,10 +102,10 @@ def test_curve_points_are_where_the_count_steps_by_bisection(curves):
             ga, gb = cormap.gradient(c.n, c.kind, (math.log(a), math.sqrt(b)))
             if abs(ga) >= abs(gb):
                 x, lo, hi = a, a * (1 - 1e-5), a * (1 + 1e-5)
-                found, n_lo, n_hi = _bisect_count(lambda s: _count(s, b), lo, hi)
+                found, n_lo, n_hi = _bisect_count(lambda s, b=b: _count(s, b), lo, hi)
             else:
                 x, lo, hi = b, b * (1 - 1e-5), b * (1 + 1e-5)
-                found, n_lo, n_hi = _bisect_count(lambda s: _count(a, s), lo, hi)
+                found, n_lo, n_hi = _bisect_count(lambda s, a=a: _count(a, s), lo, hi)
             assert found == pytest.approx(x, rel=1e-9), (c.kind, c.n, a, b)
             assert abs(n_hi - n_lo) == 1
             checked += 1
