@@ -74,7 +74,7 @@ def test_solve_many_matches_solve_and_keeps_input_columns():
         },
         index=[10, 11, 12, 13, 14],
     )
-    out = solve_many(frame)
+    out = solve_many(frame, keep=["label"])
     assert list(out.index) == list(frame.index)
     assert list(out["label"]) == list("abcde")
     for c in RESULT_COLUMNS:

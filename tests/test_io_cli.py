@@ -69,6 +69,8 @@ def test_cli_batch_roundtrip(tmp_path, suffix_in, suffix_out):
     src, dst = tmp_path / f"in{suffix_in}", tmp_path / f"out{suffix_out}"
     write_table(frame, src)
     p = _run("batch", str(src), "-o", str(dst))
+    assert p.returncode == 2 and "unknown column(s) 'tag'" in p.stderr and "--keep" in p.stderr
+    p = _run("batch", str(src), "-o", str(dst), "--keep", "tag")
     assert p.returncode == 0, p.stderr
     out = read_table(dst)
     assert list(out["tag"]) == ["x", "y"]

@@ -1,70 +1,68 @@
-"""Plain-Python entry points: validate, pick the method the scene needs, call a numba kernel.
+"""Public entry points: ``solve`` (one scene) and ``solve_many`` (a table of scenes).
 
-Method names say which exact model a result comes from (DESIGN.md, "model only what a scene needs"):
-
-========== ============================================================================
-impulsive  rigid wall (beta = 0): impulsive reversal of m1's velocity at each contact,
-           closed-form motion between contacts (kernel ``rigid2`` for two masses,
-           ``linear`` for chains)
-piecewise  linear contact spring (beta > 0): closed-form motion in each phase (free /
-           in contact) with exact switching times (kernel ``linear``)
-adaptive   embedded Dormand-Prince 5(4) with guaranteed event location, only for the
-           phases whose force law is nonlinear (two masses; ``restitution.nonlinear``)
-verlet     the paper's velocity Verlet, fixed step (a fraction of the shortest period)
-reference  scipy ``solve_ivp`` DOP853 with events: slow, for checks
-auto       the exact method a linear scene needs; ``adaptive`` for nonlinear laws
-========== ============================================================================
-
-Nonlinear laws (plastic contact, scissor spring; Sections 3.1-3.2) are chosen with the keyword
-arguments of ``restitution.nonlinear.solve_nonlinear`` (``contact``, ``eta``, ``dr``,
-``structure``, ``L``, ``ks_ratio``, ``theta0``, ``corner``, ``v0``, ``rtol``, ``step``).
+Both take either the paper's form (alpha, beta, xi, n_masses) or a general chain (masses,
+springs, dashpots, k_contact, contact, links, v0; see ``restitution.Chain``), check everything
+before any work, pick the method with the solver table ``restitution.methods.METHODS`` and record
+it in every result. Nonlinear laws in the paper's form (two masses) are the keywords of
+``restitution.nonlinear.solve_nonlinear``: contact, eta, dr, structure, L, ks_ratio, theta0,
+corner, v0.
 """
 
 from __future__ import annotations
 
+import math
+from dataclasses import replace
+
 import numpy as np
 import pandas as pd
 
+from . import methods as M
+from .chain import LAW_KEYS, Chain, SceneError, check, make_chain, paper_with_laws
+from .compiling import announce
 from .kernels import layout as L
-from .result import RESULT_COLUMNS, Result, status_name
-from .scene import EXACT_METHODS, METHODS, NUMERICAL_METHODS, Scene, SceneError, check_method
+from .result import RESULT_COLUMNS, T_COL, Result
+from .tables import scene_table
 
-INPUT_COLUMNS = ("alpha", "beta", "xi", "n_masses", "method")
-LAW_KEYS = ("contact", "eta", "dr", "structure", "L", "ks_ratio", "theta0", "corner", "v0")
-NUMERICAL_KEYS = (*LAW_KEYS, "rtol", "step")
-DEFAULTS = {"beta": 0.0, "xi": 0.0, "n_masses": 2, "method": "auto"}
 _BLOCK = 2048  # rows per parallel batch call; the progress bar advances per block
 
 
-def resolve_method(scene: Scene, method: str = "auto") -> str:
-    """Return the method a scene needs, or raise if a forced method does not fit it."""
-    check_method(method)
-    needed = "impulsive" if scene.beta == 0.0 else "piecewise"
-    if method in NUMERICAL_METHODS:
-        return method
-    if method not in ("auto", needed):
-        raise SceneError(
-            f"method {method!r} does not fit beta={scene.beta!r}: 'impulsive' needs beta = 0 "
-            f"(rigid wall), 'piecewise' needs beta > 0; use method='auto' or '{needed}'"
-        )
-    return needed
+def _block(rows: int, progress: bool) -> int:
+    """Rows per batch call: with a progress bar about 100 updates (so its ETA follows the real
+    rate), each large enough to keep every thread busy; results do not depend on it."""
+    return max(64, min(_BLOCK, rows // 100)) if progress else _BLOCK
+
+
+_EXACT_NAME = {True: "impulsive", False: "piecewise"}  # rigid wall -> method (paper fast path)
 
 
 def _kernels():
     # Imported lazily so `import restitution` stays cheap for the CLI's --help and for snakemake.
-    from .kernels.linear import solve_linear, solve_linear_batch
-    from .kernels.rigid2 import rigid2, rigid2_batch
+    global _KERNELS
+    if _KERNELS is None:
+        from .kernels.linear import solve_linear, solve_linear_batch
+        from .kernels.rigid2 import rigid2, rigid2_batch
 
-    return rigid2, rigid2_batch, solve_linear, solve_linear_batch
+        _KERNELS = rigid2, rigid2_batch, solve_linear, solve_linear_batch
+    return _KERNELS
+
+
+_KERNELS = None
 
 
 def solve(
-    alpha: float,
+    alpha: float | Chain | None = None,
     beta: float = 0.0,
     xi: float = 0.0,
     n_masses: int = 2,
     method: str = "auto",
     *,
+    masses=None,
+    springs=None,
+    dashpots=None,
+    k_contact: float = math.inf,
+    v0: float | None = None,
+    contact=None,
+    links=None,
     history: bool = False,
     max_events: int = 100_000,
     **law,
@@ -73,270 +71,342 @@ def solve(
 
     Parameters
     ----------
-    alpha : float
-        Mass ratio m2/m1, in (0, 1e8].
-    beta : float
-        Stiffness ratio k2/k1, in [0, 1e6]; 0 is the rigid wall.
-    xi : float
-        Damping ratio of the dashpot between m1 and m2, in [0, 1e3].
-    n_masses : int
-        Number of masses in the chain, in [2, 512].
-    method : {"auto", "impulsive", "piecewise", "adaptive", "verlet", "reference"}
-        See the module docstring; the method used is recorded in ``Result.method``.
+    alpha : float or Chain
+        Paper form: mass ratio m2/m1, in (0, 1e8]. Or a ``restitution.Chain``.
+    beta, xi, n_masses : float, float, int
+        Paper form: stiffness ratio k2/k1 in [0, 1e6] (0: rigid wall), damping ratio of the
+        dashpot between m1 and m2 in [0, 1e3], number of masses in [2, 512].
+    masses, springs, dashpots : sequence of float
+        General form (instead of alpha...): m_1..m_N (> 0), N - 1 link stiffnesses (> 0) and
+        optional N - 1 dashpot coefficients (>= 0), in any consistent units.
+    k_contact : float
+        Contact stiffness (> 0); ``math.inf`` (default) is the rigid wall.
+    v0 : float, optional
+        Approach speed in (0, 1e6] (default 1; only nonlinear laws depend on it).
+    contact, links : mapping, sequence of mapping, optional
+        Contact and per-link laws (docs/general-chains.md).
+    method : str
+        "auto" or a name of ``restitution.methods.METHODS``; recorded in ``Result.method``.
     history : bool
         Also return one row per contact (``Result.history``).
     max_events : int
         Contact budget; a longer sequence ends with status ``event_budget_exhausted``.
     **law
-        Nonlinear laws and numerical settings (two masses only), passed to
-        ``restitution.nonlinear.solve_nonlinear``: contact, eta, dr, structure, L, ks_ratio,
-        theta0, corner, v0, rtol, step.
+        Paper form only: the nonlinear laws and numerical settings of
+        ``restitution.nonlinear.solve_nonlinear`` (contact, eta, dr, structure, L, ks_ratio,
+        theta0, corner, rtol, step).
 
     Examples
     --------
     >>> r = solve(alpha=1.0)
     >>> round(r.cor, 12), r.n_collisions
     (1.0, 2)
+    >>> r = solve(masses=[1.0, 0.5, 2.0], springs=[0.3, 1.2], dashpots=[0.0, 0.05])
     """
-    scene = Scene(alpha, beta, xi, n_masses)
-    chosen = resolve_method(scene, method)
-    max_events = _check_max_events(max_events)
-    if chosen in NUMERICAL_METHODS or _is_nonlinear(law):
-        return _solve_numerical(scene, method, history, max_events, law)
+    general = masses is not None or springs is not None
+    if isinstance(alpha, Chain):
+        ch, settings = alpha, {k: law.pop(k) for k in ("rtol", "step") if k in law}
+        if law:
+            raise SceneError(f"unknown keyword(s) {', '.join(sorted(law))} with a Chain")
+    elif general:
+        if alpha is not None:
+            raise SceneError(
+                "give either the paper's form (alpha, beta, xi, n_masses) or a general chain "
+                "(masses, springs, ...), not both"
+            )
+        settings = {k: law.pop(k) for k in ("rtol", "step") if k in law}
+        if law:
+            raise SceneError(
+                f"unknown scene parameter(s) {', '.join(sorted(law))} for a general chain; "
+                "use contact={...} and links=[...] for nonlinear laws"
+            )
+        ch = make_chain(masses, springs, dashpots, k_contact, 1.0 if v0 is None else v0,
+                        contact, links)  # fmt: skip
+    else:
+        if alpha is None:
+            raise SceneError(
+                "solve needs alpha (the paper's form) or masses and springs (a general chain)"
+            )
+        if not law and v0 is None and contact is None and links is None:
+            fast = _solve_paper(alpha, beta, xi, n_masses, method, history, max_events)
+            if fast is not None:
+                return fast
+        if isinstance(contact, str):  # the paper form's contact="plastic" (solve_nonlinear)
+            law["contact"], contact = contact, None
+        if contact is not None or links is not None:
+            raise SceneError("contact={...} and links=[...] need the general form (masses=...)")
+        if v0 is not None:
+            law["v0"] = v0
+        ch, settings = paper_with_laws(alpha, beta, xi, n_masses, law)
+    opts = M.options(history, max_events, **settings)
+    chosen = M.choose(ch, method)
+    return _run(ch, chosen, opts)
+
+
+def _solve_paper(alpha, beta, xi, n_masses, method, history, max_events):
+    """The paper's linear scenes straight to their kernel (the per-call overhead matters for
+    sweeps written as loops); None when a numerical method is forced."""
+    a = check("alpha", alpha)
+    b = check("beta", beta)
+    x = check("xi", xi)
+    n = check("n_masses", n_masses)
+    rigid = b == 0.0
+    name = _EXACT_NAME[rigid]
+    if method != name:
+        if method != "auto":
+            M.choose(Chain._paper(a, b, x, n), method)  # raises for a misfit, else numerical
+            return None
+    max_events = check("max_events", max_events)
     rigid2, _, solve_linear, _ = _kernels()
     hist = np.zeros((max_events if history else 0, L.N_HIST))
-    if chosen == "impulsive" and scene.n_masses == 2:
-        out = rigid2(scene.alpha, scene.xi, max_events, hist)
+    if rigid and n == 2:
+        announce(rigid2)
+        out = rigid2(a, x, max_events, hist)
     else:
-        out = solve_linear(scene.alpha, scene.beta, scene.xi, scene.n_masses, max_events, hist)
-    return Result.from_row(scene, out, chosen, hist if history else None)
-
-
-def _is_nonlinear(law: dict) -> bool:
-    unknown = sorted(set(law) - set(NUMERICAL_KEYS))
-    if unknown:
-        raise SceneError(
-            f"unknown scene parameter(s) {', '.join(unknown)}; allowed: alpha, beta, xi, "
-            f"n_masses, method, history, max_events, {', '.join(NUMERICAL_KEYS)}"
-        )
-    return law.get("contact", "linear") != "linear" or law.get("structure", "linear") != "linear"
-
-
-def _check_numerical(scene: Scene, method: str) -> None:
-    """Nonlinear laws and numerical methods exist for two masses and exclude exact methods."""
-    if scene.n_masses != 2:
-        raise SceneError(
-            f"n_masses must be 2 for nonlinear laws and for the numerical methods "
-            f"{', '.join(NUMERICAL_METHODS)}; got {scene.n_masses}"
-        )
-    if method in EXACT_METHODS:
-        raise SceneError(
-            f"method {method!r} is exact only for linear laws; use one of auto, "
-            f"{', '.join(NUMERICAL_METHODS)}"
-        )
-
-
-def _solve_numerical(scene: Scene, method: str, history: bool, max_events: int, law: dict):
-    """Nonlinear laws, or a numerical method forced on a linear scene (two masses)."""
-    from .nonlinear import solve_nonlinear
-
-    _check_numerical(scene, method)
-    return solve_nonlinear(
-        scene.alpha,
-        scene.beta,
-        scene.xi,
-        method=method,
-        history=history,
-        max_events=max_events,
-        **law,
+        announce(solve_linear)
+        out = solve_linear(a, b, x, n, max_events, hist)
+    return Result.from_row(
+        _PaperScene(a, b, x, n), out, M.label(name, out), hist if history else None
     )
 
 
-def _check_max_events(value) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-        raise SceneError(f"max_events must be a positive integer; got {value!r}")
-    return int(value)
+class _PaperScene:
+    """The summary of a paper-form scene a Result needs (the Chain is built only on demand)."""
+
+    __slots__ = ("alpha", "beta", "xi", "n_masses")
+    omega = 1.0
+
+    def __init__(self, alpha, beta, xi, n):
+        self.alpha, self.beta, self.xi, self.n_masses = alpha, beta, xi, n
+
+    def to_dict(self) -> dict:
+        return Chain._paper(self.alpha, self.beta, self.xi, self.n_masses).to_dict()
 
 
-def _column(frame: pd.DataFrame, name: str, check) -> np.ndarray:
-    """Column ``name`` (or its default); on a bad cell, raise ``check``'s error naming the row."""
-    if name not in frame:
-        return np.full(len(frame), DEFAULTS[name])
-    values = frame[name].to_numpy()
-    ok = np.zeros(len(values), dtype=bool)
-    if name != "method" and values.dtype.kind in "fiu":
-        # Vectorised fast path: probe a value's acceptance once per distinct value.
-        distinct, inverse = np.unique(values, return_inverse=True)
-        good = np.array([_accepts(check, v) for v in distinct], dtype=bool)
-        ok = good[inverse]
-    elif name == "method":
-        ok = pd.Series(values).isin(METHODS).to_numpy()
-    for i in np.flatnonzero(~ok):
-        try:
-            check(values[i])
-        except SceneError as e:
-            raise SceneError(f"{e} (row {frame.index[i]!r})") from None
-    return values
+def _run(ch: Chain, chosen: M.Method, opts: M.Options) -> Result:
+    out, hist = chosen.run(ch, opts)
+    if isinstance(out, Result):  # numerical runners return a Result of their own
+        return replace(out, t_col=out.omega_t_col / ch.omega, scene=ch)
+    return Result.from_row(ch, out, M.label(chosen.name, out), hist)
 
 
-def _accepts(check, value) -> bool:
-    try:
-        check(value)
-    except SceneError:
-        return False
-    return True
+# ----------------------------------------------------------------------------------------------
+# Tables
+# ----------------------------------------------------------------------------------------------
+def validate_frame(frame: pd.DataFrame, keep=()) -> pd.DataFrame:
+    """The scene table checked strictly (``restitution.tables``), with the method of every row
+    in column ``method``; raises SceneError naming the first bad row and column."""
+    return scene_table(frame, keep).plan
 
 
-def validate_frame(frame: pd.DataFrame) -> pd.DataFrame:
-    """Return the scenes with defaults filled in; raise SceneError naming the first bad cell.
+def _status_names(codes: np.ndarray) -> np.ndarray:
+    from .result import STATUS, status_name
 
-    The returned ``method`` column holds the method each row will use; rows with a nonlinear law
-    or a numerical method are checked again, with their laws, by ``solve_nonlinear_many``.
-    """
-    from .scene import check_alpha, check_beta, check_n_masses, check_xi
-
-    if not isinstance(frame, pd.DataFrame):
-        raise SceneError(f"expected a pandas DataFrame with a column 'alpha'; got {type(frame)}")
-    if "alpha" not in frame:
-        raise SceneError(
-            f"the scene table needs a column 'alpha' (optional: beta, xi, n_masses, method); "
-            f"got columns {list(frame.columns)}"
-        )
-    clash = [c for c in RESULT_COLUMNS if c in frame and c != "method"]
-    if clash:
-        raise SceneError(f"the scene table already has result columns {clash}; drop them first")
-    scenes = pd.DataFrame(index=frame.index)
-    scenes["alpha"] = _column(frame, "alpha", check_alpha).astype(float)
-    scenes["beta"] = _column(frame, "beta", check_beta).astype(float)
-    scenes["xi"] = _column(frame, "xi", check_xi).astype(float)
-    scenes["n_masses"] = _column(frame, "n_masses", check_n_masses).astype(np.int64)
-    method = _column(frame, "method", check_method).astype(object)
-    nonlinear = np.zeros(len(frame), dtype=bool)
-    for key in ("contact", "structure"):
-        if key in frame:
-            nonlinear |= frame[key].fillna("linear").to_numpy() != "linear"
-    numerical = nonlinear | np.isin(method, NUMERICAL_METHODS)
-    rigid = scenes["beta"].to_numpy() == 0.0
-    exact = np.where(rigid, "impulsive", "piecewise")
-    wrong = ~numerical & np.isin(method, EXACT_METHODS) & (method != exact)
-    wrong |= numerical & np.isin(method, EXACT_METHODS)
-    wrong |= numerical & (scenes["n_masses"].to_numpy() != 2)
-    for i in np.flatnonzero(wrong)[:1]:
-        row = scenes.iloc[i]
-        try:
-            sc = Scene(row.alpha, row.beta, row.xi, row.n_masses)
-            if numerical[i]:
-                _check_numerical(sc, method[i])
-            resolve_method(sc, method[i])
-        except SceneError as e:
-            raise SceneError(f"{e} (row {frame.index[i]!r})") from None
-    chosen = np.where(numerical, np.where(method == "auto", "adaptive", method), exact)
-    scenes["method"] = chosen.astype(object)
-    return scenes
-
-
-def _solve_exact_rows(scenes: pd.DataFrame, idx: np.ndarray, max_events: int, bar) -> np.ndarray:
-    """Kernel rows for the exact methods, in parallel blocks (the progress bar moves per block)."""
-    _, rigid2_batch, _, solve_linear_batch = _kernels()
-    alpha = scenes["alpha"].to_numpy(np.float64)[idx]
-    beta = scenes["beta"].to_numpy(np.float64)[idx]
-    xi = scenes["xi"].to_numpy(np.float64)[idx]
-    nm = scenes["n_masses"].to_numpy(np.int64)[idx]
-    out = np.empty((len(idx), L.N_OUT))
-    fast = (beta == 0.0) & (nm == 2)  # the closed-form two-mass rigid-wall kernel
-    for group, is_fast in ((np.flatnonzero(fast), True), (np.flatnonzero(~fast), False)):
-        for start in range(0, len(group), _BLOCK):
-            sel = group[start : start + _BLOCK]
-            if is_fast:
-                out[sel] = rigid2_batch(alpha[sel], xi[sel], max_events)
-            else:
-                out[sel] = solve_linear_batch(alpha[sel], beta[sel], xi[sel], nm[sel], max_events)
-            bar.update(len(sel))
+    names = np.array([status_name(c) for c in range(max(STATUS) + 1)], dtype=object)
+    out = np.full(len(codes), "not_run", dtype=object)
+    finite = np.isfinite(codes)
+    known = finite & (codes >= 0) & (codes < len(names))
+    out[known] = names[codes[known].astype(np.int64)]
+    odd = finite & ~known
+    out[odd] = [status_name(c) for c in codes[odd]]
     return out
 
 
-def _solve_numerical_rows(frame, scenes, idx, max_events, bar) -> list:
-    """Rows with nonlinear laws or numerical methods, grouped by method: [(positions, frame)]."""
-    from .nonlinear import solve_nonlinear_many
+def _guarded(batch, args, sel, single):
+    """``batch(*args)`` (announcing a compilation if it is cold); if the kernel raises, run the
+    block row by row so that only the failing rows are lost (NaN with status ``kernel_error``),
+    never an uninitialised row."""
+    announce(batch)
+    try:
+        return batch(*args), None
+    except Exception:  # noqa: BLE001 - a kernel failure must not lose the whole table
+        out = np.full((len(sel), L.N_OUT), np.nan)
+        errors = {}
+        for j in range(len(sel)):
+            try:
+                out[j] = single(j)
+            except Exception as e:  # noqa: BLE001
+                errors[j] = f"kernel_error ({type(e).__name__}: {e})"
+        return out, errors
 
-    parts = []
-    methods = scenes["method"].to_numpy()[idx]
-    for m in ("adaptive", "verlet", "reference"):
-        sel = idx[methods == m]
-        if len(sel) == 0:
-            continue
-        sub = frame.iloc[sel].drop(columns=["method"], errors="ignore")
-        sub = sub.assign(**{k: scenes[k].to_numpy()[sel] for k in ("beta", "xi")})
-        if m == "reference":
-            rows = [
-                _solve_numerical(
-                    Scene(r.alpha, r.beta, r.xi, 2),
-                    m,
-                    False,
-                    max_events,
-                    {
-                        k: getattr(r, k)
-                        for k in NUMERICAL_KEYS
-                        if k in sub and pd.notna(getattr(r, k))
-                    },
-                ).to_dict()
-                for r in sub.itertuples()
-            ]
-            done = sub.assign(**{c: [d[c] for d in rows] for c in RESULT_COLUMNS})
-        else:
-            done = solve_nonlinear_many(sub, method=m, max_events=max_events)
-        parts.append((sel, done))
+
+def _solve_exact_paper(plan: pd.DataFrame, idx: np.ndarray, max_events: int, bar, block=_BLOCK):
+    """Kernel rows of paper-form rows, in parallel blocks (the progress bar moves per block)."""
+    rigid2, rigid2_batch, solve_linear, solve_linear_batch = _kernels()
+    alpha = plan["alpha"].to_numpy(np.float64)[idx]
+    beta = plan["beta"].to_numpy(np.float64)[idx]
+    xi = plan["xi"].to_numpy(np.float64)[idx]
+    nm = plan["n_masses"].to_numpy(np.int64)[idx]
+    out = np.full((len(idx), L.N_OUT), np.nan)
+    errors = {}
+    no_hist = np.zeros((0, L.N_HIST))
+    fast = (beta == 0.0) & (nm == 2)  # the closed-form two-mass rigid-wall kernel
+    for group, is_fast in ((np.flatnonzero(fast), True), (np.flatnonzero(~fast), False)):
+        for start in range(0, len(group), block):
+            sel = group[start : start + block]
+            if is_fast:
+                done, err = _guarded(
+                    rigid2_batch,
+                    (alpha[sel], xi[sel], max_events),
+                    sel,
+                    lambda j, s=sel: rigid2(alpha[s[j]], xi[s[j]], max_events, no_hist),
+                )
+            else:
+                done, err = _guarded(
+                    solve_linear_batch,
+                    (alpha[sel], beta[sel], xi[sel], nm[sel], max_events),
+                    sel,
+                    lambda j, s=sel: solve_linear(
+                        alpha[s[j]], beta[s[j]], xi[s[j]], nm[s[j]], max_events, no_hist
+                    ),
+                )
+            out[sel, : done.shape[1]] = done
+            if err:
+                errors.update({int(sel[j]): msg for j, msg in err.items()})
+            bar.update(len(sel))
+    return out, errors
+
+
+def _solve_exact_general(chains: list, idx: np.ndarray, max_events: int, bar, block=_BLOCK):
+    """Kernel rows of general linear chains (padded batch of restitution.kernels.chain)."""
+    from .kernels.chain import solve_chain, solve_chain_batch
+
+    out = np.full((len(idx), L.N_OUT), np.nan)
+    errors = {}
+    no_hist = np.zeros((0, L.N_HIST))
+    for start in range(0, len(idx), block):
+        sel = np.arange(start, min(start + block, len(idx)))
+        scaled = [chains[idx[j]].scaled() for j in sel]
+        n = np.array([len(s[0]) for s in scaled], dtype=np.int64)
+        nmax = int(n.max())
+        m = np.ones((len(sel), nmax))
+        k = np.ones((len(sel), nmax - 1))
+        c = np.zeros((len(sel), nmax - 1))
+        kc = np.array([s[3] for s in scaled])
+        for j, (mj, kj, cj, _) in enumerate(scaled):
+            m[j, : len(mj)], k[j, : len(kj)], c[j, : len(cj)] = mj, kj, cj
+        done, err = _guarded(
+            solve_chain_batch,
+            (m, k, c, n, kc, max_events),
+            sel,
+            lambda j, s=scaled: solve_chain(*s[j][:3], s[j][3], max_events, no_hist),
+        )
+        out[sel, : done.shape[1]] = done
+        if err:
+            errors.update({int(sel[j]): msg for j, msg in err.items()})
         bar.update(len(sel))
-    return parts
+    return out, errors
 
 
 def solve_many(
-    frame: pd.DataFrame, *, max_events: int = 100_000, progress: bool = False
+    frame: pd.DataFrame,
+    *,
+    max_events: int = 100_000,
+    progress: bool = False,
+    keep=(),
 ) -> pd.DataFrame:
-    """Solve every row of a scene table in parallel (numba ``prange``).
+    """Solve every row of a scene table (exact rows in parallel with numba ``prange``).
 
-    ``frame`` needs a column ``alpha``; ``beta, xi, n_masses, method`` are optional (defaults
-    0, 0, 2, "auto"), and so are the nonlinear law columns of ``LAW_KEYS`` (two masses; see
-    ``restitution.nonlinear``). Returns a copy of ``frame`` with the result columns ``cor,
-    n_collisions, omega_t_col, e_translational, e_vibrational, e_dissipated, method, status,
-    error_estimate`` added (``method`` is replaced by the method actually used). Every row is
-    checked before any work starts. Rows are independent, so results are bit-identical for any
-    number of threads.
+    The table takes the paper's form (column ``alpha``; optional ``beta, xi, n_masses``,
+    defaults 0, 0, 2) or the general form (list columns ``masses, springs`` and optional
+    ``dashpots``, scalar ``k_contact, v0``, struct columns ``contact, links``; see
+    docs/general-chains.md), plus optional ``method`` and, for numerical methods, ``rtol`` and
+    ``step`` per row. Columns are read strictly (``restitution.tables``): any other column is an
+    error unless named in ``keep`` (carried through unchanged). Every row is checked before any
+    work. Returns a copy of ``frame`` with the result columns ``cor, n_collisions, omega_t_col,
+    e_translational, e_vibrational, e_dissipated, method, status, error_estimate`` (and ``t_col``
+    in the user's time unit for general tables). A row whose kernel failed is NaN with a status
+    naming the failure. Rows are independent: results are bit-identical for any thread count.
     """
     from tqdm.auto import tqdm
 
-    max_events = _check_max_events(max_events)
-    scenes = validate_frame(frame)
-    numerical = np.isin(scenes["method"].to_numpy(), NUMERICAL_METHODS)
+    max_events = check("max_events", max_events)
+    table = scene_table(frame, keep)
+    plan = table.plan
+    n = len(plan)
+    names = plan["method"].to_numpy()
+    exact = np.isin(names, ("impulsive", "piecewise"))
+    cols = {
+        "cor": np.full(n, np.nan),
+        "n_collisions": np.zeros(n, dtype=np.int64),
+        "omega_t_col": np.full(n, np.nan),
+        "e_translational": np.full(n, np.nan),
+        "e_vibrational": np.full(n, np.nan),
+        "e_dissipated": np.full(n, np.nan),
+        "method": names.astype(object).copy(),
+        "status": np.full(n, "not_run", dtype=object),
+        "error_estimate": np.full(n, np.nan),
+    }
+    block = _block(n, progress)
+    with tqdm(total=n, disable=not progress, unit="scene", desc="solve_many") as bar:
+        idx = np.flatnonzero(exact)
+        if table.chains is None:
+            out, errors = _solve_exact_paper(plan, idx, max_events, bar, block)
+        else:
+            paper = idx[plan["paper"].to_numpy()[idx]]
+            general = idx[~plan["paper"].to_numpy()[idx]]
+            out = np.full((len(idx), L.N_OUT), np.nan)
+            errors = {}
+            pos = {int(i): j for j, i in enumerate(idx)}
+            for part, solver in ((paper, "paper"), (general, "general")):
+                if len(part) == 0:
+                    continue
+                if solver == "paper":
+                    o, e = _solve_exact_paper(plan, part, max_events, bar, block)
+                else:
+                    o, e = _solve_exact_general(table.chains, part, max_events, bar, block)
+                where = np.array([pos[int(i)] for i in part])
+                out[where] = o
+                errors.update({int(part[j]): msg for j, msg in e.items()})
+            errors = {pos[i]: msg for i, msg in errors.items()}
+        _fill(cols, idx, out, errors)
+        for i in np.flatnonzero(~exact):
+            r = _solve_row(table, int(i), max_events)
+            for c in RESULT_COLUMNS:
+                cols[c][i] = getattr(r, c)
+            bar.update(1)
     result = frame.copy()
     for name in ("beta", "xi", "n_masses"):
-        result[name] = scenes[name]
+        if name in plan and table.chains is None:
+            result[name] = plan[name].to_numpy()
     for c in RESULT_COLUMNS:
-        result[c] = pd.Series(
-            index=frame.index, dtype=object if c in ("method", "status") else float
-        )
-    with tqdm(total=len(scenes), disable=not progress, unit="scene", desc="solve_many") as bar:
-        exact = np.flatnonzero(~numerical)
-        out = _solve_exact_rows(scenes, exact, max_events, bar)
-        pos = result.columns.get_loc
-        result.iloc[exact, pos("cor")] = out[:, L.OUT_COR]
-        result.iloc[exact, pos("n_collisions")] = out[:, L.OUT_NCOL]
-        result.iloc[exact, pos("omega_t_col")] = out[:, L.OUT_TCOL]
-        result.iloc[exact, pos("e_translational")] = out[:, L.OUT_ETRANS]
-        result.iloc[exact, pos("e_vibrational")] = out[:, L.OUT_EVIB]
-        result.iloc[exact, pos("e_dissipated")] = out[:, L.OUT_EDISS]
-        result.iloc[exact, pos("error_estimate")] = out[:, L.OUT_ERR]
-        result.iloc[exact, pos("method")] = scenes["method"].to_numpy()[exact]
-        result.iloc[exact, pos("status")] = [status_name(s) for s in out[:, L.OUT_STATUS]]
-        cols = [pos(c) for c in RESULT_COLUMNS]
-        for sel, done in _solve_numerical_rows(
-            frame, scenes, np.flatnonzero(numerical), max_events, bar
-        ):
-            result.iloc[sel, cols] = done[list(RESULT_COLUMNS)].to_numpy()
-    result["n_collisions"] = result["n_collisions"].astype(np.int64)
-    for c in ("method", "status"):
-        result[c] = result[c].astype(object)
+        result[c] = cols[c]
+    if table.chains is not None:
+        omega = plan["omega"].to_numpy()
+        result[T_COL] = cols["omega_t_col"] / omega
     return result
 
 
-__all__ = ["LAW_KEYS", "METHODS", "solve", "solve_many", "resolve_method", "validate_frame"]
+def _fill(cols: dict, idx: np.ndarray, out: np.ndarray, errors: dict) -> None:
+    """Result columns of the exact rows from their kernel rows."""
+    cols["cor"][idx] = out[:, L.OUT_COR]
+    ncol = out[:, L.OUT_NCOL]
+    cols["n_collisions"][idx] = np.where(np.isfinite(ncol), ncol, 0).astype(np.int64)
+    cols["omega_t_col"][idx] = out[:, L.OUT_TCOL]
+    cols["e_translational"][idx] = out[:, L.OUT_ETRANS]
+    cols["e_vibrational"][idx] = out[:, L.OUT_EVIB]
+    cols["e_dissipated"][idx] = out[:, L.OUT_EDISS]
+    cols["error_estimate"][idx] = out[:, L.OUT_ERR]
+    status = _status_names(out[:, L.OUT_STATUS])
+    for j, msg in errors.items():
+        status[j] = msg
+    cols["status"][idx] = status
+    flags_at = getattr(L, "OUT_FLAGS", None)
+    if flags_at is not None:
+        f = out[:, flags_at]
+        stick = np.isfinite(f) & (
+            (np.where(np.isfinite(f), f, 0).astype(np.int64) & M.FLAG_STICKING) != 0
+        )
+        if stick.any():
+            sel = idx[stick]
+            cols["method"][sel] = [m + "+sticking" for m in cols["method"][sel]]
+
+
+def _solve_row(table, i: int, max_events: int) -> Result:
+    """One numerical row (nonlinear law or a forced numerical method) through ``solve``."""
+    ch = table.chain(i)
+    opts = M.options(False, max_events, **table.settings(i))
+    return _run(ch, M.METHODS[table.plan["method"].iat[i]], opts)
+
+
+__all__ = ["LAW_KEYS", "solve", "solve_many", "validate_frame"]

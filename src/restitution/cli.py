@@ -5,29 +5,98 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
+import signal
 import sys
 from pathlib import Path
 
-from .scene import METHODS, SceneError
+EXIT_OK = 0  # every scene finished (status ok)
+EXIT_INTERNAL = 1  # an unexpected error (a bug: please report it with the traceback)
+EXIT_INPUT = 2  # bad input or an I/O error: nothing was solved or nothing was written
+EXIT_NOT_OK = 3  # the results were written, but some scene did not finish (see its status)
+EXIT_SIGNAL = 128  # + the signal number when interrupted (130 for Ctrl-C, 143 for SIGTERM)
+
+EXIT_CODES = f"""exit codes:
+  {EXIT_OK}    every scene finished (status ok)
+  {EXIT_INTERNAL}    unexpected internal error (please report it)
+  {EXIT_INPUT}    bad input or I/O error (message on stderr; nothing written)
+  {EXIT_NOT_OK}    results written, but some scene did not finish (see its status)
+  130  interrupted (Ctrl-C); 143 terminated (SIGTERM); no partial output is left"""
+
+
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("restitution")
+    except PackageNotFoundError:
+        return "0+unknown"
+
+
+def _floats(text: str) -> list[float]:
+    """'1,0.5,2' or '1;0.5;2' -> [1.0, 0.5, 2.0] (spaces fine)."""
+    parts = [p.strip() for p in text.replace(";", ",").split(",")]
+    try:
+        return [float(p) for p in parts]
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected comma-separated numbers such as 1,0.5,2; got {text!r}"
+        ) from None
+
+
+def _json(text: str):
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError:
+        example = '{"law": "hertz", "k": 50}'
+        raise argparse.ArgumentTypeError(
+            f"expected JSON such as '{example}'; got {text!r}"
+        ) from None
 
 
 def _parser() -> argparse.ArgumentParser:
+    from .methods import NAMES
+
+    fmt = argparse.RawDescriptionHelpFormatter
     p = argparse.ArgumentParser(
         prog="restitution",
-        description="Coefficient of restitution of a mass-spring chain hitting a wall "
-        "(non-dimensional: m1 = V0 = omega = 1).",
+        description="Coefficient of restitution of a mass-spring chain hitting a wall.",
+        epilog=EXIT_CODES,
+        formatter_class=fmt,
     )
+    p.add_argument("--version", action="version", version=f"restitution {_version()}")
     sub = p.add_subparsers(dest="command", required=True)
 
-    cor = sub.add_parser("cor", help="solve one scene")
-    cor.add_argument("--alpha", type=float, required=True, help="mass ratio m2/m1, in (0, 1e8]")
-    cor.add_argument("--beta", type=float, default=0.0, help="k2/k1 in [0, 1e6]; 0: rigid wall")
-    cor.add_argument("--xi", type=float, default=0.0, help="damping ratio in [0, 1e3]")
-    cor.add_argument("--n-masses", type=int, default=2, help="masses in the chain, in [2, 512]")
-    cor.add_argument("--method", default="auto", choices=METHODS)
+    cor = sub.add_parser(
+        "cor",
+        help="solve one scene",
+        description="Solve one scene: the paper's form (--alpha ...) or a general chain "
+        "(--masses ... --springs ...).",
+        epilog=EXIT_CODES,
+        formatter_class=fmt,
+    )
+    paper = cor.add_argument_group("the paper's form (m1 = V0 = omega = 1)")
+    paper.add_argument("--alpha", type=float, help="mass ratio m2/m1, in (0, 1e8]")
+    paper.add_argument("--beta", type=float, default=0.0, help="k2/k1 in [0, 1e6]; 0: rigid wall")
+    paper.add_argument("--xi", type=float, default=0.0, help="damping ratio in [0, 1e3]")
+    paper.add_argument("--n-masses", type=int, default=2, help="masses in the chain, [2, 512]")
+    general = cor.add_argument_group("a general chain (any consistent units)")
+    general.add_argument("--masses", type=_floats, help="m1,...,mN (> 0); m1 touches the wall")
+    general.add_argument("--springs", type=_floats, help="k12,...,k(N-1)N (> 0)")
+    general.add_argument("--dashpots", type=_floats, help="c12,...,c(N-1)N (>= 0; default 0)")
+    general.add_argument("--k-contact", type=float, default=math.inf,
+                         help="contact stiffness (> 0); inf (default): rigid wall")  # fmt: skip
+    general.add_argument(
+        "--contact-law",
+        dest="contact_spec",
+        type=_json,
+        help='JSON, e.g. {"law": "hertz", "k": 50}',
+    )
+    general.add_argument("--links", type=_json, help='JSON list, e.g. [{"law": "linear"}, ...]')
+    cor.add_argument("--method", default="auto", choices=NAMES)
     cor.add_argument("--max-events", type=int, default=100_000, help="contact budget")
     law = cor.add_argument_group(
-        "nonlinear laws and numerical methods (two masses; see restitution.nonlinear)"
+        "nonlinear laws and numerical methods in the paper's form (two masses)"
     )
     law.add_argument("--contact", choices=("linear", "plastic"), help="contact law")
     law.add_argument("--eta", type=float, help="plastic loading exponent, in (0, 10]")
@@ -43,14 +112,41 @@ def _parser() -> argparse.ArgumentParser:
     cor.add_argument("--history", action="store_true", help="also print every contact")
     cor.add_argument("--json", action="store_true", help="print one JSON object")
 
-    batch = sub.add_parser("batch", help="solve every row of a .csv or .parquet table")
-    batch.add_argument(
-        "input", type=Path, help="table with a column alpha; optional beta, xi, n_masses, method"
+    batch = sub.add_parser(
+        "batch",
+        help="solve every row of a .csv or .parquet table",
+        description="Solve every row of a scene table. Columns: the paper's form (alpha; "
+        "optional beta, xi, n_masses) or a general chain (masses, springs, optional dashpots as "
+        "lists, in CSV ';'-separated; k_contact, v0, contact, links), optional method, rtol, "
+        "step. Any other column is an error unless named with --keep.",
+        epilog=EXIT_CODES,
+        formatter_class=fmt,
     )
+    batch.add_argument("input", type=Path, help="the scene table (.csv or .parquet)")
     batch.add_argument("-o", "--output", type=Path, required=True, help="OUT.csv or OUT.parquet")
     batch.add_argument("--max-events", type=int, default=100_000, help="contact budget per row")
-    batch.add_argument("--progress", action="store_true", help="show a progress bar")
+    batch.add_argument("--keep", default="", help="comma-separated columns carried through")
+    batch.add_argument(
+        "--progress",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="progress bar with ETA on stderr (default: on when stderr is a terminal)",
+    )
     return p
+
+
+def _clean(value):
+    """JSON-ready: NaN -> null, inf -> the string 'inf' (JSON has no infinities)."""
+    if isinstance(value, float):
+        if math.isnan(value):
+            return None
+        if math.isinf(value):
+            return "inf" if value > 0 else "-inf"
+    if isinstance(value, dict):
+        return {k: _clean(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_clean(v) for v in value]
+    return value
 
 
 def _cor(args) -> int:
@@ -58,27 +154,44 @@ def _cor(args) -> int:
 
     law_keys = ("contact", "eta", "dr", "structure", "L", "ks_ratio", "theta0", "corner", "v0")
     law = {k: getattr(args, k) for k in (*law_keys, "rtol", "step") if getattr(args, k) is not None}
-    r = solve(
-        alpha=args.alpha,
-        beta=args.beta,
-        xi=args.xi,
-        n_masses=args.n_masses,
-        method=args.method,
-        history=args.history,
-        max_events=args.max_events,
-        **law,
-    )
-    if args.json:
-        d = r.to_dict(history=args.history)
-        print(
-            json.dumps(
-                {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in d.items()}
+    common = dict(method=args.method, history=args.history, max_events=args.max_events)
+    if args.masses is not None or args.springs is not None:
+        if args.alpha is not None:
+            from .chain import SceneError
+
+            raise SceneError("give either --alpha (the paper's form) or --masses/--springs")
+        extra = {k: law.pop(k) for k in ("v0", "rtol", "step") if k in law}
+        if law:
+            from .chain import SceneError
+
+            raise SceneError(
+                f"--{', --'.join(sorted(law))}: options of the paper's form; a general chain "
+                "takes --contact-law and --links"
             )
+        r = solve(
+            masses=args.masses,
+            springs=args.springs,
+            dashpots=args.dashpots,
+            k_contact=args.k_contact,
+            contact=args.contact_spec,
+            links=args.links,
+            **extra,
+            **common,
         )
+    else:
+        if args.alpha is None:
+            from .chain import SceneError
+
+            raise SceneError("give --alpha (the paper's form) or --masses and --springs")
+        r = solve(alpha=args.alpha, beta=args.beta, xi=args.xi, n_masses=args.n_masses,
+                  **common, **law)  # fmt: skip
+    if args.json:
+        print(json.dumps(_clean(r.to_dict(history=args.history))))
     else:
         print(f"cor              {r.cor:.15g}")
         print(f"n_collisions     {r.n_collisions}")
         print(f"omega_t_col      {r.omega_t_col:.15g}")
+        print(f"t_col            {r.t_col:.15g}")
         print(f"e_translational  {r.e_translational:.15g}")
         print(f"e_vibrational    {r.e_vibrational:.15g}")
         print(f"e_dissipated     {r.e_dissipated:.15g}")
@@ -87,38 +200,72 @@ def _cor(args) -> int:
         print(f"error_estimate   {r.error_estimate:.3g}")
         if args.history and r.history is not None:
             print(r.history.to_string())
-    return 0 if r.success else 3
+    return EXIT_OK if r.success else EXIT_NOT_OK
+
+
+def same_file(a: Path, b: Path) -> bool:
+    """True if two paths name the same file (symlinks and relative paths resolved)."""
+    if a.resolve() == b.resolve():
+        return True
+    try:
+        return b.exists() and os.path.samefile(a, b)
+    except OSError:
+        return False
 
 
 def _batch(args) -> int:
     from .api import solve_many
+    from .chain import SceneError
     from .io import read_table, write_table
 
     if args.output.suffix not in (".csv", ".parquet"):
         raise SceneError(f"output must end in .csv or .parquet; got {args.output}")
+    if same_file(args.input, args.output):
+        raise SceneError(
+            f"the output {args.output} is the input table {args.input}: refusing to overwrite "
+            "the scenes with their results; choose another output"
+        )
     frame = read_table(args.input)
-    result = solve_many(frame, max_events=args.max_events, progress=args.progress)
+    keep = [c.strip() for c in args.keep.split(",") if c.strip()]
+    progress = sys.stderr.isatty() if args.progress is None else args.progress
+    result = solve_many(frame, max_events=args.max_events, progress=progress, keep=keep)
     write_table(result, args.output)
     bad = result["status"] != "ok"
     if bad.any():
+        counts = result.loc[bad, "status"].value_counts()
         print(
             f"warning: {int(bad.sum())} of {len(result)} rows did not finish cleanly "
-            f"(see the status column)",
+            f"({', '.join(f'{n} {s}' for s, n in counts.items())}; see the status column)",
             file=sys.stderr,
         )
-        return 3
-    return 0
+        return EXIT_NOT_OK
+    return EXIT_OK
+
+
+def _on_sigterm(signum, frame):
+    # Raised inside the main thread: write_table's finally removes its temporary file.
+    raise SystemExit(EXIT_SIGNAL + signum)
 
 
 def main(argv=None) -> int:
     args = _parser().parse_args(argv)
+    from .chain import SceneError
     from .io import TableError
 
+    previous = signal.signal(signal.SIGTERM, _on_sigterm)
     try:
         return _cor(args) if args.command == "cor" else _batch(args)
     except (SceneError, TableError) as e:
         print(f"restitution: error: {e}", file=sys.stderr)
-        return 2
+        return EXIT_INPUT
+    except OSError as e:  # reading the input: one line, not a traceback
+        print(f"restitution: error: {e.filename or ''}: {e.strerror or e}", file=sys.stderr)
+        return EXIT_INPUT
+    except KeyboardInterrupt:
+        print("restitution: interrupted", file=sys.stderr)
+        return EXIT_SIGNAL + signal.SIGINT
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":

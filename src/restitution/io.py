@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import csv
+import errno
 import hashlib
 import json
 import os
+import re
 import subprocess
 import tempfile
 from importlib.metadata import PackageNotFoundError, version
@@ -106,20 +109,83 @@ def schema_for(frame: pd.DataFrame) -> pa.Schema:
     return pa.schema(fields)
 
 
+def _tmp_prefix(path: Path) -> str:
+    # The writer's pid is part of the name so that a later run can tell a killed writer's
+    # leftover (pid gone) from a file another live process is still writing.
+    return f".{path.name}.{os.getpid()}."
+
+
+def _pid_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # exists, owned by someone else
+        return True
+    return True
+
+
+def clean_leftovers(path) -> list[Path]:
+    """Remove temporary files of ``path`` left by writers that were killed (SIGKILL, power
+    loss): hidden ``.NAME.PID.*.tmp`` files in the same directory whose PID is not running."""
+    path = Path(path)
+    pattern = re.compile(rf"^\.{re.escape(path.name)}\.(\d+)\..*\.tmp$")
+    removed = []
+    try:
+        entries = list(path.parent.iterdir())
+    except OSError:
+        return removed
+    for entry in entries:
+        m = pattern.match(entry.name)
+        if m and int(m.group(1)) != os.getpid() and not _pid_alive(int(m.group(1))):
+            try:
+                entry.unlink()
+                removed.append(entry)
+            except OSError:
+                pass
+    return removed
+
+
+def _io_error(path: Path, e: OSError) -> TableError:
+    """A one-line message for an operating-system error while writing ``path``."""
+    reason = {
+        errno.ENOSPC: "no space left on the device",
+        errno.EDQUOT: "disk quota exceeded",
+        errno.EACCES: "permission denied",
+        errno.EPERM: "permission denied",
+        errno.EROFS: "read-only file system",
+        errno.ENOENT: "no such directory",
+        errno.ENOTDIR: "a parent is not a directory",
+    }.get(e.errno, e.strerror or str(e))
+    return TableError(f"{path}: cannot write the table ({reason})")
+
+
 def write_table(frame: pd.DataFrame, path, *, config=None, extra: dict | None = None) -> Path:
     """Write ``frame`` to ``path`` (.parquet with provenance, or .csv), atomically.
 
     The file appears under its final name only when complete (temporary file + rename), so an
-    interrupted run never leaves a complete-looking table.
+    interrupted run never leaves a complete-looking table; the temporary file is removed on any
+    error or exception (SIGTERM in the CLI becomes one), and a killed writer's leftover is
+    removed by the next write of the same table. Operating-system errors (missing or unwritable
+    directory, full disk) raise TableError with a one-line message.
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    if path.suffix not in (".csv", ".parquet"):
+        raise TableError(f"{path}: unsupported table format {path.suffix!r} (.parquet or .csv)")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise _io_error(path.parent, e) from None
+    clean_leftovers(path)
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=_tmp_prefix(path), suffix=".tmp", dir=path.parent)
+    except OSError as e:
+        raise _io_error(path, e) from None
     os.close(fd)
     try:
         if path.suffix == ".csv":
             frame.to_csv(tmp, index=False)
-        elif path.suffix == ".parquet":
+        else:
             meta = provenance(config)
             meta["methods"] = methods_summary(frame)
             if extra:
@@ -130,13 +196,13 @@ def write_table(frame: pd.DataFrame, path, *, config=None, extra: dict | None = 
             merged = dict(table.schema.metadata or {})
             merged[PROVENANCE_KEY] = json.dumps(meta, sort_keys=True, default=str).encode()
             pq.write_table(table.replace_schema_metadata(merged), tmp)
-        else:
-            raise ValueError(f"{path}: unsupported table format {path.suffix!r} (.parquet or .csv)")
         # mkstemp creates the file 0600; give it the mode a plain open() would (umask applied).
         umask = os.umask(0)
         os.umask(umask)
         os.chmod(tmp, 0o666 & ~umask)
         os.replace(tmp, path)
+    except OSError as e:
+        raise _io_error(path, e) from None
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
@@ -153,15 +219,42 @@ def read_table(path, *, require_provenance: bool = False, columns=()) -> pd.Data
         raise TableError(f"{path}: no such results file")
     try:
         if path.suffix == ".csv":
-            return _require(path, pd.read_csv(path), columns)
+            return _require(path, _read_csv(path), columns)
         if path.suffix != ".parquet":
             raise TableError(f"{path}: unsupported table format {path.suffix!r}")
         table = pq.read_table(path)
     except (pa.ArrowException, OSError, ValueError, pd.errors.ParserError) as e:
         raise TableError(f"{path}: unreadable or truncated table ({e})") from e
+    names = table.schema.names
+    dup = sorted({c for c in names if names.count(c) > 1})
+    if dup:
+        raise TableError(f"{path}: column(s) {dup} appear more than once")
     if require_provenance and PROVENANCE_KEY not in (table.schema.metadata or {}):
         raise TableError(f"{path}: no '{PROVENANCE_KEY.decode()}' provenance in its metadata")
     return _require(path, table.to_pandas(), columns)
+
+
+def _read_csv(path: Path) -> pd.DataFrame:
+    """A CSV table, refusing what pandas would silently repair: a row with more or fewer fields
+    than the header (it would shift or pad the columns) and a repeated column name (it would be
+    renamed 'x.1')."""
+    with open(path, newline="") as f:
+        rows = csv.reader(f)
+        header = next(rows, None)
+        if header is None:
+            raise TableError(f"{path}: empty file (no header line)")
+        seen = set()
+        for name in header:
+            if name in seen:
+                raise TableError(f"{path}: column {name!r} appears more than once in the header")
+            seen.add(name)
+        for line, row in enumerate(rows, start=2):
+            if row and len(row) != len(header):
+                raise TableError(
+                    f"{path}: line {line} (row {line - 2}) has {len(row)} fields, the header "
+                    f"has {len(header)}; a ragged row would shift or pad the columns"
+                )
+    return pd.read_csv(path)
 
 
 def _require(path: Path, frame: pd.DataFrame, columns) -> pd.DataFrame:

@@ -62,8 +62,14 @@ from .scene import SceneError
 C_RIGID = 0  # beta = 0: impulsive reversal of m1's velocity
 C_LINEAR = 1  # F = k1*x
 C_PLASTIC = 2  # power-law loading, linear unloading/reloading
-# contact_params = [kind, k1, kappa, eta]
+C_HERTZ = 3  # F = k_h*x**1.5 (elastic; Hertz's sphere on a flat)
+# contact_params = [kind, k1, kappa, eta]: k1 is the law's slope scale (linear: its stiffness,
+# plastic: the unloading slope, hertz: the slope at the deepest possible penetration, which sets
+# the integrators' step scale); kappa, eta the power law F = kappa*x**eta (hertz: k_h, 1.5).
 N_CP = 4
+# Contact laws without memory: the force is a function of the penetration alone, the contact
+# branches (rising, falling) only record the largest penetration.
+ELASTIC_CONTACTS = (C_LINEAR, C_HERTZ)
 
 # Structure law kinds (structure_params[0]).
 S_LINEAR = 0
@@ -194,12 +200,120 @@ def linear_structure_params(k2: float) -> np.ndarray:
     return sp
 
 
+def hertz_params(k_h: float, v0: float = 1.0, total_mass: float = 1.0) -> np.ndarray:
+    """Pack the Hertz law F = k_h*x**1.5 (kernel units, see the module docstring).
+
+    cp[1], the slope scale, is the slope 1.5*k_h*sqrt(x) at the deepest penetration the whole
+    initial energy (total_mass*v0**2/2 = 0.4*k_h*x**2.5) could reach: an upper bound.
+    """
+    e0 = 0.5 * total_mass * v0 * v0
+    x_deep = (2.5 * e0 / k_h) ** 0.4
+    return contact_params(C_HERTZ, 1.5 * k_h * math.sqrt(x_deep), k_h, 1.5)
+
+
+def check_stiffness(name: str, value, high: float = 1e12) -> float:
+    """A stiffness-like law parameter: finite, in (0, high] (kernel units)."""
+    x = _num(name, value, f"in (0, {high:g}]")
+    if not 0.0 < x <= high:
+        raise SceneError(f"{name} must be in (0, {high:g}]; got {value!r}")
+    return x
+
+
+# ----------------------------------------------------------------------------------------------
+# Law specifications of a general chain: {"law": name, parameters...} (kernel units: m1 = 1,
+# omega = 1, lengths in V_ref/omega). Each entry: parameter names -> packer(spec, k_link, v0, M).
+# ----------------------------------------------------------------------------------------------
+
+CONTACT_LAWS = {
+    # name: (law id, required parameters)
+    "rigid": (C_RIGID, ()),
+    "linear": (C_LINEAR, ("k",)),
+    "plastic": (C_PLASTIC, ("k", "eta", "dr")),
+    "hertz": (C_HERTZ, ("k",)),
+}
+LINK_LAWS = {
+    "linear": (S_LINEAR, ()),
+    "scissor": (S_SCISSOR, ("L", "ks", "theta0", "corner")),
+}
+LINK_DEFAULTS = {"theta0": THETA0_DEFAULT, "corner": CORNER_DEFAULT}
+
+
+def _spec(kind: str, spec, table: dict, defaults: dict, where: str) -> tuple[str, dict]:
+    """Name and parameters of a law spec, checked against its table (no unknown keys)."""
+    if isinstance(spec, str):
+        spec = {"law": spec}
+    if not isinstance(spec, dict) or "law" not in spec:
+        raise SceneError(f"{where} must be a mapping with a key 'law'; got {spec!r}")
+    name = spec["law"]
+    if name not in table:
+        allowed = ", ".join(map(repr, table))
+        raise SceneError(f"{where}: {kind} law must be one of {allowed}; got {name!r}")
+    need = table[name][1]
+    unknown = sorted(set(spec) - {"law", *need})
+    if unknown:
+        raise SceneError(
+            f"{where}: unknown parameter(s) {', '.join(unknown)} for the {name!r} law; "
+            f"allowed: {', '.join(need) or 'none'}"
+        )
+    params = dict(defaults)
+    params.update({k: v for k, v in spec.items() if k != "law"})
+    missing = [k for k in need if k not in params]
+    if missing:
+        raise SceneError(f"{where}: the {name!r} law needs {', '.join(missing)}")
+    return name, params
+
+
+def pack_contact(spec, v0: float = 1.0, total_mass: float = 1.0, where: str = "contact"):
+    """Checked, packed contact law (cp) of a spec in kernel units; also returns kappa or nan."""
+    name, p = _spec("contact", spec, CONTACT_LAWS, {}, where)
+    if name == "rigid":
+        return contact_params(C_RIGID), math.nan
+    if name == "linear":
+        return contact_params(C_LINEAR, check_stiffness(f"{where}.k", p["k"])), math.nan
+    if name == "hertz":
+        return hertz_params(check_stiffness(f"{where}.k", p["k"]), v0, total_mass), math.nan
+    # plastic: k is the unloading slope; kappa follows from DR (module docstring)
+    k1 = check_stiffness(f"{where}.k", p["k"])
+    try:
+        eta = check_eta(p["eta"])
+        dr = check_dr(p["dr"], eta)
+    except SceneError as e:
+        raise SceneError(f"{where}: {e}") from None
+    kappa = plastic_kappa(dr, eta, k1, v0)
+    if not (math.isfinite(kappa) and kappa > 0.0):
+        raise SceneError(
+            f"{where}: the plastic law's kappa = {kappa!r} is not a positive finite number for "
+            f"v0 = {v0!r}, eta = {eta!r} (kappa ~ v0**(1 - eta)); use a v0 closer to 1"
+        )
+    return contact_params(C_PLASTIC, k1, kappa, eta), kappa
+
+
+def pack_link(spec, k_link: float, where: str = "link") -> np.ndarray:
+    """Checked, packed structural link law (a structure_params row) of a spec.
+
+    The link's spring stiffness ``k_link`` is the linear law's stiffness and the scissor's cap
+    slope (the paper's k2); the scissor's ``ks`` is its own stiffness, < k_link*tan(theta0)**2.
+    """
+    name, p = _spec("link", spec, LINK_LAWS, LINK_DEFAULTS, where)
+    if name == "linear":
+        return linear_structure_params(k_link)
+    try:
+        L_ = check_L(p["L"])
+        theta0 = check_theta0(p["theta0"])
+        ks = check_stiffness("ks", p["ks"])
+        check_ks_ratio(ks / k_link, theta0)
+        corner = check_corner(p["corner"])
+    except SceneError as e:
+        raise SceneError(f"{where}: {e}") from None
+    return scissor_params(k_link, ks, L_, theta0, corner)
+
+
 # ----------------------------------------------------------------------------------------------
 # Scalar laws (numba; callable from Python). mem = contact memory, see kernels/nonlinear.py.
 # ----------------------------------------------------------------------------------------------
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def structure_force(sp, x):
     """Structural force F2(x) (> 0 in tension); the force on m1 is +F2, on m2 is -F2."""
     k2 = sp[SP_K2]
@@ -218,7 +332,7 @@ def structure_force(sp, x):
     return sp[SP_FLOCK] - 0.5 * k2 * dc - k2 * (d - dc)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def structure_energy(sp, x):
     """Potential U2(x) = integral of F2 from 0 to x (closed form on every branch)."""
     k2 = sp[SP_K2]
@@ -242,7 +356,7 @@ def structure_energy(sp, x):
     return udc - (fdc * e - 0.5 * k2 * e * e)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def structure_slope(sp, x):
     """Tangent stiffness dF2/dx (<= k2 everywhere by construction)."""
     k2 = sp[SP_K2]
@@ -256,7 +370,7 @@ def structure_slope(sp, x):
     return min(k2, sp[SP_KC] * d)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def structure_extent(sp, energy, sign):
     """Largest |x| on side ``sign`` (+1 tension, -1 compression) with U2(x) <= energy."""
     if energy <= 0.0:
@@ -279,23 +393,46 @@ def structure_extent(sp, energy, sign):
     return hi
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
+def contact_elastic(cp):
+    """True for a contact law without memory (ELASTIC_CONTACTS)."""
+    return cp[0] == C_LINEAR or cp[0] == C_HERTZ
+
+
+@njit(cache=True, error_model="numpy")
 def contact_force(cp, branch, xmax, fmax, x):
     """Contact force on m1 (>= 0 pushes away from the wall) as a smooth function of x.
 
     ``branch`` 1 = loading (power law), 0 = elastic unloading/reloading. No clipping at zero: the
-    integrators evaluate the smooth continuation and locate the separation as an event.
+    integrators evaluate the smooth continuation and locate the separation as an event (Hertz:
+    0 for x <= 0, C1 there).
     """
     kind = cp[0]
     if kind == C_LINEAR:
         return cp[1] * x
+    if kind == C_HERTZ:
+        return cp[2] * x * math.sqrt(x) if x > 0.0 else 0.0
     if branch == 1:
         return cp[2] * max(x, 0.0) ** cp[3]
     return fmax - cp[1] * (xmax - x)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
+def contact_energy(cp, x):
+    """Potential energy stored in an elastic contact law at penetration x (0 for plastic)."""
+    if x <= 0.0:
+        return 0.0
+    if cp[0] == C_LINEAR:
+        return 0.5 * cp[1] * x * x
+    if cp[0] == C_HERTZ:
+        return 0.4 * cp[2] * x * x * math.sqrt(x)
+    return 0.0
+
+
+@njit(cache=True, error_model="numpy")
 def contact_slope(cp, branch, xmax, x):
+    if cp[0] == C_HERTZ:
+        return 1.5 * cp[2] * math.sqrt(x) if x > 0.0 else 0.0
     if cp[0] == C_LINEAR or branch == 0:
         return cp[1]
     if x <= 0.0:
@@ -303,11 +440,13 @@ def contact_slope(cp, branch, xmax, x):
     return min(cp[2] * cp[3] * x ** (cp[3] - 1.0), 1e3 * cp[1])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def contact_hysteretic(cp, xmax, fmax, x):
     """Path-following plastic force for explicit schemes (Verlet); returns (F, xmax, fmax)."""
     if cp[0] == C_LINEAR:
         return max(0.0, cp[1] * x), xmax, fmax
+    if cp[0] == C_HERTZ:
+        return (cp[2] * x * math.sqrt(x) if x > 0.0 else 0.0), xmax, fmax
     if x >= xmax:
         f = cp[2] * x ** cp[3]
         return f, x, f

@@ -323,4 +323,339 @@ def solve_nonlinear_many(frame, *, method="adaptive", rtol=1e-9, step=0.01, max_
     return result
 
 
-__all__ = ["LAW_DEFAULTS", "NL_METHODS", "build_laws", "solve_nonlinear", "solve_nonlinear_many"]
+# ------------------------------------------------------------------------------------------------
+# General chains with any contact law and link laws (issue 13)
+# ------------------------------------------------------------------------------------------------
+
+CHAIN_METHODS = ("auto", "adaptive", "verlet")
+N_MASSES_MAX = 512
+
+
+def _vector(name, value, n=None, low=0.0, low_open=True):
+    """A checked 1-d float vector: finite, > low (>= low if not low_open), length n if given."""
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise SceneError(f"{name} must be a list of numbers; got {value!r}") from None
+    if a.ndim != 1 or a.size == 0:
+        raise SceneError(f"{name} must be a non-empty list of numbers; got {value!r}")
+    if any(isinstance(v, bool) for v in np.ravel(np.asarray(value, dtype=object))):
+        raise SceneError(f"{name} must be numbers, not booleans; got {value!r}")
+    if n is not None and a.size != n:
+        raise SceneError(f"{name} must have {n} entries (one per link); got {a.size}")
+    rel = ">" if low_open else ">="
+    bad = ~np.isfinite(a) | ((a <= low) if low_open else (a < low))
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise SceneError(f"{name}[{i}] must be a finite number {rel} {low:g}; got {a[i]!r}")
+    return a
+
+
+def _scaled_spec(spec, scale: dict, where: str):
+    """A law spec (mapping or name) with its dimensional parameters divided by their units."""
+    if isinstance(spec, str):
+        spec = {"law": spec}
+    if not isinstance(spec, dict):
+        raise SceneError(f"{where} must be a mapping like {{'law': 'linear', ...}}; got {spec!r}")
+    out = dict(spec)
+    for key, unit in scale.get(spec.get("law"), {}).items():
+        if key in out:
+            x = laws._num(f"{where}.{key}", out[key], "> 0")
+            out[key] = x / unit
+    return out
+
+
+def pack_chain(masses, springs, dashpots=None, contact="rigid", links=None, v0=1.0):
+    """Check a chain in the user's units and pack it in kernel units; names any bad parameter.
+
+    Returns (m, lk, c, cp, omega, kappa): masses / m1, link laws (structure_params rows),
+    dashpots / (m1 omega), the contact law (laws.pack_contact), omega**2 = k1/m1 + k1/m2 (k1 the
+    first spring) and the plastic law's kappa in kernel units (nan otherwise). Kernel units:
+    m1 = 1, omega = 1, speed unit = the user's (v0 enters as given), length unit = that speed
+    unit / omega; so a stiffness k scales as k/(m1 omega**2), a Hertz constant k_h (force per
+    length**1.5) as k_h/(m1 omega**2.5), a length L as L*omega, a dashpot c as c/(m1 omega).
+    """
+    m = _vector("masses", masses)
+    n = m.size
+    if n < 2 or n > N_MASSES_MAX:
+        raise SceneError(f"masses must have 2 to {N_MASSES_MAX} entries; got {n}")
+    k = _vector("springs", springs, n - 1)
+    c = np.zeros(n - 1) if dashpots is None else _vector("dashpots", dashpots, n - 1, 0.0, False)
+    v0 = laws.check_v0(v0)
+    m1 = m[0]
+    w2 = k[0] / m[0] + k[0] / m[1]
+    w = math.sqrt(w2)
+    ku = m1 * w2  # stiffness unit
+    ms, ks, cs = m / m1, k / ku, c / (m1 * w)
+    scaled = np.concatenate([ms, ks])
+    if not (np.all(np.isfinite(scaled)) and np.all(scaled > 0)):
+        raise SceneError(
+            "masses and springs span too many decades: their ratios to m1 and m1*omega**2 "
+            "under- or overflow in float64"
+        )
+    contact_scale = {
+        "linear": {"k": ku},
+        "plastic": {"k": ku},
+        "hertz": {"k": m1 * w2 * math.sqrt(w)},
+    }
+    cspec = _scaled_spec(contact if contact is not None else "rigid", contact_scale, "contact")
+    cp, kappa = laws.pack_contact(cspec, v0, float(ms.sum()), "contact")
+    if links is None:
+        links = ["linear"] * (n - 1)
+    if isinstance(links, (str, dict)) or len(links) != n - 1:
+        raise SceneError(
+            f"links must be a list of {n - 1} link laws (one per spring); got {links!r}"
+        )
+    lk = np.zeros((n - 1, laws.N_SP))
+    for i, spec in enumerate(links):
+        where = f"links[{i}]"
+        s = _scaled_spec(spec, {"scissor": {"ks": ku, "L": 1.0 / w}}, where)
+        lk[i] = laws.pack_link(s, ks[i], where)
+    return ms, lk, cs, cp, w, kappa
+
+
+def _chain_result(ms, ks, cs, cp, n, out, method, hist, omega):
+    """Result of a chain row: alpha = m2/m1, beta = k1/k_contact (0 rigid; nan nonlinear),
+    xi = c1/(2 k1) in kernel units (the paper's parameters where they apply)."""
+    import dataclasses
+    from types import SimpleNamespace
+
+    kind = int(cp[0])
+    beta = 0.0 if kind == laws.C_RIGID else (ks[0] / cp[1] if kind == laws.C_LINEAR else math.nan)
+    scene = SimpleNamespace(
+        alpha=float(ms[1]), beta=float(beta), xi=float(cs[0] / (2.0 * ks[0])), n_masses=n
+    )
+    r = Result.from_row(scene, out, method, hist)
+    names = {f.name for f in dataclasses.fields(Result)}
+    if "t_col" in names:  # the general API's field in user units
+        r = dataclasses.replace(r, t_col=float(out[LY.OUT_TCOL]) / omega)
+    return r
+
+
+def solve_nonlinear_chain(
+    m,
+    k,
+    c=None,
+    contact_law="rigid",
+    link_laws=None,
+    v0: float = 1.0,
+    method: str = "adaptive",
+    rtol: float = 1e-9,
+    max_events: int = 10_000,
+    history: bool = False,
+    *,
+    step: float = 0.01,
+    max_work: int | None = None,
+    energy_tol: float | None = None,
+    account: dict | None = None,
+) -> Result:
+    """COR of any one-dimensional chain with nonlinear contact and/or link laws.
+
+    Parameters
+    ----------
+    m, k, c : sequences of float
+        Masses m_1..m_N (m_1 touches the wall; N in [2, 512]), the springs k_i (> 0) and dashpots
+        c_i (>= 0, default none) between neighbours, in any consistent units.
+    contact_law : mapping or str
+        {"law": "rigid"}, {"law": "linear", "k": k_contact}, {"law": "plastic", "k": unloading
+        slope, "eta": ..., "dr": ...} (Section 3.1) or {"law": "hertz", "k": k_h} (F = k_h x**1.5).
+    link_laws : list of mapping or str, optional
+        One per spring: {"law": "linear"} (stiffness k_i) or {"law": "scissor", "L": ..., "ks":
+        ..., "theta0": pi/4, "corner": 1.0} (Eq. 24, with k_i as the cap slope). Default linear.
+    v0 : float
+        Approach speed in (0, 1e6] (user units; the nonlinear laws make the COR depend on it).
+    method : {"auto", "adaptive", "verlet"}
+        "auto" = "adaptive": DP5(4) with guaranteed event location for every phase; "verlet":
+        the paper's fixed step (``step`` x the shortest period bound), the h/2 result returned.
+    rtol : float
+        Relative tolerance in [1e-14, 1e-2] (atol = rtol*v0).
+    max_events, max_work : int
+        Contact budget; work budget in right-hand-side evaluations (default
+        kernels.nonlinear.MAX_WORK_DEFAULT): status ``work_budget_exhausted`` when it runs out.
+    history : bool
+        Attach the per-contact history (times in kernel units, omega*t).
+
+    Returns
+    -------
+    Result
+        ``method`` "adaptive" or "verlet"; ``error_estimate`` as for ``solve_nonlinear``; alpha =
+        m2/m1, beta = k1/k_contact (0: rigid, nan: nonlinear contact), xi = c1/(2 sqrt(...)) in
+        the paper's sense only for its scenes.
+    """
+    from .kernels.nonlinear import (
+        MAX_WORK_DEFAULT,
+        METHOD_ADAPTIVE,
+        METHOD_VERLET,
+        solve_chain_scene,
+    )
+
+    _choice("method", method, CHAIN_METHODS)
+    chosen = "adaptive" if method == "auto" else method
+    rtol = _pos("rtol", rtol, 1e-14, 1e-2, low_open=False)
+    step = _pos("step", step, 0.0, 0.25)
+    max_events = _count("max_events", max_events)
+    max_work = _count("max_work", MAX_WORK_DEFAULT if max_work is None else max_work)
+    ms, lk, cs, cp, omega, kappa = pack_chain(m, k, c, contact_law, link_laws, v0)
+    v0 = float(v0)
+    if chosen == "verlet" and cp[0] == laws.C_RIGID:
+        raise SceneError("method='verlet' needs a finite contact law, not 'rigid'")
+    if energy_tol is None:
+        energy_tol = _default_etol(chosen, rtol, step)
+    n = ms.size
+    hist = np.zeros((max_events if history else 0, LY.N_HIST))
+    no_rows = np.zeros((0, LY.N_HIST))
+    acct = np.zeros(5)
+    code = METHOD_VERLET if chosen == "verlet" else METHOD_ADAPTIVE
+
+    def run(tol, stp, rows, acc):
+        return solve_chain_scene(
+            ms, lk, cs, cp, v0, code, tol, stp, energy_tol, max_events, float(max_work), rows, acc
+        )
+
+    if chosen == "verlet":
+        coarse = run(rtol, step, no_rows, np.zeros(5))
+        out = run(rtol, step / 2, hist, acct)
+        out[LY.OUT_ERR] = 0.0
+    else:
+        coarse = run(_coarser(rtol), step, no_rows, np.zeros(5))
+        out = run(rtol, step, hist, acct)
+    _two_setting_estimate(out, coarse)
+    if account is not None:
+        account.update(
+            kinetic=acct[0],
+            elastic=acct[1],
+            dissipated_contact=acct[2],
+            dissipated_dashpot=acct[3],
+            residual=acct[4],
+            kappa=kappa,
+        )
+    ks = np.array([row[laws.SP_K2] for row in lk])
+    return _chain_result(ms, ks, cs, cp, n, out, chosen, hist if history else None, omega)
+
+
+def _count(name, value):
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise SceneError(f"{name} must be a positive integer; got {value!r}")
+    return int(value)
+
+
+def solve_nonlinear_chain_many(
+    masses,
+    springs,
+    dashpots=None,
+    contact=None,
+    links=None,
+    v0=1.0,
+    *,
+    method: str = "adaptive",
+    rtol: float = 1e-9,
+    step: float = 0.01,
+    max_events: int = 10_000,
+    max_work: int | None = None,
+):
+    """``solve_nonlinear_chain`` over rows, in parallel (numba prange); returns a DataFrame.
+
+    ``masses``, ``springs`` (and ``dashpots``, ``links``: None = none / all linear) are sequences
+    with one list per row; ``contact`` one law spec per row or one for all (None = rigid);
+    ``v0`` one number per row or one for all. Every row is checked first (SceneError names the
+    row and the parameter). Columns: cor, n_collisions, omega_t_col, t_col (user units),
+    e_translational, e_vibrational, e_dissipated, method, status, error_estimate. Failed rows
+    have NaN cor and a status naming what failed; no row is ``ok`` unless finished and checked.
+    """
+    import pandas as pd
+
+    from .kernels.nonlinear import (
+        MAX_WORK_DEFAULT,
+        METHOD_ADAPTIVE,
+        METHOD_VERLET,
+        solve_chain_scene_batch,
+    )
+    from .result import status_name
+
+    _choice("method", method, CHAIN_METHODS)
+    chosen = "adaptive" if method == "auto" else method
+    rtol = _pos("rtol", rtol, 1e-14, 1e-2, low_open=False)
+    step = _pos("step", step, 0.0, 0.25)
+    max_events = _count("max_events", max_events)
+    max_work = _count("max_work", MAX_WORK_DEFAULT if max_work is None else max_work)
+    rows = len(masses)
+    if len(springs) != rows:
+        raise SceneError(f"springs has {len(springs)} rows, masses {rows}")
+
+    def per_row(name, value, default):
+        if value is None:
+            return [default] * rows
+        if isinstance(value, (str, dict, int, float)):
+            return [value] * rows
+        if len(value) != rows:
+            raise SceneError(f"{name} has {len(value)} rows, masses {rows}")
+        return [default if v is None else v for v in value]
+
+    dash = per_row("dashpots", dashpots, None)
+    cont = per_row("contact", contact, "rigid")
+    link = per_row("links", links, None)
+    speeds = per_row("v0", v0, 1.0)
+    packed = []
+    for i in range(rows):
+        try:
+            packed.append(pack_chain(masses[i], springs[i], dash[i], cont[i], link[i], speeds[i]))
+            if chosen == "verlet" and packed[-1][3][0] == laws.C_RIGID:
+                raise SceneError("method='verlet' needs a finite contact law, not 'rigid'")
+        except SceneError as e:
+            raise SceneError(f"{e} (row {i})") from None
+    nmax = max([p[0].size for p in packed], default=2)
+    m = np.ones((rows, nmax))
+    lk = np.zeros((rows, nmax - 1, laws.N_SP))
+    lk[:, :, laws.SP_K2] = 1.0
+    c = np.zeros((rows, nmax - 1))
+    n = np.zeros(rows, dtype=np.int64)
+    cp = np.zeros((rows, laws.N_CP))
+    vv = np.zeros(rows)
+    omega = np.zeros(rows)
+    for i, (ms, lki, cs, cpi, w, _) in enumerate(packed):
+        k_ = ms.size
+        m[i, :k_], lk[i, : k_ - 1], c[i, : k_ - 1], n[i], cp[i] = ms, lki, cs, k_, cpi
+        vv[i], omega[i] = float(speeds[i]), w
+    code = METHOD_VERLET if chosen == "verlet" else METHOD_ADAPTIVE
+    etol = _default_etol(chosen, rtol, step)
+
+    def run(tol, stp):
+        return solve_chain_scene_batch(
+            m, lk, c, n, cp, vv, code, tol, stp, etol, max_events, float(max_work)
+        )
+
+    if chosen == "verlet":
+        coarse, out = run(rtol, step), run(rtol, step / 2)
+        out[:, LY.OUT_ERR] = 0.0
+    else:
+        coarse, out = run(_coarser(rtol), step), run(rtol, step)
+    for row, other in zip(out, coarse, strict=True):
+        _two_setting_estimate(row, other)
+    ok = out[:, LY.OUT_STATUS] == LY.STATUS_OK
+    return pd.DataFrame(
+        {
+            "cor": out[:, LY.OUT_COR],
+            "n_collisions": out[:, LY.OUT_NCOL].astype(np.int64),
+            "omega_t_col": out[:, LY.OUT_TCOL],
+            "t_col": np.where(ok, out[:, LY.OUT_TCOL] / omega, np.nan),
+            "e_translational": out[:, LY.OUT_ETRANS],
+            "e_vibrational": out[:, LY.OUT_EVIB],
+            "e_dissipated": out[:, LY.OUT_EDISS],
+            "method": chosen,
+            "status": [status_name(s) for s in out[:, LY.OUT_STATUS]],
+            "error_estimate": out[:, LY.OUT_ERR],
+        }
+    )
+
+
+__all__ = [
+    "CHAIN_METHODS",
+    "LAW_DEFAULTS",
+    "NL_METHODS",
+    "build_laws",
+    "pack_chain",
+    "solve_nonlinear",
+    "solve_nonlinear_chain",
+    "solve_nonlinear_chain_many",
+    "solve_nonlinear_many",
+]

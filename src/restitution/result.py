@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
@@ -9,13 +10,20 @@ import pandas as pd
 
 from .kernels import layout as L
 
-STATUS = {
-    L.STATUS_OK: "ok",
-    L.STATUS_EVENT_BUDGET: "event_budget_exhausted",
-    L.STATUS_ENERGY: "energy_account_open",
-    L.STATUS_ILL_CONDITIONED: "ill_conditioned",
-    L.STATUS_NONCONVERGED: "event_not_converged",
-}
+# Status names by the layout constant that holds their code (a code the installed kernels do not
+# define is simply absent).
+_STATUS_NAMES = (
+    ("STATUS_OK", "ok"),
+    ("STATUS_EVENT_BUDGET", "event_budget_exhausted"),
+    ("STATUS_ENERGY", "energy_account_open"),
+    ("STATUS_ILL_CONDITIONED", "ill_conditioned"),
+    ("STATUS_NONCONVERGED", "event_not_converged"),
+    ("STATUS_PERMANENT_CONTACT", "permanent_contact"),
+    ("STATUS_WORK_BUDGET", "work_budget_exhausted"),
+    ("STATUS_INVALID", "invalid_parameters"),
+    ("STATUS_NOT_RUN", "not_run"),
+)
+STATUS = {getattr(L, attr): name for attr, name in _STATUS_NAMES if hasattr(L, attr)}
 
 MESSAGES = {
     "ok": "The contact sequence finished: no further contact is possible.",
@@ -25,6 +33,13 @@ MESSAGES = {
     "this result.",
     "ill_conditioned": "An eigenbasis was too ill-conditioned for a trustworthy closed form.",
     "event_not_converged": "An event root search did not converge.",
+    "permanent_contact": "m1 never leaves the wall (proven): the chain comes to rest against it "
+    "(cor 0, omega_t_col inf).",
+    "work_budget_exhausted": "Stopped after the scene's work budget (counted in operations); the "
+    "sequence was NOT finished.",
+    "invalid_parameters": "The kernel refused parameters outside the range it handles.",
+    "not_run": "The kernel did not finish this row.",
+    "kernel_error": "The kernel raised an error on this row (its message is logged); no result.",
 }
 
 RESULT_COLUMNS = (
@@ -38,20 +53,27 @@ RESULT_COLUMNS = (
     "status",
     "error_estimate",  # the method's own estimate of its COR error (0: exact up to round-off)
 )
+# Added to general-chain tables (user units; equal to omega_t_col for the paper's scenes).
+T_COL = "t_col"
 
 HISTORY_COLUMNS = ("omega_t_start", "omega_t_end", "v1_in", "v1_out", "x_max", "impulse")
 
 
 def status_name(code: float) -> str:
+    if not math.isfinite(code):
+        return "not_run"
     return STATUS.get(int(code), f"unknown_status_{int(code)}")
 
 
 @dataclass(frozen=True)
 class Result:
-    """COR and energy account of one scene (non-dimensional, see DESIGN.md).
+    """COR and energy account of one scene.
 
-    ``success`` is True when ``status == "ok"``; ``history`` (when requested) has one row per
-    contact interval with the columns of ``HISTORY_COLUMNS``.
+    ``alpha, beta, xi`` summarise the scene (m2/m1, k_12/k_contact, c_12 omega/(2 k_12));
+    ``omega_t_col`` is unit-free and ``t_col`` the same duration in the user's time unit
+    (omega_t_col / omega). ``success`` is True when ``status == "ok"``; ``history`` (when
+    requested) has one row per contact interval with the columns of ``HISTORY_COLUMNS`` (times
+    omega*t, speeds / V0). ``scene`` is the ``restitution.Chain`` that was solved.
     """
 
     alpha: float
@@ -68,6 +90,8 @@ class Result:
     status: str
     error_estimate: float = 0.0
     history: pd.DataFrame | None = field(default=None, repr=False, compare=False)
+    t_col: float = math.nan
+    scene: object = field(default=None, repr=False, compare=False)
 
     @property
     def success(self) -> bool:
@@ -78,10 +102,11 @@ class Result:
         return MESSAGES.get(self.status, self.status)
 
     def to_dict(self, history: bool = False) -> dict:
-        d = asdict(self)
-        d.pop("history")
+        d = {k: v for k, v in asdict(self).items() if k not in ("history", "scene")}
         d["success"] = self.success
         d["message"] = self.message
+        if self.scene is not None:
+            d["scene"] = self.scene.to_dict()
         if history and self.history is not None:
             d["history"] = self.history.to_dict(orient="list")
         return d
@@ -92,13 +117,14 @@ class Result:
         if hist is not None:
             n = min(int(out[L.OUT_NEVENTS]), hist.shape[0])
             history = pd.DataFrame(hist[:n], columns=list(HISTORY_COLUMNS))
+        omega = getattr(scene, "omega", 1.0)
         return cls(
             alpha=scene.alpha,
             beta=scene.beta,
             xi=scene.xi,
             n_masses=scene.n_masses,
             cor=float(out[L.OUT_COR]),
-            n_collisions=int(out[L.OUT_NCOL]),
+            n_collisions=int(out[L.OUT_NCOL]) if math.isfinite(out[L.OUT_NCOL]) else 0,
             omega_t_col=float(out[L.OUT_TCOL]),
             e_translational=float(out[L.OUT_ETRANS]),
             e_vibrational=float(out[L.OUT_EVIB]),
@@ -107,4 +133,6 @@ class Result:
             status=status_name(out[L.OUT_STATUS]),
             error_estimate=float(out[L.OUT_ERR]),
             history=history,
+            t_col=float(out[L.OUT_TCOL]) / omega,
+            scene=scene if hasattr(scene, "to_dict") else None,
         )

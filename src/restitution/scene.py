@@ -1,6 +1,9 @@
-"""Scene parameters, their allowed ranges, and the derived non-dimensional system.
+"""The paper's scene (alpha, beta, xi, n_masses) and its derived non-dimensional system.
 
-Units (DESIGN.md): m1 = 1, V0 = 1 and omega = 1 with omega**2 = k2/m1 + k2/m2, so for
+The ranges live in ``restitution.chain.RANGES`` (checked once, there); the general model is
+``restitution.Chain``, of which these scenes are the preset ``Chain.paper``.
+
+Units: m1 = 1, V0 = 1 and omega = 1 with omega**2 = k2/m1 + k2/m2, so for
 alpha = m2/m1 the structural stiffness is k2 = alpha/(1 + alpha). The contact stiffness is
 k1 = k2/beta (beta = 0: rigid wall). An N-mass chain has m1 = 1, m2..mN = alpha and the same k2
 between every pair of neighbours. The dashpot (Section 3.4) acts between m1 and m2 only, with
@@ -14,58 +17,30 @@ from dataclasses import dataclass
 
 import numpy as np
 
-# Exact methods for piecewise-linear scenes, numerical ones for nonlinear laws (and for checks).
-EXACT_METHODS = ("impulsive", "piecewise")
-NUMERICAL_METHODS = ("adaptive", "verlet", "reference")
-METHODS = ("auto", *EXACT_METHODS, *NUMERICAL_METHODS)
+from .chain import SceneError, check
+from .methods import METHODS as _TABLE
+from .methods import NAMES as METHODS
+from .methods import check_method
 
-
-class SceneError(ValueError):
-    """A scene parameter is outside its allowed range."""
-
-
-def _show(value) -> str:
-    """repr of a value as a user typed it (numpy scalars shown as plain Python numbers)."""
-    return repr(value.item() if isinstance(value, np.generic) else value)
-
-
-def _check_real(name: str, value, low: float, high: float, low_open: bool, allowed: str) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise SceneError(f"{name} must be a number {allowed}; got {_show(value)}") from None
-    if isinstance(value, bool) or math.isnan(x):
-        raise SceneError(f"{name} must be a number {allowed}; got {_show(value)}")
-    if (x <= low if low_open else x < low) or x > high:
-        raise SceneError(f"{name} must be {allowed}; got {_show(value)}")
-    return x
+# Kept for callers of the old names; the solver table is restitution.methods.METHODS.
+EXACT_METHODS = tuple(name for name, m in _TABLE.items() if m.exact)
+NUMERICAL_METHODS = tuple(name for name, m in _TABLE.items() if not m.exact)
 
 
 def check_alpha(value) -> float:
-    return _check_real("alpha", value, 0.0, 1e8, True, "in (0, 1e8]")
+    return check("alpha", value)
 
 
 def check_beta(value) -> float:
-    return _check_real("beta", value, 0.0, 1e6, False, "in [0, 1e6] (0 = rigid wall)")
+    return check("beta", value)
 
 
 def check_xi(value) -> float:
-    return _check_real("xi", value, 0.0, 1e3, False, "in [0, 1e3]")
+    return check("xi", value)
 
 
 def check_n_masses(value) -> int:
-    ok = isinstance(value, (int, np.integer)) or (
-        isinstance(value, (float, np.floating)) and float(value).is_integer()
-    )
-    if isinstance(value, bool) or not ok or not 2 <= int(value) <= 512:
-        raise SceneError(f"n_masses must be an integer in [2, 512]; got {_show(value)}")
-    return int(value)
-
-
-def check_method(value) -> str:
-    if value not in METHODS:
-        raise SceneError(f"method must be one of {', '.join(METHODS)}; got {_show(value)}")
-    return value
+    return check("n_masses", value)
 
 
 @dataclass(frozen=True)
@@ -104,3 +79,17 @@ class Scene:
     @property
     def total_mass(self) -> float:
         return 1.0 + (self.n_masses - 1) * self.alpha
+
+
+__all__ = [
+    "EXACT_METHODS",
+    "METHODS",
+    "NUMERICAL_METHODS",
+    "Scene",
+    "SceneError",
+    "check_alpha",
+    "check_beta",
+    "check_method",
+    "check_n_masses",
+    "check_xi",
+]

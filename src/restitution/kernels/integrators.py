@@ -74,7 +74,7 @@ N_MEM = 8
 N_Y = 6
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rhs(y, cp, sp, mem, dy):
     """Equations of motion (m1 = 1, m2 = alpha) with the current contact branch."""
     x = -y[0]
@@ -92,7 +92,7 @@ def rhs(y, cp, sp, mem, dy):
     dy[5] = mem[M_C] * dv * dv
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def accel_verlet(y, cp, sp, mem, acc):
     """Accelerations for Verlet with the path-following (hysteretic) contact law."""
     x = -y[0]
@@ -108,14 +108,14 @@ def accel_verlet(y, cp, sp, mem, acc):
     return fc, mem[M_C] * dv * dv
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dent(cp, mem):
     if cp[0] == C_PLASTIC and mem[M_FMAX] > 0.0:
         return mem[M_XMAX] - mem[M_FMAX] / cp[1]
     return 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def no_contact_possible(y, cp, sp, mem):
     """True when the centre of mass recedes and the internal energy cannot bring m1 back."""
     a = mem[M_ALPHA]
@@ -132,7 +132,7 @@ def no_contact_possible(y, cp, sp, mem):
     return xcom + mem[M_XP] - mu * rhi > 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def never_stop(y, cp, sp, mem):
     return False
 
@@ -145,7 +145,7 @@ STOP_NEVER = 0
 STOP_NO_CONTACT = 1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dp_step(y, f0, h, rtol, atol, cp, sp, mem, K, ynew, tmp):
     """One DP5(4) step from y (with f0 = f(y)); fills K (7 x n) and ynew; returns the error norm."""
     n = y.shape[0]
@@ -173,7 +173,7 @@ def dp_step(y, f0, h, rtol, atol, cp, sp, mem, K, ynew, tmp):
     return math.sqrt(err / n)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def event_poly(K, h, y0, w, b, coef):
     """Monomial coefficients (degree 4 in theta) of w.y(theta) + b along the dense output."""
     n = y0.shape[0]
@@ -192,7 +192,7 @@ def event_poly(K, h, y0, w, b, coef):
         coef[j + 1] = h * acc
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dense_state(y0, K, h, theta, out):
     n = y0.shape[0]
     for i in range(n):
@@ -207,7 +207,7 @@ def dense_state(y0, K, h, theta, out):
         out[i] = y0[i] + h * acc
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def poly_val(c, n, t):
     acc = 0.0
     for k in range(n, -1, -1):
@@ -215,7 +215,7 @@ def poly_val(c, n, t):
     return acc
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _bernstein_min(c, n, a, b):
     """Smallest Bernstein coefficient of the degree-n polynomial c restricted to [a, b]."""
     # Taylor shift to a, then scale by (b - a)**k: monomials in s in [0, 1].
@@ -239,7 +239,7 @@ def _bernstein_min(c, n, a, b):
     return m
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def first_root(c, n, strip):
     """First theta in (0, 1] where the polynomial goes from > 0 to <= 0; -1.0 if none.
 
@@ -283,7 +283,7 @@ def first_root(c, n, strip):
     return -1.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rk_phase(y, t, h, hmax, rtol, atol, cp, sp, mem, W, B, strip, nev, stop, max_steps, err_acc):
     """Integrate with DP5(4) until the first event (or ``stop``); y is updated in place.
 
@@ -344,7 +344,7 @@ def rk_phase(y, t, h, hmax, rtol, atol, cp, sp, mem, W, B, strip, nev, stop, max
     return EV_FAIL, t, h
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def verlet_step(y, acc, h, cp, sp, mem):
     """One velocity-Verlet step of y = [u1, u2, v1, v2, W_contact, D_dashpot].
 
@@ -377,3 +377,235 @@ def verlet_step(y, acc, h, cp, sp, mem):
     y[5] += 0.5 * h * (p_old + pw)
     acc[2] = fc
     acc[3] = pw
+
+
+# ------------------------------------------------------------------------------------------------
+# General chains: masses m[n] (m[0] at the wall), one link law per neighbouring pair (rows of
+# lk, each a structure_params array), dashpots c[n-1], the contact law cp and its memory mem.
+# State y = [u_1..u_n, v_1..v_n, W, D] (length 2n + 2); for n = 2 the layout of the two-mass
+# scene above. The DP5(4) tableau, dense output and event location are the ones above.
+# ------------------------------------------------------------------------------------------------
+
+
+@njit(cache=True, error_model="numpy")
+def rhs_chain(y, m, lk, c, cp, mem, dy):
+    """Equations of motion of a general chain with the current contact branch."""
+    n = m.shape[0]
+    for i in range(n):
+        dy[i] = y[n + i]
+        dy[n + i] = 0.0
+    fc = 0.0
+    if mem[M_PHASE] == 1.0:
+        fc = contact_force(cp, int(mem[M_BRANCH]), mem[M_XMAX], mem[M_FMAX], -y[0])
+    dy[n] = fc
+    d = 0.0
+    for i in range(n - 1):
+        f = structure_force(lk[i], y[i + 1] - y[i])
+        dv = y[n + i + 1] - y[n + i]
+        fd = c[i] * dv
+        dy[n + i] += f + fd
+        dy[n + i + 1] -= f + fd
+        d += fd * dv
+    for i in range(n):
+        dy[n + i] /= m[i]
+    dy[2 * n] = -fc * y[n]
+    dy[2 * n + 1] = d
+
+
+@njit(cache=True, error_model="numpy")
+def dp_step_chain(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp):
+    """``dp_step`` for a general chain (rhs_chain)."""
+    n = y.shape[0]
+    K[0, :] = f0
+    for s in range(1, 6):
+        for i in range(n):
+            acc = 0.0
+            for j in range(s):
+                acc += DP_A[s, j] * K[j, i]
+            tmp[i] = y[i] + h * acc
+        rhs_chain(tmp, m, lk, c, cp, mem, K[s])
+    for i in range(n):
+        acc = 0.0
+        for j in range(6):
+            acc += DP_B[j] * K[j, i]
+        ynew[i] = y[i] + h * acc
+    rhs_chain(ynew, m, lk, c, cp, mem, K[6])
+    err = 0.0
+    for i in range(n):
+        e = 0.0
+        for j in range(7):
+            e += DP_E[j] * K[j, i]
+        sc = atol + rtol * max(abs(y[i]), abs(ynew[i]))
+        err += (h * e / sc) ** 2
+    return math.sqrt(err / n)
+
+
+@njit(cache=True, error_model="numpy")
+def internal_energy_chain(y, m, lk):
+    """Energy of the motion relative to the centre of mass: relative kinetic + link potentials."""
+    n = m.shape[0]
+    mt = 0.0
+    p = 0.0
+    ek = 0.0
+    for i in range(n):
+        mt += m[i]
+        p += m[i] * y[n + i]
+        ek += 0.5 * m[i] * y[n + i] * y[n + i]
+    e = ek - 0.5 * p * p / mt
+    for i in range(n - 1):
+        e += structure_energy(lk[i], y[i + 1] - y[i])
+    return max(e, 0.0)
+
+
+@njit(cache=True, error_model="numpy")
+def no_contact_possible_chain(y, m, lk, xp):
+    """True when m1 provably never reaches the contact surface u1 = -xp again (free flight).
+
+    The centre of mass X moves at the constant V (no wall force). m1 trails it by
+    X - u1 = sum_i mu_i r_i (r_i = u_{i+1} - u_i, mu_i = mass beyond link i / total mass), and the
+    internal energy E (relative kinetic + link potentials) never grows in free flight (dashpots
+    only dissipate), so every r_i stays within U_i(r_i) <= E. Linear links together: by
+    Cauchy-Schwarz sum mu_i r_i <= sqrt(2 E sum mu_i**2/k_i); any other link: mu_i times its
+    extent at energy E. With V > 0, X + xp - that bound > 0 now stays > 0 for ever.
+    """
+    n = m.shape[0]
+    mt = 0.0
+    p = 0.0
+    q = 0.0
+    for i in range(n):
+        mt += m[i]
+        p += m[i] * y[n + i]
+        q += m[i] * y[i]
+    if p <= 0.0:
+        return False
+    e = internal_energy_chain(y, m, lk)
+    beyond = mt
+    lin = 0.0
+    bound = 0.0
+    for i in range(n - 1):
+        beyond -= m[i]
+        mu = beyond / mt
+        if lk[i, 0] == 0.0:  # S_LINEAR
+            lin += mu * mu / lk[i, 1]
+        else:
+            bound += mu * structure_extent(lk[i], e, 1.0)
+    bound += math.sqrt(2.0 * e * lin)
+    return q / mt + xp - bound > 0.0
+
+
+@njit(cache=True, error_model="numpy")
+def rk_phase_chain(
+    y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, stop, work, err_acc
+):
+    """``rk_phase`` for a general chain: DP5(4) until the first event or ``stop``.
+
+    Events g_k = W[k].y + B[k] as in ``rk_phase``; stop = STOP_NO_CONTACT ends the phase when
+    ``no_contact_possible_chain`` after an accepted step. ``work[0]`` counts right-hand-side
+    evaluations left for the whole scene (a budget in operations: results do not depend on the
+    machine or thread count); EV_FAIL when it runs out or the step underflows.
+    ``err_acc[0]`` accumulates the local error estimates of the total momentum.
+    """
+    n = y.shape[0]
+    nm = m.shape[0]
+    K = np.empty((7, n))
+    ynew = np.empty(n)
+    tmp = np.empty(n)
+    f0 = np.empty(n)
+    coef = np.empty(5)
+    rhs_chain(y, m, lk, c, cp, mem, f0)
+    first = True
+    while work[0] > 0.0:
+        work[0] -= 6.0
+        h = min(h, hmax)
+        if not (h >= 1e-14 * max(1.0, abs(t)) and h < math.inf):  # also catches NaN
+            return EV_FAIL, t, h
+        err = dp_step_chain(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp)
+        if not err <= 1.0:  # also catches NaN
+            fac = 0.2 if not err == err else max(0.2, 0.9 * err**-0.2)
+            h *= fac
+            continue
+        best = 2.0
+        which = -1
+        for k in range(nev):
+            event_poly(K, h, y, W[k], B[k], coef)
+            s = 0
+            if first and strip[k] > 0:
+                coef[0] = 0.0
+                s = strip[k]
+                while s < 4 and coef[s] == 0.0:
+                    s += 1
+            th = first_root(coef, 4, s)
+            if th >= 0.0 and th < best:
+                best, which = th, k
+        em = 0.0
+        for j in range(7):
+            mom = 0.0
+            for i in range(nm):
+                mom += m[i] * K[j, nm + i]
+            em += DP_E[j] * mom
+        err_acc[0] += abs(h * em)
+        hn = h * min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.2))
+        if which >= 0:
+            dense_state(y, K, h, best, tmp)
+            y[:] = tmp
+            return which, t + best * h, max(h * best, 0.1 * h)
+        y[:] = ynew
+        f0[:] = K[6]
+        t += h
+        h = hn
+        first = False
+        if stop == STOP_NO_CONTACT and no_contact_possible_chain(y, m, lk, mem[M_XP]):
+            return EV_STOP, t, h
+    return EV_FAIL, t, h
+
+
+@njit(cache=True, error_model="numpy")
+def accel_verlet_chain(y, m, lk, c, cp, mem, acc):
+    """Accelerations (acc[:n]) for Verlet with the path-following contact law; returns
+    (contact force, dashpot power)."""
+    n = m.shape[0]
+    fc = 0.0
+    if cp[0] != C_RIGID:
+        fc, xm, fm = contact_hysteretic(cp, mem[M_XMAX], mem[M_FMAX], -y[0])
+        mem[M_XMAX], mem[M_FMAX] = xm, fm
+    for i in range(n):
+        acc[i] = 0.0
+    acc[0] = fc
+    pw = 0.0
+    for i in range(n - 1):
+        f = structure_force(lk[i], y[i + 1] - y[i])
+        dv = y[n + i + 1] - y[n + i]
+        fd = c[i] * dv
+        acc[i] += f + fd
+        acc[i + 1] -= f + fd
+        pw += fd * dv
+    for i in range(n):
+        acc[i] /= m[i]
+    return fc, pw
+
+
+@njit(cache=True, error_model="numpy")
+def verlet_step_chain(y, acc, h, m, lk, c, cp, mem, damped):
+    """``verlet_step`` for a general chain; acc has n + 2 entries (accelerations, force, power)."""
+    n = m.shape[0]
+    x_old = -y[0]
+    f_old = acc[n]
+    p_old = acc[n + 1]
+    for i in range(n):
+        vh = y[n + i] + 0.5 * h * acc[i]
+        y[i] += h * vh
+        y[n + i] = vh
+    vhalf = y[n : 2 * n].copy()
+    for i in range(n):
+        y[n + i] = vhalf[i] + 0.5 * h * acc[i]
+    fc, pw = accel_verlet_chain(y, m, lk, c, cp, mem, acc)
+    for i in range(n):
+        y[n + i] = vhalf[i] + 0.5 * h * acc[i]
+    if damped:
+        fc, pw = accel_verlet_chain(y, m, lk, c, cp, mem, acc)
+        for i in range(n):
+            y[n + i] = vhalf[i] + 0.5 * h * acc[i]
+    y[2 * n] += 0.5 * (f_old + fc) * (-y[0] - x_old)
+    y[2 * n + 1] += 0.5 * h * (p_old + pw)
+    acc[n] = fc
+    acc[n + 1] = pw

@@ -15,7 +15,8 @@ OUT_EDISS = 5  # energy dissipated (dashpot, plastic contact) / initial, integra
 OUT_STATUS = 6  # one of the STATUS_* codes below
 OUT_NEVENTS = 7  # number of history rows the kernel wanted to write (may exceed hist rows)
 OUT_ERR = 8  # the method's own error estimate for cor (0 where exact up to round-off)
-N_OUT = 9
+OUT_FLAGS = 9  # bit set of FLAG_* below (how the result was obtained)
+N_OUT = 10
 
 # Columns of ``hist`` (one row per contact interval; for a rigid wall t_start == t_end).
 H_TSTART = 0  # omega * t at the start of the contact
@@ -32,3 +33,10 @@ STATUS_EVENT_BUDGET = 1  # more contacts than max_events: the sequence was NOT f
 STATUS_ENERGY = 2  # the independent energy account does not close within tolerance
 STATUS_ILL_CONDITIONED = 3  # an eigenbasis too ill-conditioned for a trustworthy closed form
 STATUS_NONCONVERGED = 4  # an event root search did not converge
+STATUS_PERMANENT_CONTACT = 5  # m1 never leaves the wall (proven): cor = 0, omega_t_col = inf
+STATUS_WORK_BUDGET = 6  # the scene's work budget (operations, not time) ran out: NOT finished
+STATUS_INVALID = 7  # parameters outside what the kernel handles (NaN, inf, non-positive mass...)
+STATUS_NOT_RUN = 8  # a batch row the kernel never finished (rows start with it, NaN elsewhere)
+
+# Bits of out[OUT_FLAGS].
+FLAG_STICKING = 1  # a Zeno chatter was continued by its sticking limit (method impulsive+sticking)

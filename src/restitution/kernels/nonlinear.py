@@ -45,10 +45,14 @@ from restitution.kernels.integrators import (
     STOP_NEVER,
     STOP_NO_CONTACT,
     accel_verlet,
+    accel_verlet_chain,
     dent,
     no_contact_possible,
+    no_contact_possible_chain,
     rk_phase,
+    rk_phase_chain,
     verlet_step,
+    verlet_step_chain,
 )
 from restitution.kernels.layout import (
     H_IMPULSE,
@@ -69,10 +73,21 @@ from restitution.kernels.layout import (
     OUT_TCOL,
     STATUS_ENERGY,
     STATUS_EVENT_BUDGET,
+    STATUS_INVALID,
     STATUS_NONCONVERGED,
+    STATUS_NOT_RUN,
     STATUS_OK,
+    STATUS_WORK_BUDGET,
 )
-from restitution.laws import C_LINEAR, C_PLASTIC, C_RIGID, S_LINEAR, SP_K2, structure_energy
+from restitution.laws import (
+    C_HERTZ,
+    C_PLASTIC,
+    C_RIGID,
+    S_LINEAR,
+    SP_K2,
+    contact_elastic,
+    structure_energy,
+)
 
 N_ACCT = 5  # kinetic, elastic, dissipated in contact, dissipated in dashpot, residual
 METHOD_ADAPTIVE = 0
@@ -80,7 +95,7 @@ METHOD_VERLET = 1
 
 
 # ---------------------------------------------------------------- closed-form free flight --
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _osc(s, xi, r0, w0):
     """r(s), r'(s) of r'' + 2 xi r' + r = 0 (all damping regimes, overflow-free)."""
     if xi < 1.0:
@@ -103,13 +118,13 @@ def _osc(s, xi, r0, w0):
     return r, w
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _gap(s, x0, v, mu, xi, r0, w0):
     r, _ = _osc(s, xi, r0, w0)
     return x0 + v * s - mu * r
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def free_flight_linear(y, xp, xi, alpha):
     """Advance y (linear structure, no contact) to the next contact; return its local time or -1.
 
@@ -178,23 +193,24 @@ AFTER_TURN = 1  # the branch starts at a turn: v1 = 0 projected, x at a local ma
 AFTER_RISE = 2  # the branch starts at a reload (plastic, x = xmax) or a rise (linear, v1 = 0)
 
 
-@njit(cache=True)
-def _setup_contact_events(cp, mem, W, B, strip, how):
+@njit(cache=True, error_model="numpy")
+def _setup_contact_events(cp, mem, W, B, strip, how, nm=2):
     """Event rows of the current contact branch; returns their number.
 
     ``strip`` counts the leading zeros of an event that starts on its own surface (exactly, since
     the state is projected there): the separation when entering, the reload (double zero: x at
     its maximum with v1 = 0) or the rise (v1 = 0) after a turn, the turn after a linear rise.
+    ``nm`` is the number of masses (v1 is y[nm]); W has as many columns as the state.
     """
     for k in range(2):
-        for i in range(N_Y):
+        for i in range(W.shape[1]):
             W[k, i] = 0.0
         B[k] = 0.0
         strip[k] = 0
     plastic = cp[0] == C_PLASTIC
     if mem[M_BRANCH] == 1.0:
         # turn: x' = -v1 falls to 0
-        W[0, 2] = -1.0
+        W[0, nm] = -1.0
         strip[0] = 1 if (how == AFTER_RISE and not plastic) else 0
         return 1
     # separation: x - xp = -u1 - xp falls to 0
@@ -207,13 +223,13 @@ def _setup_contact_events(cp, mem, W, B, strip, how):
         B[1] = mem[M_XMAX]
         strip[1] = 2 if how == AFTER_TURN else 0
     else:
-        # linear contact, x rising again: v1 falls to 0
-        W[1, 2] = 1.0
+        # elastic contact, x rising again: v1 falls to 0
+        W[1, nm] = 1.0
         strip[1] = 1 if how == AFTER_TURN else 0
     return 2
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _energies(y, sp, alpha, v0, out, acct):
     m = 1.0 + alpha
     e0 = 0.5 * m * v0 * v0
@@ -232,13 +248,13 @@ def _energies(y, sp, alpha, v0, out, acct):
     acct[4] = out[OUT_ETRANS] + out[OUT_EVIB] + out[OUT_EDISS] - 1.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _record(hist, n, col, value):
     if n < hist.shape[0]:
         hist[n, col] = value
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def solve_scene(
     alpha, v0, xi, cp, sp, method, rtol, step_frac, integrate_free, etol, max_events, hist, acct
 ):
@@ -279,7 +295,7 @@ def solve_scene(
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _adaptive(y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, hist, v0):
     alpha = mem[M_ALPHA]
     atol = rtol * v0
@@ -423,7 +439,7 @@ def _adaptive(y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, hist, 
                 h = hf
             else:
                 mem[M_PHASE] = 1.0
-                if kind == C_LINEAR or mem[M_FMAX] == 0.0:
+                if contact_elastic(cp) or mem[M_FMAX] == 0.0:
                     mem[M_BRANCH] = 1.0
                 else:
                     mem[M_BRANCH] = 0.0
@@ -431,7 +447,7 @@ def _adaptive(y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, hist, 
     return STATUS_NONCONVERGED, ncol, tcol, err_acc[0]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _verlet(y, ysep, cp, sp, mem, step_frac, max_events, hist, v0):
     """The paper's scheme: fixed step = step_frac * shortest local period of the scene.
 
@@ -490,7 +506,7 @@ def _verlet(y, ysep, cp, sp, mem, step_frac, max_events, hist, v0):
     return STATUS_NONCONVERGED, ncol, tcol
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, parallel=True, error_model="numpy")
 def solve_scene_batch(alpha, v0, xi, cp, sp, method, rtol, step_frac, etol, max_events):
     """``solve_scene`` over rows (alpha[i], v0[i], xi[i], cp[i], sp[i]); returns (n, N_OUT).
 
@@ -516,4 +532,358 @@ def solve_scene_batch(alpha, v0, xi, cp, sp, method, rtol, step_frac, etol, max_
             hist,
             acct,
         )
+    return out
+
+
+# ================================================================================================
+# General chains: masses m[n], link laws lk[n-1] (structure_params rows), dashpots c[n-1], any
+# contact law cp. Both phases are integrated by DP5(4) (the closed-form free flight of a linear
+# chain belongs to the exact chain kernel; here free flight is integrated with the same
+# guaranteed event location, and its end is the proof of integrators.no_contact_possible_chain).
+# ================================================================================================
+
+MAX_WORK_DEFAULT = 4_000_000  # right-hand-side evaluations per scene (about a second for N = 8)
+
+
+@njit(cache=True, error_model="numpy")
+def chain_frequency_bound(m, lk, kc):
+    """Gershgorin bound on the highest angular frequency (links at their largest slope, SP_K2;
+    a contact slope kc on m1)."""
+    n = m.shape[0]
+    lam = 0.0
+    for i in range(n):
+        row = 0.0
+        if i > 0:
+            row += 2.0 * lk[i - 1, SP_K2]
+        if i < n - 1:
+            row += 2.0 * lk[i, SP_K2]
+        if i == 0:
+            row += kc
+        lam = max(lam, row / m[i])
+    return math.sqrt(lam)
+
+
+@njit(cache=True, error_model="numpy")
+def _momentum(y, m):
+    n = m.shape[0]
+    p = 0.0
+    for i in range(n):
+        p += m[i] * y[n + i]
+    return p
+
+
+@njit(cache=True, error_model="numpy")
+def _energies_chain(y, m, lk, v0, out, acct):
+    n = m.shape[0]
+    mt = 0.0
+    ek = 0.0
+    for i in range(n):
+        mt += m[i]
+        ek += 0.5 * m[i] * y[n + i] * y[n + i]
+    e0 = 0.5 * mt * v0 * v0
+    vc = _momentum(y, m) / mt
+    eel = 0.0
+    for i in range(n - 1):
+        eel += structure_energy(lk[i], y[i + 1] - y[i])
+    erel = ek - 0.5 * mt * vc * vc
+    out[OUT_COR] = vc / v0
+    out[OUT_ETRANS] = vc * vc / (v0 * v0)
+    out[OUT_EVIB] = (erel + eel) / e0
+    out[OUT_EDISS] = (y[2 * n] + y[2 * n + 1]) / e0
+    acct[0] = ek / e0
+    acct[1] = eel / e0
+    acct[2] = y[2 * n] / e0
+    acct[3] = y[2 * n + 1] / e0
+    acct[4] = out[OUT_ETRANS] + out[OUT_EVIB] + out[OUT_EDISS] - 1.0
+
+
+@njit(cache=True, error_model="numpy")
+def chain_input_ok(m, lk, c, cp, v0):
+    """The kernel's own guard (the Python entry checks and names every parameter first)."""
+    n = m.shape[0]
+    if n < 1 or lk.shape[0] < n - 1 or c.shape[0] < n - 1:
+        return False
+    if not (v0 > 0.0 and v0 < math.inf):
+        return False
+    for i in range(n):
+        if not (m[i] > 0.0 and m[i] < math.inf):
+            return False
+    for i in range(n - 1):
+        if not (lk[i, SP_K2] > 0.0 and lk[i, SP_K2] < math.inf):
+            return False
+        if not (c[i] >= 0.0 and c[i] < math.inf):
+            return False
+    kind = cp[0]
+    if kind != C_RIGID and not (cp[1] > 0.0 and cp[1] < math.inf):
+        return False
+    if kind == C_PLASTIC or kind == C_HERTZ:
+        if not (cp[2] > 0.0 and cp[2] < math.inf and cp[3] > 0.0):
+            return False
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def solve_chain_scene(
+    m, lk, c, cp, v0, method, rtol, step_frac, etol, max_events, max_work, hist, acct
+):
+    """COR of one general chain with any contact and link laws; ``out`` as kernels/layout.py.
+
+    m[n] (m[0] = 1 in kernel units), lk[n-1] link laws, c[n-1] dashpots, cp the contact law; all
+    masses start at -v0 with m1 on the wall surface. method 0 = adaptive DP5(4) (rtol, atol =
+    rtol*v0), 1 = velocity Verlet (step = step_frac * 2 pi / the Gershgorin frequency bound).
+    ``max_work`` bounds the right-hand-side evaluations (STATUS_WORK_BUDGET). Never raises for
+    finite input: a failure is a NaN COR with its status.
+    """
+    out = np.full(N_OUT, np.nan)
+    out[OUT_STATUS] = STATUS_INVALID
+    out[OUT_NCOL] = 0.0
+    out[OUT_NEVENTS] = 0.0
+    for i in range(acct.shape[0]):
+        acct[i] = np.nan
+    if not chain_input_ok(m, lk, c, cp, v0):
+        return out
+    n = m.shape[0]
+    y = np.zeros(2 * n + 2)
+    for i in range(n):
+        y[n + i] = -v0
+    mem = np.zeros(N_MEM)
+    ysep = y.copy()
+    work = np.zeros(1)
+    work[0] = max_work
+    mt = 0.0
+    for i in range(n):
+        mt += m[i]
+    if method == METHOD_VERLET:
+        status, ncol, tcol = _verlet_chain(
+            y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist, v0
+        )
+        err = 0.0
+    else:
+        status, ncol, tcol, err = _adaptive_chain(
+            y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0
+        )
+    out[OUT_NCOL] = ncol
+    out[OUT_NEVENTS] = ncol
+    out[OUT_TCOL] = tcol
+    _energies_chain(ysep, m, lk, v0, out, acct)
+    out[OUT_ERR] = err / (mt * v0)
+    if status == STATUS_OK and not abs(acct[4]) <= etol:
+        status = STATUS_ENERGY
+    if status == STATUS_OK and acct[2] < -etol:
+        status = STATUS_ENERGY  # net contact work < 0: the law created energy (see solve_scene)
+    if status == STATUS_OK and not (
+        math.isfinite(out[OUT_COR]) and math.isfinite(out[OUT_TCOL]) and math.isfinite(out[OUT_ERR])
+    ):
+        status = STATUS_NONCONVERGED  # never a non-finite number marked ok
+    if status != STATUS_OK and status != STATUS_ENERGY:
+        out[OUT_COR] = np.nan  # an unfinished sequence has no COR
+    out[OUT_STATUS] = status
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def _adaptive_chain(y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0):
+    n = m.shape[0]
+    ny = 2 * n + 2
+    atol = rtol * v0
+    kind = int(cp[0])
+    W = np.zeros((2, ny))
+    B = np.zeros(2)
+    strip = np.zeros(2, dtype=np.int64)
+    err_acc = np.zeros(1)
+    t = 0.0
+    tcol = 0.0
+    ncol = 1
+    # step scales from the highest frequency, free and with the contact's slope scale cp[1]
+    w_cont = chain_frequency_bound(m, lk, cp[1] if kind != C_RIGID else 0.0)
+    w_free = chain_frequency_bound(m, lk, 0.0)
+    if not w_free > 0.0:  # a single mass: no free-flight scale, take the contact's
+        w_free = w_cont if w_cont > 0.0 else 1.0
+    if not w_cont > 0.0:
+        w_cont = w_free
+    hc = 0.05 / w_cont
+    hf = 0.05 / w_free
+    hmax_free = 0.5 / w_free
+    h = hc
+    p_in = _momentum(y, m)
+    _record(hist, 0, H_TSTART, 0.0)
+    _record(hist, 0, H_VIN, y[n] / v0)
+    xmax_c = 0.0
+    if kind == C_RIGID:
+        y[n] = -y[n]
+        ysep[:] = y
+        _record(hist, 0, H_TEND, 0.0)
+        _record(hist, 0, H_VOUT, y[n] / v0)
+        _record(hist, 0, H_IMPULSE, (_momentum(y, m) - p_in) / v0)
+        mem[M_PHASE] = 0.0
+    else:
+        mem[M_PHASE] = 1.0
+        mem[M_BRANCH] = 1.0
+    entering = True
+    how = ENTER
+    while True:
+        if mem[M_PHASE] == 1.0:
+            nev = _setup_contact_events(cp, mem, W, B, strip, how, n)
+            code, t, h = rk_phase_chain(
+                y, t, h, 1e300, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev,
+                STOP_NEVER, work, err_acc,
+            )  # fmt: skip
+            if code == EV_FAIL or code == EV_STOP:
+                return _fail(work), ncol, tcol, err_acc[0]
+            if mem[M_BRANCH] == 1.0:  # turn at the deepest point
+                how = AFTER_TURN
+                y[n] = 0.0
+                x = -y[0]
+                xmax_c = max(xmax_c, x)
+                mem[M_BRANCH] = 0.0
+                if kind == C_PLASTIC and x >= mem[M_XMAX]:
+                    mem[M_XMAX] = x
+                    mem[M_FMAX] = cp[2] * x ** cp[3]
+                    mem[M_XP] = dent(cp, mem)
+            elif code == 1:  # reload past xmax (plastic) / rising again (elastic)
+                how = AFTER_RISE
+                if kind == C_PLASTIC:
+                    y[0] = -mem[M_XMAX]
+                else:
+                    y[n] = 0.0
+                mem[M_BRANCH] = 1.0
+            else:  # separation
+                y[0] = -mem[M_XP]
+                mem[M_PHASE] = 0.0
+                tcol = t
+                ysep[:] = y
+                k = ncol - 1
+                _record(hist, k, H_TEND, t)
+                _record(hist, k, H_VOUT, y[n] / v0)
+                _record(hist, k, H_XMAX, xmax_c)
+                _record(hist, k, H_IMPULSE, (_momentum(y, m) - p_in) / v0)
+                entering = True
+                h = hf
+        else:
+            W[0, :] = 0.0
+            W[0, 0] = 1.0
+            B[0] = mem[M_XP]
+            strip[0] = 1 if entering else 0
+            code, t, h = rk_phase_chain(
+                y, t, h, hmax_free, rtol, atol, m, lk, c, cp, mem, W, B, strip, 1,
+                STOP_NO_CONTACT, work, err_acc,
+            )  # fmt: skip
+            if code == EV_STOP:
+                return STATUS_OK, ncol, tcol, err_acc[0]
+            if code == EV_FAIL:
+                return _fail(work), ncol, tcol, err_acc[0]
+            y[0] = -mem[M_XP]
+            h = hc
+            # a new contact starts
+            if ncol >= max_events:
+                return STATUS_EVENT_BUDGET, ncol, tcol, err_acc[0]
+            k = ncol
+            ncol += 1
+            xmax_c = -y[0]
+            p_in = _momentum(y, m)
+            _record(hist, k, H_TSTART, t)
+            _record(hist, k, H_VIN, y[n] / v0)
+            if kind == C_RIGID:
+                y[n] = -y[n]
+                tcol = t
+                ysep[:] = y
+                _record(hist, k, H_TEND, t)
+                _record(hist, k, H_VOUT, y[n] / v0)
+                _record(hist, k, H_IMPULSE, (_momentum(y, m) - p_in) / v0)
+                entering = True
+                h = hf
+            else:
+                mem[M_PHASE] = 1.0
+                if contact_elastic(cp) or mem[M_FMAX] == 0.0:
+                    mem[M_BRANCH] = 1.0
+                else:
+                    mem[M_BRANCH] = 0.0
+                how = ENTER
+
+
+@njit(cache=True, error_model="numpy")
+def _fail(work):
+    """Status of a failed phase: the work budget if it ran out, else a step-size underflow."""
+    return STATUS_WORK_BUDGET if work[0] <= 0.0 else STATUS_NONCONVERGED
+
+
+@njit(cache=True, error_model="numpy")
+def _verlet_chain(y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist, v0):
+    """The paper's fixed-step velocity Verlet for a general chain (see ``_verlet``): the step is
+    step_frac * 2 pi / w, w the Gershgorin bound on the highest frequency with the contact's
+    slope scale cp[1] engaged."""
+    n = m.shape[0]
+    h = step_frac * 2.0 * math.pi / chain_frequency_bound(m, lk, cp[1])
+    damped = False
+    for i in range(n - 1):
+        damped = damped or c[i] != 0.0
+    acc = np.zeros(n + 2)
+    fc, pw = accel_verlet_chain(y, m, lk, c, cp, mem, acc)
+    acc[n], acc[n + 1] = fc, pw
+    t = 0.0
+    ncol = 1
+    tcol = 0.0
+    in_contact = True
+    xmax_c = 0.0
+    p_in = _momentum(y, m)
+    _record(hist, 0, H_TSTART, 0.0)
+    _record(hist, 0, H_VIN, y[n] / v0)
+    it = 0
+    while work[0] > 0.0:
+        work[0] -= 2.0 if damped else 1.0
+        it += 1
+        verlet_step_chain(y, acc, h, m, lk, c, cp, mem, damped)
+        t += h
+        now = acc[n] > 0.0
+        if now and not in_contact:
+            if ncol >= max_events:
+                return STATUS_EVENT_BUDGET, ncol, tcol
+            _record(hist, ncol, H_TSTART, t)
+            _record(hist, ncol, H_VIN, y[n] / v0)
+            p_in = _momentum(y, m)
+            xmax_c = 0.0
+            ncol += 1
+        if now:
+            xmax_c = max(xmax_c, -y[0])
+        if in_contact and not now:
+            tcol = t
+            ysep[:] = y
+            k = ncol - 1
+            _record(hist, k, H_TEND, t)
+            _record(hist, k, H_VOUT, y[n] / v0)
+            _record(hist, k, H_XMAX, xmax_c)
+            _record(hist, k, H_IMPULSE, (_momentum(y, m) - p_in) / v0)
+        in_contact = now
+        if not now:
+            mem[M_XP] = dent(cp, mem)
+            if (it & 7) == 0 and no_contact_possible_chain(y, m, lk, mem[M_XP]):
+                return STATUS_OK, ncol, tcol
+    return STATUS_WORK_BUDGET, ncol, tcol
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def solve_chain_scene_batch(
+    m, lk, c, n, cp, v0, method, rtol, step_frac, etol, max_events, max_work
+):
+    """``solve_chain_scene`` over padded rows: m (rows, nmax), lk (rows, nmax-1, N_SP),
+    c (rows, nmax-1), n (rows,) int64 masses per row, cp (rows, N_CP), v0 (rows,).
+
+    Every row starts as NaN with STATUS_NOT_RUN before any work, so a row the kernel did not
+    finish can never pass as a result. Rows are independent: bit-identical for any thread count.
+    """
+    rows = m.shape[0]
+    out = np.full((rows, N_OUT), np.nan)
+    for i in range(rows):
+        out[i, OUT_STATUS] = STATUS_NOT_RUN
+    for i in prange(rows):
+        k = n[i]
+        if k < 2 or k > m.shape[1]:
+            out[i, OUT_STATUS] = STATUS_INVALID
+            continue
+        hist = np.zeros((0, 6))
+        acct = np.zeros(N_ACCT)
+        out[i] = solve_chain_scene(
+            m[i, :k], lk[i, : k - 1], c[i, : k - 1], cp[i], v0[i], method, rtol, step_frac,
+            etol, max_events, max_work, hist, acct,
+        )  # fmt: skip
     return out

@@ -1,0 +1,499 @@
+"""The scene model: any one-dimensional chain of masses, springs and dashpots hitting a wall.
+
+A chain has masses m_1..m_N (m_1 touches the wall), one spring per neighbouring pair (link i joins
+m_i and m_{i+1}; stiffness ``springs[i]``, linear or the scissor law), an optional dashpot per
+link (coefficient ``dashpots[i]``), a contact law at the wall and the approach speed V0. At t = 0
+every mass moves towards the wall at -V0 with every spring unstretched.
+
+Units are the user's (any consistent set). The kernels work in scaled units: m_1 = 1, V0 = 1 and
+omega = 1 with omega**2 = k_12/m_1 + k_12/m_2 (k_12 = springs[0]); ``Chain.scaled`` gives
+
+    m_i / m_1,  k_i / (m_1 omega**2),  c_i / (m_1 omega),  k_contact / (m_1 omega**2),
+
+times scale as omega * t and positions as u / (V0 / omega). The unit-free summaries are
+
+    alpha = m_2 / m_1,  beta = k_12 / k_contact (0: rigid wall),  xi = c_12 omega / (2 k_12).
+
+The paper's scenes are the preset ``Chain.paper(alpha, beta, xi, n_masses)``: m = [1, alpha, ...,
+alpha], every spring alpha/(1 + alpha), a dashpot 2 xi k on the first link only, k_contact =
+k/beta. Every range check of a scene parameter lives in this module (``RANGES``), once, with a
+scalar form (``check``) and a vectorised form for table columns (``check_column``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+class SceneError(ValueError):
+    """A scene parameter is outside its allowed range."""
+
+
+# The largest chain accepted: the range declared for the paper's n_masses. Every scene also has a
+# work budget counted in operations inside the kernels, which ends a sequence that would run too
+# long with an honest status (never a silent result).
+MAX_MASSES = 512
+
+
+@dataclass(frozen=True)
+class Range:
+    """An allowed interval [low, high] (``low_open``: (low, high]); ``text`` is how it reads."""
+
+    low: float
+    high: float
+    low_open: bool
+    text: str
+    integer: bool = False
+
+    def contains(self, x: float) -> bool:
+        """Scalar membership, plain Python (the fast path of ``check``)."""
+        above = x > self.low if self.low_open else x >= self.low
+        return above and x <= self.high and (not self.integer or x.is_integer())
+
+    def accepts(self, x: np.ndarray) -> np.ndarray:
+        """Vectorised membership (NaN is never in range)."""
+        above = x > self.low if self.low_open else x >= self.low
+        ok = above & (x <= self.high)
+        if self.integer:
+            ok &= np.floor(x) == x
+        return ok
+
+
+# The one table of scene parameter ranges (the workflow's configuration check calls ``check``).
+RANGES = {
+    "alpha": Range(0.0, 1e8, True, "in (0, 1e8]"),
+    "beta": Range(0.0, 1e6, False, "in [0, 1e6] (0 = rigid wall)"),
+    "xi": Range(0.0, 1e3, False, "in [0, 1e3]"),
+    "n_masses": Range(2, MAX_MASSES, False, f"an integer in [2, {MAX_MASSES}]", integer=True),
+    "masses": Range(0.0, math.inf, True, "finite and > 0", integer=False),
+    "springs": Range(0.0, math.inf, True, "finite and > 0"),
+    "dashpots": Range(0.0, math.inf, False, "finite and >= 0"),
+    "k_contact": Range(0.0, math.inf, True, "> 0 (math.inf = rigid wall)"),
+    "v0": Range(0.0, 1e6, True, "in (0, 1e6]"),
+    "max_events": Range(1, 2**62, False, "a positive integer", integer=True),
+    "rtol": Range(1e-14, 1e-2, False, "in [1e-14, 1e-2]"),
+    "step": Range(0.0, 0.25, True, "in (0, 0.25]"),
+}
+# Array parameters must be finite even where the range's upper end is inf (k_contact may be inf).
+_FINITE = {"masses", "springs", "dashpots"}
+
+
+def _show(value) -> str:
+    """repr of a value as a user typed it (numpy scalars shown as plain Python numbers)."""
+    return repr(value.item() if isinstance(value, np.generic) else value)
+
+
+def check(name: str, value):
+    """``value`` as float (int for integer ranges) if it is in ``RANGES[name]``; else SceneError."""
+    r = RANGES[name]
+    t = type(value)
+    if t is float or t is int:  # fast path: plain Python numbers (NaN fails every comparison)
+        x = float(value)
+        if r.contains(x) and (name not in _FINITE or math.isfinite(x)):
+            return int(x) if r.integer else x
+        raise SceneError(f"{name} must be {r.text}; got {value!r}")
+    if isinstance(value, (bool, np.bool_)) or isinstance(value, (str, bytes)):
+        raise SceneError(f"{name} must be {r.text}; got {_show(value)}")
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise SceneError(f"{name} must be {r.text}; got {_show(value)}") from None
+    if not r.contains(x) or (name in _FINITE and not math.isfinite(x)):
+        raise SceneError(f"{name} must be {r.text}; got {_show(value)}")
+    return int(x) if r.integer else x
+
+
+def check_column(name: str, values: np.ndarray, index=None) -> np.ndarray:
+    """A column of a scene table checked against ``RANGES[name]`` in one vectorised pass.
+
+    Returns float64 (int64 for integer ranges); raises SceneError naming the first bad row.
+    """
+    r = RANGES[name]
+    values = np.asarray(values)
+    if values.dtype.kind in "fiu":
+        x = values.astype(np.float64, copy=False)
+        ok = r.accepts(x)
+    else:  # object, bool or string columns: every cell must be a plain number
+        x = np.full(len(values), np.nan)
+        ok = np.zeros(len(values), dtype=bool)
+        for i, v in enumerate(values):
+            if isinstance(v, (bool, np.bool_, str, bytes)):
+                break
+            try:
+                x[i] = float(v)
+            except (TypeError, ValueError):
+                break
+            ok[i] = bool(r.accepts(x[i]))
+            if not ok[i]:
+                break
+    if name in _FINITE:
+        ok &= np.isfinite(x)
+    if not ok.all():
+        i = int(np.flatnonzero(~ok)[0])
+        where = i if index is None else index[i]
+        raise SceneError(f"{name} must be {r.text}; got {_show(values[i])} (row {where!r})")
+    return x.astype(np.int64) if r.integer else x
+
+
+def _as_array(name: str, values, length: int | None = None) -> np.ndarray:
+    """A list parameter as float64; SceneError for empty, ragged, non-numeric or out-of-range."""
+    if isinstance(values, (str, bytes, Mapping)) or np.ndim(values) != 1:
+        raise SceneError(f"{name} must be a list of numbers; got {_show(values)}")
+    seq = list(values)
+    if len(seq) == 0:
+        raise SceneError(f"{name} must not be empty")
+    if any(isinstance(v, (bool, np.bool_, str, bytes)) for v in seq):
+        raise SceneError(f"{name} must be a list of numbers; got {_show(values)}")
+    try:
+        x = np.array(seq, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise SceneError(f"{name} must be a list of numbers; got {_show(values)}") from None
+    r = RANGES[name]
+    bad = ~(r.accepts(x) & np.isfinite(x))
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise SceneError(f"{name}[{i}] must be {r.text}; got {_show(seq[i])}")
+    if length is not None and len(x) != length:
+        raise SceneError(
+            f"{name} must have {length} entries (one per link, len(masses) - 1); got {len(x)}"
+        )
+    return x
+
+
+CONTACT_LAWS = ("rigid", "linear", "plastic", "hertz")
+LINK_LAWS = ("linear", "scissor")
+
+
+def _law(kind: str, spec, allowed, where: str) -> dict:
+    """A law specification as a plain dict {"law": name, params...} (names checked here, the
+    parameters by the law's own packer in ``restitution.laws``)."""
+    if isinstance(spec, str):
+        spec = {"law": spec}
+    if not isinstance(spec, Mapping) or "law" not in spec:
+        raise SceneError(f"{where} must be a mapping with a key 'law'; got {_show(spec)}")
+    spec = {k: v for k, v in spec.items() if v is not None}
+    if spec["law"] not in allowed:
+        raise SceneError(
+            f"{where}: {kind} law must be one of {', '.join(map(repr, allowed))}; "
+            f"got {_show(spec['law'])}"
+        )
+    return spec
+
+
+@dataclass(frozen=True, eq=False)
+class Chain:
+    """One validated scene (see the module docstring for the model and its units).
+
+    Parameters
+    ----------
+    masses : sequence of float
+        m_1..m_N, finite and > 0; N in [2, MAX_MASSES]. m_1 touches the wall.
+    springs : sequence of float
+        N - 1 link stiffnesses, finite and > 0 (the linear law's stiffness, the scissor's cap).
+    dashpots : sequence of float, optional
+        N - 1 dashpot coefficients, finite and >= 0 (default: none).
+    k_contact : float
+        Linear contact stiffness > 0; ``math.inf`` (default) is the rigid wall.
+    v0 : float
+        Approach speed in (0, 1e6] (only nonlinear laws depend on it).
+    contact : mapping, optional
+        Contact law {"law": "rigid" | "linear" | "plastic" | "hertz", ...} (docs/general-chains.md);
+        default: rigid for k_contact = inf, else linear with k = k_contact.
+    links : sequence of mapping, optional
+        One law per link, {"law": "linear"} or {"law": "scissor", "L", "ks", "theta0",
+        "corner"}; default: all linear.
+    """
+
+    masses: np.ndarray
+    springs: np.ndarray
+    dashpots: np.ndarray | None = None
+    k_contact: float = math.inf
+    v0: float = 1.0
+    contact: Mapping | None = None
+    links: tuple | None = None
+    # (alpha, beta, xi) when built by Chain.paper: the paper's kernels are used bit for bit.
+    preset: tuple | None = field(default=None, repr=False)
+
+    def __post_init__(self):
+        m = _as_array("masses", self.masses)
+        if not 2 <= len(m) <= MAX_MASSES:
+            raise SceneError(
+                f"masses must have between 2 and {MAX_MASSES} entries (N = 1 has no spring; "
+                f"larger chains are not supported); got {len(m)}"
+            )
+        k = _as_array("springs", self.springs, len(m) - 1)
+        c = (
+            np.zeros(len(m) - 1)
+            if self.dashpots is None
+            else _as_array("dashpots", self.dashpots, len(m) - 1)
+        )
+        kc = check("k_contact", self.k_contact)
+        v0 = check("v0", self.v0)
+        contact = self.contact
+        if contact is not None:
+            contact = _law("contact", contact, CONTACT_LAWS, "contact")
+            law = contact["law"]
+            k_law = contact.get("k")
+            if law == "rigid":
+                k_law = math.inf
+            if k_law is None:
+                raise SceneError(f"contact: the {law!r} law needs k (its stiffness)")
+            k_law = check("k_contact", k_law)
+            if law in ("plastic", "hertz") and not math.isfinite(k_law):
+                raise SceneError(
+                    f"contact: the {law!r} law needs a finite k > 0 (in the paper's form: beta > 0)"
+                )
+            if self.k_contact != math.inf and kc != k_law:
+                raise SceneError(
+                    f"k_contact = {kc!r} contradicts contact['k'] = {k_law!r}; give one of them"
+                )
+            kc = k_law
+            if law in ("rigid", "linear"):
+                contact = None  # the linear laws are described by k_contact alone
+        links = self.links
+        if links is not None:
+            if isinstance(links, (str, Mapping)) or len(links) != len(m) - 1:
+                raise SceneError(
+                    f"links must be a list of {len(m) - 1} law mappings (one per link); "
+                    f"got {_show(links)}"
+                )
+            links = tuple(_law("link", s, LINK_LAWS, f"links[{i}]") for i, s in enumerate(links))
+            if all(s["law"] == "linear" and len(s) == 1 for s in links):
+                links = None
+        for name, value in (
+            ("masses", m),
+            ("springs", k),
+            ("dashpots", c),
+            ("k_contact", kc),
+            ("v0", v0),
+            ("contact", contact),
+            ("links", links),
+        ):
+            object.__setattr__(self, name, value)
+        for a in (m, k, c):
+            a.setflags(write=False)
+
+    # ------------------------------------------------------------------------------------------
+    @classmethod
+    def paper(cls, alpha: float, beta: float = 0.0, xi: float = 0.0, n_masses: int = 2) -> Chain:
+        """The paper's scene: m = [1, alpha, ..., alpha], springs alpha/(1 + alpha), a dashpot
+        2 xi k on the first link, k_contact = k/beta (beta = 0: rigid wall). omega = 1."""
+        alpha = check("alpha", alpha)
+        beta = check("beta", beta)
+        xi = check("xi", xi)
+        n = check("n_masses", n_masses)
+        return cls._paper(alpha, beta, xi, n)
+
+    @classmethod
+    def _paper(cls, alpha: float, beta: float, xi: float, n: int) -> Chain:
+        """Chain.paper for values already checked (no second validation)."""
+        self = object.__new__(cls)
+        k = alpha / (1.0 + alpha)
+        m = np.full(n, alpha)
+        m[0] = 1.0
+        ks = np.full(n - 1, k)
+        c = np.zeros(n - 1)
+        c[0] = 2.0 * xi * k
+        for a in (m, ks, c):
+            a.setflags(write=False)
+        kc = math.inf if beta == 0.0 else k / beta
+        for name, value in (
+            ("masses", m),
+            ("springs", ks),
+            ("dashpots", c),
+            ("k_contact", kc),
+            ("v0", 1.0),
+            ("contact", None),
+            ("links", None),
+            ("preset", (alpha, beta, xi)),
+        ):
+            object.__setattr__(self, name, value)
+        return self
+
+    # ------------------------------------------------------------------------------------------
+    @property
+    def n_masses(self) -> int:
+        return len(self.masses)
+
+    @property
+    def omega(self) -> float:
+        """omega = sqrt(k_12/m_1 + k_12/m_2), the unit of frequency (1 for the paper's scenes)."""
+        if self.preset is not None:
+            return 1.0
+        k, m = self.springs[0], self.masses
+        return math.sqrt(k / m[0] + k / m[1])
+
+    @property
+    def alpha(self) -> float:
+        return self.preset[0] if self.preset else float(self.masses[1] / self.masses[0])
+
+    @property
+    def beta(self) -> float:
+        """k_12 / k_contact (0 for the rigid wall); the one place that decides 'rigid'."""
+        if self.preset is not None:
+            return self.preset[1]
+        return 0.0 if self.rigid else float(self.springs[0] / self.k_contact)
+
+    @property
+    def xi(self) -> float:
+        if self.preset is not None:
+            return self.preset[2]
+        return float(self.dashpots[0] * self.omega / (2.0 * self.springs[0]))
+
+    @property
+    def rigid(self) -> bool:
+        """A rigid wall (k_contact = inf): contacts are instants with an impulse."""
+        return self.k_contact == math.inf and self.contact is None
+
+    @property
+    def linear(self) -> bool:
+        """Linear contact (rigid or a spring) and linear links: the exact methods apply."""
+        return self.contact is None and self.links is None
+
+    @property
+    def paper_form(self) -> tuple | None:
+        """(alpha, beta, xi, n_masses) if the chain is one of the paper's scenes up to units
+        (equal masses m_2..m_N, equal springs, a dashpot on the first link only), else None."""
+        if self.preset is not None:
+            return (*self.preset, self.n_masses)
+        m, k, c = self.masses, self.springs, self.dashpots
+        if (m[1:] == m[1]).all() and (k == k[0]).all() and not c[1:].any():
+            return (self.alpha, self.beta, self.xi, self.n_masses)
+        return None
+
+    def scaled(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+        """(m, k, c, kc) in the kernels' units m_1 = 1, omega = 1 (module docstring)."""
+        if self.preset is not None:
+            return self.masses, self.springs, self.dashpots, self.k_contact
+        m1, w = float(self.masses[0]), self.omega
+        w2 = w * w
+        return (
+            self.masses / m1,
+            self.springs / (m1 * w2),
+            self.dashpots / (m1 * w),
+            self.k_contact / (m1 * w2),
+        )
+
+    @property
+    def contact_law(self) -> dict:
+        """The contact law as a specification mapping (rigid and linear included)."""
+        if self.contact is not None:
+            return dict(self.contact)
+        return {"law": "rigid"} if self.rigid else {"law": "linear", "k": self.k_contact}
+
+    @property
+    def link_laws(self) -> list[dict]:
+        return (
+            [{"law": "linear"}] * (self.n_masses - 1)
+            if self.links is None
+            else [dict(s) for s in self.links]
+        )
+
+    def to_dict(self) -> dict:
+        """The scene's parameters, JSON-ready (inf k_contact stays a float)."""
+        return {
+            "masses": self.masses.tolist(),
+            "springs": self.springs.tolist(),
+            "dashpots": self.dashpots.tolist(),
+            "k_contact": self.k_contact,
+            "v0": self.v0,
+            "contact": self.contact_law,
+            "links": self.link_laws,
+            "omega": self.omega,
+        }
+
+
+def make_chain(
+    masses=None, springs=None, dashpots=None, k_contact=math.inf, v0=1.0, contact=None, links=None
+) -> Chain:
+    """``Chain`` from keywords, with a clear error when the required lists are missing."""
+    if masses is None or springs is None:
+        raise SceneError(
+            "a general chain needs masses=[m1, ..., mN] and springs=[k12, ..., k(N-1)N] "
+            "(or use the paper's form alpha=..., beta=..., xi=..., n_masses=...)"
+        )
+    return Chain(masses, springs, dashpots, k_contact, v0, contact, links)
+
+
+LAW_KEYS = ("contact", "eta", "dr", "structure", "L", "ks_ratio", "theta0", "corner", "v0")
+NUMERICAL_KEYS = (*LAW_KEYS, "rtol", "step")
+
+
+def paper_with_laws(alpha, beta, xi, n_masses, law: dict) -> tuple[Chain, dict]:
+    """A paper-form scene with the keywords of ``restitution.nonlinear.solve_nonlinear`` as a
+    Chain with law specifications, and the numerical settings (rtol, step) among them."""
+    unknown = sorted(set(law) - set(NUMERICAL_KEYS))
+    if unknown:
+        raise SceneError(
+            f"unknown scene parameter(s) {', '.join(unknown)}; allowed: alpha, beta, xi, "
+            f"n_masses, method, history, max_events, masses, springs, dashpots, k_contact, "
+            f"contact, links, {', '.join(NUMERICAL_KEYS)}"
+        )
+    paper = Chain.paper(alpha, beta, xi, n_masses)
+    settings = {k: law[k] for k in ("rtol", "step") if k in law}
+    contact = law.get("contact", "linear")
+    structure = law.get("structure", "linear")
+    if contact == "linear" and structure == "linear":
+        if "v0" not in law:
+            return paper, settings
+        return replace_v0(paper, law["v0"]), settings
+    k = float(paper.springs[0])
+    spec_c = None
+    if contact != "linear":
+        if paper.rigid:
+            raise SceneError(
+                f"contact={contact!r} needs beta > 0 (its unloading slope is k1 = k2/beta); "
+                "got beta=0"
+            )
+        spec_c = {"law": contact, "k": paper.k_contact, "eta": law.get("eta", 1.0)}
+        spec_c["dr"] = law.get("dr", 0.0)
+    links = None
+    if structure != "linear":
+        from .laws import CORNER_DEFAULT, THETA0_DEFAULT
+
+        links = [
+            {
+                "law": structure,
+                "L": law.get("L", 1.0),
+                "ks": law.get("ks_ratio", 0.01) * k,
+                "theta0": law.get("theta0", THETA0_DEFAULT),
+                "corner": law.get("corner", CORNER_DEFAULT),
+            }
+        ] * (paper.n_masses - 1)
+    ch = Chain(
+        paper.masses,
+        paper.springs,
+        paper.dashpots,
+        paper.k_contact,
+        law.get("v0", 1.0),
+        spec_c,
+        links,
+    )
+    return ch, settings
+
+
+def replace_v0(ch: Chain, v0) -> Chain:
+    """The same chain approaching at v0 (checked)."""
+    new = object.__new__(Chain)
+    new.__dict__.update(ch.__dict__)
+    object.__setattr__(new, "v0", check("v0", v0))
+    return new
+
+
+__all__ = [
+    "LAW_KEYS",
+    "paper_with_laws",
+    "CONTACT_LAWS",
+    "LINK_LAWS",
+    "MAX_MASSES",
+    "RANGES",
+    "Chain",
+    "SceneError",
+    "check",
+    "check_column",
+    "make_chain",
+]

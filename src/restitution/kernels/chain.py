@@ -1,0 +1,814 @@
+"""Exact event-driven solver for any one-dimensional linear chain hitting a wall.
+
+Model (non-dimensional: m1 = 1, V0 = 1, omega = 1 with omega^2 = k_12/m_1 + k_12/m_2; inputs in
+other units are rescaled on entry, so every time in and out is omega * t). Masses m_1..m_N
+(m_1 touches the wall), a spring k_i and a dashpot c_i >= 0 between m_i and m_{i+1}, and at the
+wall either a rigid wall (kc = inf: impulsive, v1 -> -v1) or a linear contact spring kc on m_1
+while u_1 < 0. At t = 0 all u = 0 and all v = -1.
+
+Closed form per phase
+---------------------
+Every phase is linear, homogeneous and time invariant, so every quantity is an exponential sum.
+*Free phase*: the centre of mass moves as X0 + V t exactly; the relative motion is expanded in
+the N - 1 non-rigid modes of (K, M). For N = 2 it is the scalar oscillator
+r'' + 2 xi r' + r = 0 (r = u2 - u1, xi = c_12 / (2 k_12)) of restitution.kernels.locator, whose
+power-series and shallow-flight forms keep xi = 1 and the tiny gaps of dashpot chatter exact.
+*Contact phase*: the full N-DOF system with kc added at m_1 (no rigid mode).
+*Sticking phase* (rigid wall only, see below): m_1 held at the wall, m_2..m_N a chain fixed to
+it through k_12 and c_12.
+Undamped phases use real modes (eigh of M^-1/2 K M^-1/2, mass-normalised Phi). Damped phases use
+the complex eigen-decomposition of the modal state matrix [[0, I], [-Omega^2, -Phi^T C Phi]]
+with the full (non-proportional) damping matrix C = sum_i c_i d_i d_i^T. Its eigenvector
+condition number is checked: above COND_MAX the scene is flagged STATUS_ILL_CONDITIONED.
+
+Events are located rigorously by restitution.kernels.locator (no sampling of sign changes, a
+touch within round-off is not a contact, every sequence ends by proof that no further contact
+can come). Dissipation is integrated per dashpot by Gauss-Legendre (round-off exact).
+
+Chatter and sticking
+--------------------
+A rigid wall with a dashpot can make m_1 chatter: approach speeds decay like 1/k, the contact
+count grows without bound (a Zeno sequence) while the chain presses m_1 on the wall. The limit
+of that sequence is sticking: m_1 at rest on the wall while the force of link 1 on it,
+F = k_12 (u2 - u1) + c_12 (v2 - v1), is compressive (F < 0); m_2..m_N then move as their own
+clamped linear chain (closed form), and m_1 lifts off at the first time F turns tensile, an
+event of the same exponential-sum form located by the same rigorous locator. The kernel switches
+to sticking when, after at least STICK_AFTER contacts (shorter chatters are finished exactly), a
+contact has approach speed below V_STICK under a compressive force. The dropped kinetic energy
+m_1 v1^2 / 2 (< 5e-9) is booked as dissipated, OUT_ERR is raised to the cut-off speed (a
+generous bound of the COR error; cut-offs 1e-3 and 1e-4 agree to ~1e-9) and bit FLAG_STICKING of
+OUT_FLAGS is set. A sticking phase is one contact interval in the history (H_VOUT = 0).
+
+Budgets
+-------
+Every scene has an event budget (max_events, STATUS_EVENT_BUDGET) and a work budget counted in
+operations (modal term evaluations in the locator and in the quadratures, WORK_MAX,
+STATUS_WORK_BUDGET), never wall time, so results are identical for any thread count. A contact
+that never ends (a damped contact or a sticking phase that decays to rest on the wall) is proven
+and reported as STATUS_PERMANENT_CONTACT with cor = 0, omega_t_col = inf, all energy dissipated.
+"""
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from restitution.kernels.layout import (
+    FLAG_STICKING,
+    H_IMPULSE,
+    H_TEND,
+    H_TSTART,
+    H_VIN,
+    H_VOUT,
+    H_XMAX,
+    N_HIST,
+    N_OUT,
+    OUT_COR,
+    OUT_EDISS,
+    OUT_ERR,
+    OUT_ETRANS,
+    OUT_EVIB,
+    OUT_FLAGS,
+    OUT_NCOL,
+    OUT_NEVENTS,
+    OUT_STATUS,
+    OUT_TCOL,
+    STATUS_ENERGY,
+    STATUS_EVENT_BUDGET,
+    STATUS_ILL_CONDITIONED,
+    STATUS_INVALID,
+    STATUS_NONCONVERGED,
+    STATUS_NOT_RUN,
+    STATUS_OK,
+    STATUS_PERMANENT_CONTACT,
+    STATUS_WORK_BUDGET,
+)
+from restitution.kernels.locator import (
+    EPS,
+    KIND_MODAL,
+    KIND_SCALAR,
+    LOC_BUDGET,
+    LOC_EVENT,
+    LOC_NEVER,
+    LOC_PERMANENT,
+    TOL_ULPS,
+    _diss_modal,
+    _diss_scalar,
+    _locate,
+    _modal_state,
+    _scalar_advance,
+    _scalar_state,
+    _xmax,
+)
+from restitution.kernels.rigid2 import rigid2
+
+COND_MAX = 1e8  # eigenvector condition number above which a closed form is not trusted
+ENERGY_TOL = 1e-9
+V_STICK = 1e-4  # chatter with approach speed below this (and a compressive force) -> sticking
+STICK_AFTER = 2000  # ... but only after this many contacts: shorter chatters finish exactly
+WORK_MAX = 2e8  # operations (modal term evaluations) per scene before STATUS_WORK_BUDGET
+
+# Phase kinds recorded for sampling.
+PH_FREE = 0
+PH_CONTACT = 1
+PH_STICK = 2
+
+
+# ----------------------------------------------------------------------------------------------
+# System and modal models
+# ----------------------------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def _chain_matrix(n, links, ground):
+    """Tridiagonal chain matrix with one coefficient per link, plus ``ground`` at mass 0."""
+    A = np.zeros((n, n))
+    for i in range(n - 1):
+        a = links[i]
+        A[i, i] += a
+        A[i + 1, i + 1] += a
+        A[i, i + 1] -= a
+        A[i + 1, i] -= a
+    A[0, 0] += ground
+    return A
+
+
+@njit(cache=True)
+def _modal_model(m, k, c, kg, cg, drop_rigid):
+    """Exponential-sum model of one phase of the chain (m, k, c) with a spring kg and a dashpot
+    cg from mass 0 to the ground (the contact spring, or link 1 of a clamped chain).
+
+    Returns ``lam`` (K,), ``U`` (n, K) and ``P`` (K, 2n), complex, such that for a start state
+    y0 = (u0, v0) (relative to the centre of mass if ``drop_rigid``) z = P @ y0 and
+    u(t) = Re U @ (z e^{lam t}), v(t) = Re U @ (lam z e^{lam t}); plus the eigenvector condition
+    number (1 when undamped).
+    """
+    n = m.size
+    K = _chain_matrix(n, k, kg)
+    sm = np.sqrt(m)
+    Kt = np.empty((n, n))
+    for i in range(n):
+        for j in range(n):
+            Kt[i, j] = K[i, j] / (sm[i] * sm[j])
+    w2, psi = np.linalg.eigh(Kt)
+    s = 1 if drop_rigid else 0  # eigh sorts ascending: the rigid mode (omega = 0) comes first
+    nm = n - s
+    phi = np.empty((n, nm))
+    om = np.empty(nm)
+    for q in range(nm):
+        om[q] = math.sqrt(max(w2[q + s], 0.0))
+        for i in range(n):
+            phi[i, q] = psi[i, q + s] / sm[i]
+    damped = cg > 0.0
+    for i in range(c.size):
+        if c[i] > 0.0:
+            damped = True
+    if not damped:
+        lam = np.empty(nm, np.complex128)
+        U = np.empty((n, nm), np.complex128)
+        P = np.zeros((nm, 2 * n), np.complex128)
+        for q in range(nm):
+            lam[q] = 1j * om[q]
+            for i in range(n):
+                U[i, q] = phi[i, q]
+                P[q, i] = phi[i, q] * m[i]
+                P[q, n + i] = -1j * phi[i, q] * m[i] / om[q]
+        return lam, U, P, 1.0
+    # Modal damping D = Phi^T C Phi, C = sum_i c_i d_i d_i^T (+ cg at mass 0): full in general.
+    D = np.zeros((nm, nm))
+    for i in range(c.size):
+        ci = c[i]
+        if ci == 0.0:
+            continue
+        for q in range(nm):
+            dq = phi[i, q] - phi[i + 1, q]
+            for p in range(nm):
+                D[q, p] += ci * dq * (phi[i, p] - phi[i + 1, p])
+    if cg > 0.0:
+        for q in range(nm):
+            for p in range(nm):
+                D[q, p] += cg * phi[0, q] * phi[0, p]
+    S = np.zeros((2 * nm, 2 * nm), np.complex128)
+    for q in range(nm):
+        S[q, nm + q] = 1.0
+        S[nm + q, q] = -om[q] * om[q]
+        for p in range(nm):
+            S[nm + q, nm + p] = -D[q, p]
+    lam, V = np.linalg.eig(S)
+    for q in range(2 * nm):  # round-off can leave +1e-17 real parts on undamped-looking modes
+        if lam[q].real > 0.0:
+            lam[q] = 1j * lam[q].imag
+    cond = np.linalg.cond(V)
+    W = np.linalg.inv(V)
+    phic = phi.astype(np.complex128)
+    U = phic @ np.ascontiguousarray(V[:nm, :])
+    PhiTM = np.empty((nm, n), np.complex128)
+    for q in range(nm):
+        for i in range(n):
+            PhiTM[q, i] = phi[i, q] * m[i]
+    P = np.empty((2 * nm, 2 * n), np.complex128)
+    P[:, :n] = np.ascontiguousarray(W[:, :nm]) @ PhiTM
+    P[:, n:] = np.ascontiguousarray(W[:, nm:]) @ PhiTM
+    return lam, U, P, cond
+
+
+@njit(cache=True)
+def _total(m):
+    """Total mass, compensated (Neumaier) so that it is rounded once; a uniform tail
+    m_2 = ... = m_N gives m_1 + (N - 1) m_2 exactly as rounded before (dashpot chatter is so
+    sensitive that 1 ulp of the total mass moves the COR by ~1e-11 after 900 contacts)."""
+    n = m.size
+    uniform = True
+    for i in range(2, n):
+        if m[i] != m[1]:
+            uniform = False
+    if uniform:
+        return m[0] + (n - 1) * m[1]
+    s = 0.0
+    comp = 0.0
+    for i in range(n):
+        t = s + m[i]
+        if abs(s) >= abs(m[i]):
+            comp += (s - t) + m[i]
+        else:
+            comp += (m[i] - t) + s
+        s = t
+    return s + comp
+
+
+@njit(cache=True)
+def _vib_energy(m, k, u, v):
+    """Relative kinetic + structural spring energy."""
+    n = m.size
+    mt = 0.0
+    p = 0.0
+    for i in range(n):
+        mt += m[i]
+        p += m[i] * v[i]
+    V = p / mt
+    e = 0.0
+    for i in range(n):
+        e += 0.5 * m[i] * (v[i] - V) ** 2
+    for i in range(n - 1):
+        e += 0.5 * k[i] * (u[i + 1] - u[i]) ** 2
+    return e
+
+
+@njit(cache=True)
+def _diss_links(T, z, lam, U, c, off):
+    """Dashpot work over [0, T] of a modal phase, integrated per dashpot: sum over links i with
+    c_i > 0 of c_i (v_{i+1} - v_i)^2. U's rows are masses off..n-1 (masses below are at rest)."""
+    acc = 0.0
+    if T <= 0.0:
+        return acc
+    K = z.size
+    g = np.empty(K, np.complex128)
+    for i in range(c.size):
+        if c[i] == 0.0:
+            continue
+        ra = i - off
+        rb = i + 1 - off
+        for q in range(K):
+            ua = U[ra, q] if ra >= 0 else 0.0
+            g[q] = (U[rb, q] - ua) * lam[q] * z[q]
+        acc += _diss_modal(T, g, lam, c[i])
+    return acc
+
+
+@njit(cache=True)
+def _empty_model(n):
+    return (
+        np.zeros(0, np.complex128),
+        np.zeros((n, 0), np.complex128),
+        np.zeros((0, 2 * n), np.complex128),
+    )
+
+
+# ----------------------------------------------------------------------------------------------
+# The event-driven solver
+# ----------------------------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def _fail(out, status):
+    for j in range(N_OUT):
+        out[j] = math.nan
+    out[OUT_STATUS] = status
+    out[OUT_FLAGS] = 0.0
+    return out
+
+
+@njit(cache=True)
+def _run(m, k, c, kc, max_events, hist, rec, work_max):
+    """Solve one scene in normalised units (m[0] = 1, omega = 1); fill ``hist`` and, if rec has
+    rows, record every phase start as [t0, kind (PH_*), duration, u(n), v(n)].
+
+    Returns (out, n_records).
+    """
+    out = np.zeros(N_OUT)
+    n = m.size
+    rigid = kc == math.inf
+    mt = _total(m)
+    mu = m[1] / (m[0] + m[1])
+    xi = c[0] / (2.0 * k[0])  # of the scalar two-mass oscillator (omega = 1)
+    status = STATUS_OK
+    flags = 0
+    cond = 1.0
+    if n > 2:
+        lamF, UF, PF, condF = _modal_model(m, k, c, 0.0, 0.0, True)
+        cond = max(cond, condF)
+    else:
+        lamF, UF, PF = _empty_model(n)
+    if not rigid:
+        lamC, UC, PC, condC = _modal_model(m, k, c, kc, 0.0, False)
+        cond = max(cond, condC)
+    else:
+        lamC, UC, PC = _empty_model(n)
+    lamS, US, PS = _empty_model(n - 1)  # clamped chain m_2..m_N, built on first sticking
+    have_stick = False
+    if cond > COND_MAX:
+        status = STATUS_ILL_CONDITIONED
+
+    u = np.zeros(n)
+    v = -np.ones(n)
+    y = np.empty(2 * n)
+    ys = np.empty(2 * n - 2)
+    info = np.zeros(4)
+    t = 0.0
+    t_last = 0.0
+    ncol = 1
+    ediss = 0.0
+    lost = 0.0
+    err = 0.0
+    work = 0.0
+    nrec = 0
+    nh = hist.shape[0]
+    in_contact = not rigid
+    permanent = False
+    if nh > 0:
+        hist[0, H_TSTART] = 0.0
+        hist[0, H_VIN] = -1.0
+    if rigid:
+        v[0] = 1.0
+        if nh > 0:
+            hist[0, H_TEND] = 0.0
+            hist[0, H_VOUT] = 1.0
+            hist[0, H_XMAX] = 0.0
+            hist[0, H_IMPULSE] = 2.0
+    while True:
+        if work > work_max:
+            status = STATUS_WORK_BUDGET
+            break
+        if nrec < rec.shape[0]:
+            rec[nrec, 0] = t
+            rec[nrec, 1] = PH_CONTACT if in_contact else PH_FREE
+            rec[nrec, 2] = math.inf
+            rec[nrec, 3 : 3 + n] = u
+            rec[nrec, 3 + n :] = v
+        nrec += 1
+        if in_contact:
+            p_in = 0.0
+            for i in range(n):
+                y[i] = u[i]
+                y[n + i] = v[i]
+                p_in += m[i] * v[i]
+            z = PC @ y.astype(np.complex128)
+            bgap = np.empty(z.size, np.complex128)
+            for q in range(z.size):
+                bgap[q] = -UC[0, q] * z[q]
+            code = _locate(KIND_MODAL, 0.0, 0.0, bgap, lamC, xi, mu, 0.0, 0.0, True, info)
+            work += (info[3] + 1.0) * z.size
+            if code == LOC_BUDGET:
+                status = STATUS_NONCONVERGED
+                break
+            if code == LOC_PERMANENT or code == LOC_NEVER:
+                permanent = True
+                # Dissipation to (numerically) infinite time: beyond 40 e-foldings of the
+                # slowest term the remaining energy is < e^-80 of what it was.
+                slow = _slowest(bgap, lamC)
+                ediss += _diss_links(80.0 / slow, z, lamC, UC, c, 0)
+                if ncol - 1 < nh:
+                    hist[ncol - 1, H_TEND] = math.inf
+                    hist[ncol - 1, H_VOUT] = 0.0
+                    hist[ncol - 1, H_XMAX] = _xmax(
+                        KIND_MODAL, info[2], 80.0 / slow, 0.0, 0.0, bgap, lamC, xi, mu, 0.0, 0.0
+                    )
+                    hist[ncol - 1, H_IMPULSE] = -p_in
+                break
+            te = info[0]
+            ediss += _diss_links(te, z, lamC, UC, c, 0)
+            _modal_state(te, z, lamC, UC, 0.0, 0.0, u, v)
+            u[0] = 0.0  # separation: exactly at the wall
+            t += te
+            t_last = t
+            if nrec - 1 < rec.shape[0]:
+                rec[nrec - 1, 2] = te
+            if ncol - 1 < nh:
+                p_out = 0.0
+                for i in range(n):
+                    p_out += m[i] * v[i]
+                hist[ncol - 1, H_TEND] = t
+                hist[ncol - 1, H_VOUT] = v[0]
+                hist[ncol - 1, H_XMAX] = _xmax(
+                    KIND_MODAL, info[2], te, 0.0, 0.0, bgap, lamC, xi, mu, 0.0, 0.0
+                )
+                hist[ncol - 1, H_IMPULSE] = p_out - p_in
+            in_contact = False
+            continue
+        # Free flight.
+        X0 = 0.0
+        V = 0.0
+        for i in range(n):
+            X0 += m[i] * u[i]
+            V += m[i] * v[i]
+        X0 /= mt
+        V /= mt
+        if n == 2:
+            r0 = u[1] - u[0]
+            rd0 = v[1] - v[0]
+            v1b = np.empty(1, np.complex128)  # m1's own velocity, for _eval_gap
+            v1b[0] = v[0]
+            code = _locate(KIND_SCALAR, u[0], V, v1b, lamF, xi, mu, r0, rd0, False, info)
+            work += info[3] + 1.0
+            z = np.zeros(0, np.complex128)
+        else:
+            r0 = 0.0
+            rd0 = 0.0
+            for i in range(n):
+                y[i] = u[i] - X0
+                y[n + i] = v[i] - V
+            z = PF @ y.astype(np.complex128)
+            bgap = np.empty(z.size, np.complex128)
+            for q in range(z.size):
+                bgap[q] = UF[0, q] * z[q]
+            code = _locate(KIND_MODAL, u[0], V, bgap, lamF, xi, mu, 0.0, 0.0, False, info)
+            work += (info[3] + 1.0) * z.size
+        if code == LOC_NEVER:
+            break
+        if code != LOC_EVENT:
+            status = STATUS_NONCONVERGED
+            break
+        te = info[0]
+        if n == 2:
+            ediss += _diss_scalar(te, xi, r0, rd0, c[0])
+            _scalar_advance(te, xi, r0, rd0, mu, u, v)
+        else:
+            ediss += _diss_links(te, z, lamF, UF, c, 0)
+            _modal_state(te, z, lamF, UF, X0, V, u, v)
+        u[0] = 0.0  # contact starts exactly at the wall
+        t += te
+        if nrec - 1 < rec.shape[0]:
+            rec[nrec - 1, 2] = te
+        if ncol >= max_events:
+            status = STATUS_EVENT_BUDGET
+            break
+        ncol += 1
+        if ncol - 1 < nh:
+            hist[ncol - 1, H_TSTART] = t
+            hist[ncol - 1, H_VIN] = v[0]
+        if not rigid:
+            in_contact = True
+            continue
+        vin = v[0]
+        force = k[0] * u[1] + c[0] * v[1]  # of link 1 on m1 held at the wall (< 0: compressive)
+        if c[0] > 0.0 and ncol > STICK_AFTER and -vin < V_STICK and force < 0.0:
+            # Chatter under a compressive force: continue with its limit, sticking.
+            if not have_stick:
+                lamS, US, PS, condS = _modal_model(m[1:], k[1:], c[1:], k[0], c[0], False)
+                have_stick = True
+                cond = max(cond, condS)
+                if condS > COND_MAX:
+                    status = STATUS_ILL_CONDITIONED
+            flags |= FLAG_STICKING
+            err = max(err, -vin)
+            lost += 0.5 * m[0] * vin * vin
+            p_in = 0.0
+            for i in range(n):
+                p_in += m[i] * v[i]
+            if nrec < rec.shape[0]:
+                rec[nrec, 0] = t
+                rec[nrec, 1] = PH_STICK
+                rec[nrec, 2] = math.inf
+                rec[nrec, 3] = 0.0
+                rec[nrec, 3 + n] = 0.0
+                rec[nrec, 4 : 3 + n] = u[1:]
+                rec[nrec, 4 + n :] = v[1:]
+            nrec += 1
+            for i in range(n - 1):
+                ys[i] = u[i + 1]
+                ys[n - 1 + i] = v[i + 1]
+            zs = PS @ ys.astype(np.complex128)
+            # f = -F (>= 0 while compressive) = -(k12 u2 + c12 v2): lift-off when f < 0.
+            bs = np.empty(zs.size, np.complex128)
+            for q in range(zs.size):
+                bs[q] = -(k[0] + c[0] * lamS[q]) * US[0, q] * zs[q]
+            code = _locate(KIND_MODAL, -force, 0.0, bs, lamS, xi, mu, 0.0, 0.0, True, info)
+            work += (info[3] + 1.0) * zs.size
+            if code == LOC_BUDGET:
+                status = STATUS_NONCONVERGED
+                break
+            if code == LOC_PERMANENT or code == LOC_NEVER:
+                permanent = True
+                ediss += _diss_links(80.0 / _slowest(bs, lamS), zs, lamS, US, c, 1)
+                if ncol - 1 < nh:
+                    hist[ncol - 1, H_TEND] = math.inf
+                    hist[ncol - 1, H_VOUT] = 0.0
+                    hist[ncol - 1, H_XMAX] = 0.0
+                    hist[ncol - 1, H_IMPULSE] = -p_in
+                break
+            te = info[0]
+            ediss += _diss_links(te, zs, lamS, US, c, 1)
+            u1 = np.empty(n - 1)
+            v1 = np.empty(n - 1)
+            _modal_state(te, zs, lamS, US, 0.0, 0.0, u1, v1)
+            u[0] = 0.0
+            v[0] = 0.0
+            u[1:] = u1
+            v[1:] = v1
+            t += te
+            t_last = t
+            if nrec - 1 < rec.shape[0]:
+                rec[nrec - 1, 2] = te
+            if ncol - 1 < nh:
+                p_out = 0.0
+                for i in range(n):
+                    p_out += m[i] * v[i]
+                hist[ncol - 1, H_TEND] = t
+                hist[ncol - 1, H_VOUT] = 0.0
+                hist[ncol - 1, H_XMAX] = 0.0
+                hist[ncol - 1, H_IMPULSE] = p_out - p_in
+            continue
+        v[0] = -vin
+        t_last = t
+        if ncol - 1 < nh:
+            hist[ncol - 1, H_TEND] = t
+            hist[ncol - 1, H_VOUT] = -vin
+            hist[ncol - 1, H_XMAX] = 0.0
+            hist[ncol - 1, H_IMPULSE] = -2.0 * vin * m[0]
+
+    e0 = 0.5 * mt
+    if permanent:
+        # Everything comes to rest against the wall: all energy not yet dissipated is.
+        cor = 0.0
+        evib = 0.0
+        t_last = math.inf
+        if status == STATUS_OK:
+            status = STATUS_PERMANENT_CONTACT
+    else:
+        p = 0.0
+        for i in range(n):
+            p += m[i] * v[i]
+        cor = p / mt
+        evib = _vib_energy(m, k, u, v) / e0
+    out[OUT_COR] = cor
+    out[OUT_NCOL] = ncol
+    out[OUT_TCOL] = t_last
+    out[OUT_ETRANS] = cor * cor
+    out[OUT_EVIB] = evib
+    out[OUT_EDISS] = (ediss + lost) / e0
+    out[OUT_NEVENTS] = ncol
+    out[OUT_ERR] = max(TOL_ULPS * EPS * ncol * cond, err)
+    out[OUT_FLAGS] = flags
+    if status == STATUS_OK and abs(out[OUT_ETRANS] + evib + out[OUT_EDISS] - 1.0) > ENERGY_TOL:
+        status = STATUS_ENERGY
+    out[OUT_STATUS] = status
+    return out, nrec
+
+
+@njit(cache=True)
+def _slowest(b, lam):
+    """Decay rate of the slowest term present (for the length of a permanent contact)."""
+    slow = 0.0
+    for q in range(b.size):
+        if abs(b[q]) > 0.0 and (slow == 0.0 or -lam[q].real < slow):
+            slow = -lam[q].real
+    return max(slow, 1e-300)
+
+
+# ----------------------------------------------------------------------------------------------
+# Entry points
+# ----------------------------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def _valid(m, k, c, kc, max_events):
+    """True if the scene is one the kernel handles (checked before any work; the Python layer
+    gives the user a message naming the parameter, the kernel only refuses)."""
+    n = m.size
+    if n < 2 or k.size != n - 1 or c.size != n - 1 or max_events < 1:
+        return False
+    for i in range(n):
+        if not (0.0 < m[i] < math.inf):
+            return False
+    for i in range(n - 1):
+        if not (0.0 < k[i] < math.inf) or not (0.0 <= c[i] < math.inf):
+            return False
+    return kc > 0.0  # NaN fails too; inf is the rigid wall
+
+
+@njit(cache=True)
+def _normalise(m, k, c, kc):
+    """(m, k, c, kc) in the kernel's units m[0] = 1, omega = 1 (unchanged, bit for bit, when
+    they already are)."""
+    w2 = k[0] / m[0] + k[0] / m[1]
+    if m[0] == 1.0 and abs(w2 - 1.0) <= 4.0 * EPS:
+        return m.copy(), k.copy(), c.copy(), kc
+    m0 = m[0]
+    w = math.sqrt(w2)
+    return m / m0, k / (m0 * w2), c / (m0 * w), kc / (m0 * w2)
+
+
+@njit(cache=True)
+def _solve(m, k, c, kc, max_events, hist, work_max):
+    out = np.empty(N_OUT)
+    if not _valid(m, k, c, kc, max_events):
+        return _fail(out, STATUS_INVALID)
+    ms, ks, cs, kcs = _normalise(m, k, c, kc)
+    if m.size == 2 and kcs == math.inf:
+        # Two masses at a rigid wall: the dedicated closed-form kernel (alpha, xi) is faster.
+        out = rigid2(ms[1], cs[0] / (2.0 * ks[0]), max_events, hist)
+    else:
+        rec = np.zeros((0, 3 + 2 * m.size))
+        out = _run(ms, ks, cs, kcs, max_events, hist, rec, work_max)[0]
+    st = out[OUT_STATUS]
+    if st != STATUS_OK and st != STATUS_PERMANENT_CONTACT:
+        out[OUT_COR] = math.nan  # an unfinished sequence has no COR
+        out[OUT_ETRANS] = math.nan
+    return out
+
+
+@njit(cache=True)
+def solve_chain(m, k, c, kc, max_events, hist):
+    """Exact event-driven solution of one linear chain hitting a wall.
+
+    Parameters
+    ----------
+    m : ndarray, float64 (n,)
+        Masses, n >= 2, m[0] touches the wall (kernel units m[0] = 1; others are rescaled).
+    k : ndarray, float64 (n - 1,)
+        Spring stiffness of each link (> 0).
+    c : ndarray, float64 (n - 1,)
+        Dashpot coefficient of each link (>= 0).
+    kc : float
+        Contact spring stiffness (> 0), or math.inf for a rigid wall.
+    max_events : int
+        Contact budget; exceeding it gives STATUS_EVENT_BUDGET.
+    hist : ndarray, shape (rows, N_HIST)
+        One row per contact is written while rows last.
+
+    Returns
+    -------
+    out : ndarray, shape (N_OUT,)
+        See ``restitution.kernels.layout``; times are omega * t. Any status other than
+        STATUS_OK and STATUS_PERMANENT_CONTACT comes with a NaN cor. Never raises for input of
+        the declared types: invalid values give STATUS_INVALID.
+    """
+    return _solve(m, k, c, kc, max_events, hist, WORK_MAX)
+
+
+@njit(parallel=True, cache=True)
+def solve_chain_batch(m, k, c, n, kc, max_events):
+    """``solve_chain`` over padded arrays: m (rows, nmax), k and c (rows, nmax - 1), n (rows,)
+    int64, kc (rows,). Every row starts as NaN with STATUS_NOT_RUN before any work, so no row is
+    ever left uninitialised; rows are independent and their work budgets count operations, so
+    the result is bit-identical for any thread count."""
+    rows = n.size
+    out = np.full((rows, N_OUT), math.nan)
+    for i in range(rows):
+        out[i, OUT_STATUS] = STATUS_NOT_RUN
+    for i in prange(rows):
+        ni = n[i]
+        hist = np.zeros((0, N_HIST))
+        if ni < 2 or ni > m.shape[1]:
+            out[i, :] = _fail(np.empty(N_OUT), STATUS_INVALID)
+            continue
+        out[i, :] = _solve(
+            np.ascontiguousarray(m[i, :ni]),
+            np.ascontiguousarray(k[i, : ni - 1]),
+            np.ascontiguousarray(c[i, : ni - 1]),
+            kc[i],
+            max_events,
+            hist,
+            WORK_MAX,
+        )
+    return out
+
+
+@njit(cache=True)
+def _sample(m, k, c, kc, times, max_events):
+    n = m.size
+    nrow = 3 * max_events + 4
+    rec = np.zeros((nrow, 3 + 2 * n))
+    hist = np.zeros((max_events, N_HIST))
+    out, nrec = _run(m, k, c, kc, max_events, hist, rec, WORK_MAX)
+    nrec = min(nrec, nrow)
+    rigid = kc == math.inf
+    mt = _total(m)
+    mu = m[1] / (m[0] + m[1])
+    xi = c[0] / (2.0 * k[0])
+    if n > 2:
+        lamF, UF, PF, _c = _modal_model(m, k, c, 0.0, 0.0, True)
+    else:
+        lamF, UF, PF = _empty_model(n)
+    if not rigid:
+        lamC, UC, PC, _c = _modal_model(m, k, c, kc, 0.0, False)
+    else:
+        lamC, UC, PC = _empty_model(n)
+    lamS, US, PS, _c = _modal_model(m[1:], k[1:], c[1:], k[0], c[0], False)
+    U = np.empty((times.size, n))
+    Vv = np.empty((times.size, n))
+    F = np.zeros(times.size)
+    u = np.empty(n)
+    v = np.empty(n)
+    us = np.empty(n - 1)
+    vs = np.empty(n - 1)
+    y = np.empty(2 * n)
+    ys = np.empty(2 * n - 2)
+    for j in range(times.size):
+        tj = times[j]
+        if tj < 0.0:
+            U[j, :] = -tj
+            Vv[j, :] = -1.0
+            continue
+        p = 0
+        while p + 1 < nrec and rec[p + 1, 0] <= tj:
+            p += 1
+        tau = tj - rec[p, 0]
+        u0 = rec[p, 3 : 3 + n]
+        v0 = rec[p, 3 + n :]
+        kind = rec[p, 1]
+        if kind == PH_CONTACT:
+            for i in range(n):
+                y[i] = u0[i]
+                y[n + i] = v0[i]
+            z = PC @ y.astype(np.complex128)
+            _modal_state(tau, z, lamC, UC, 0.0, 0.0, u, v)
+            F[j] = kc * max(-u[0], 0.0)
+        elif kind == PH_STICK:
+            for i in range(n - 1):
+                ys[i] = u0[i + 1]
+                ys[n - 1 + i] = v0[i + 1]
+            zs = PS @ ys.astype(np.complex128)
+            _modal_state(tau, zs, lamS, US, 0.0, 0.0, us, vs)
+            u[0] = 0.0
+            v[0] = 0.0
+            u[1:] = us
+            v[1:] = vs
+            F[j] = max(-(k[0] * us[0] + c[0] * vs[0]), 0.0)
+        else:
+            X0 = 0.0
+            V = 0.0
+            for i in range(n):
+                X0 += m[i] * u0[i]
+                V += m[i] * v0[i]
+            X0 /= mt
+            V /= mt
+            if n == 2:
+                _scalar_state(tau, xi, u0[1] - u0[0], v0[1] - v0[0], mu, u0[0], V, u, v)
+            else:
+                for i in range(n):
+                    y[i] = u0[i] - X0
+                    y[n + i] = v0[i] - V
+                z = PF @ y.astype(np.complex128)
+                _modal_state(tau, z, lamF, UF, X0, V, u, v)
+        U[j, :] = u
+        Vv[j, :] = v
+    nimp = 0
+    if rigid:
+        nh = min(int(out[OUT_NEVENTS]), max_events)
+        for i in range(nh):
+            if hist[i, H_TSTART] == hist[i, H_TEND]:
+                nimp += 1
+    impacts = np.empty((nimp, 2))
+    if rigid:
+        j = 0
+        for i in range(min(int(out[OUT_NEVENTS]), max_events)):
+            if hist[i, H_TSTART] == hist[i, H_TEND]:
+                impacts[j, 0] = hist[i, H_TSTART]
+                impacts[j, 1] = hist[i, H_IMPULSE]
+                j += 1
+    return U, Vv, F, impacts
+
+
+@njit(cache=True)
+def sample_chain(m, k, c, kc, times, max_events):
+    """Trajectory of a chain at the given times (omega * t).
+
+    Returns
+    -------
+    u, v : ndarray (len(times), n)
+        Positions (V0/omega units) and velocities (V0 units), from the closed form of the phase
+        that contains each time (the event history is computed once).
+    f : ndarray (len(times),)
+        Wall contact force on m1 (m1 V0 omega units): kc * max(-u1, 0) for a contact spring, the
+        holding force during a sticking phase, 0 when apart or at an instantaneous impact.
+    impacts : ndarray (n_impacts, 2)
+        Rows (omega * t, impulse / (m1 V0)) of the rigid wall's impacts (empty otherwise).
+
+    Invalid parameters give NaN arrays and no impacts.
+    """
+    if not _valid(m, k, c, kc, max_events):
+        nan = np.full((times.size, max(m.size, 1)), math.nan)
+        return nan, nan.copy(), np.full(times.size, math.nan), np.empty((0, 2))
+    ms, ks, cs, kcs = _normalise(m, k, c, kc)
+    return _sample(ms, ks, cs, kcs, times, max_events)

@@ -1,0 +1,519 @@
+"""Event toolkit shared by the exact kernels: the scalar damped oscillator, exponential-sum gaps
+with derivative bounds, the rigorous event locator, and Gauss-Legendre dissipation integrals.
+
+A gap in any phase of a linear chain is f(t) = c0 + c1 t + Re sum_k b_k (e^{lambda_k t} - 1),
+Re lambda <= 0 (KIND_MODAL), or for the free flight of two masses the scalar oscillator
+r'' + 2 xi r' + r = 0 seen from m1 (KIND_SCALAR). For s >= t and m >= 2,
+|f^(m)(s)| <= B_m(t) = sum_k |b_k| |lambda_k|^m e^{Re lambda_k t}. The locator steps by the
+largest h for which the cubic lower bound f + f' h + f'' h^2/2 - B3 h^3/6 stays above the
+touching band -tol, so no step can cross a point where f < -tol, and it certifies a crossing
+with the quadratic upper bound f + f' h + B2 h^2/2 (f strictly decreasing up to the root, then
+safeguarded Newton). See restitution.kernels.chain for the model that uses it.
+"""
+
+import cmath
+import math
+
+import numpy as np
+from numba import njit
+
+EPS = 2.220446049250313e-16
+TOL_ULPS = 64.0  # touching band, in ulps of the gap's scale
+MAX_STEPS = 400_000  # conservative steps per phase
+
+# Locator outcomes.
+LOC_EVENT = 0
+LOC_NEVER = 1
+LOC_BUDGET = 2
+LOC_PERMANENT = 3
+
+# Phase kinds.
+KIND_MODAL = 0
+KIND_SCALAR = 1
+
+# Gauss-Legendre on [-1, 1]. With 32 nodes on sub-intervals of length GL_H/max|lambda| the
+# quadrature error for products of exponentials is ~1e-31 (relative): exact to round-off.
+_GL_X, _GL_W = np.polynomial.legendre.leggauss(32)
+GL_H = 12.0
+ANCHOR = 32  # exponentials advanced by recurrence are re-anchored this often (no error growth)
+
+# ----------------------------------------------------------------------------------------------
+# The scalar damped oscillator r'' + 2 xi r' + r = 0 (free phase of two masses)
+# ----------------------------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def _cs(xi, t):
+    """(e^{-xi t} C(t), e^{-xi t} S(t)) with C = cos(wt)|cosh(gt)|1, S = sin(wt)/w|sinh(gt)/g|t."""
+    d = 1.0 - xi * xi
+    x = -d * t * t
+    if abs(x) < 0.5:
+        # Series: C = sum x^j/(2j)!, S = t sum x^j/(2j+1)!; no 0/0 at xi = 1.
+        c = 1.0
+        s = 1.0
+        tc = 1.0
+        ts = 1.0
+        for j in range(1, 14):
+            tc *= x / ((2 * j - 1) * (2 * j))
+            ts *= x / ((2 * j) * (2 * j + 1))
+            c += tc
+            s += ts
+        e = math.exp(-xi * t)
+        return e * c, e * s * t
+    if d > 0.0:
+        w = math.sqrt(d)
+        e = math.exp(-xi * t)
+        return e * math.cos(w * t), e * math.sin(w * t) / w
+    g = math.sqrt(-d)
+    slow = math.exp(-t / (xi + g))  # e^{(g - xi) t} without cancellation
+    fast = math.exp(-(xi + g) * t)
+    return 0.5 * (slow + fast), 0.5 * (slow - fast) / g
+
+
+@njit(cache=True)
+def _small_d(xi, t):
+    """(h(t) - t, c(t) - 1) by Taylor series, both O(t^2) and to full relative precision, where
+    h, c solve r'' + 2 xi r' + r = 0 with (h, h') = (0, 1) and (c, c') = (1, 0) at t = 0, so that
+    r(t) - r0 - rd0 t = rd0 (h - t) + r0 (c - 1). Meant for t (1 + 2 xi) < 1/2 (no cancellation
+    in the alternating series there)."""
+    # Taylor coefficients a_k of y: a_{k+2} = -(2 xi (k+1) a_{k+1} + a_k) / ((k+1)(k+2)).
+    h0, h1 = 0.0, 1.0
+    c0, c1 = 1.0, 0.0
+    d1 = 0.0
+    d2 = 0.0
+    tp = t
+    for k in range(80):
+        h2 = -(2.0 * xi * (k + 1.0) * h1 + h0) / ((k + 1.0) * (k + 2.0))
+        c2 = -(2.0 * xi * (k + 1.0) * c1 + c0) / ((k + 1.0) * (k + 2.0))
+        tp *= t
+        th = h2 * tp
+        tc = c2 * tp
+        d1 += th
+        d2 += tc
+        if k >= 2 and abs(th) <= 1e-18 * abs(d1) and abs(tc) <= 1e-18 * abs(d2):
+            break
+        h0, h1 = h1, h2
+        c0, c1 = c1, c2
+    return d1, d2
+
+
+@njit(cache=True)
+def _osc(xi, r0, rd0, t):
+    ce, se = _cs(xi, t)
+    return r0 * ce + (rd0 + xi * r0) * se, rd0 * ce - (r0 + xi * rd0) * se
+
+
+# ----------------------------------------------------------------------------------------------
+# Gap evaluation with derivative bounds over [t, inf)
+# ----------------------------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res):
+    """res = f, f', f'', f''', B0, B2, B3, scale, X at phase time t: B_m bounds |f^(m)| on
+    [t, inf) (m = 0: the oscillating part f - X only).
+
+    KIND_SCALAR: c1 = V, (r0, rd0) the relative motion, b = [v1(0)] (m1's own velocity at the
+    phase start, as stored) or empty (then v1(0) = V - mu rd0 is used).
+    """
+    f = c0 + c1 * t
+    f1 = c1
+    if kind == KIND_SCALAR:
+        r, rd = _osc(xi, r0, rd0, t)
+        r2 = -2.0 * xi * rd - r
+        r3 = -2.0 * xi * r2 - rd
+        r4 = -2.0 * xi * r3 - r2
+        if t * (1.0 + 2.0 * xi) < 0.5:
+            # Shallow chatter flights: f = c0 + v1 t - mu (rd0 (h - t) + r0 (c - 1)), v1 = m1's
+            # own velocity. The direct form below loses eps mu |r0| to cancellation in r - r0,
+            # far more than a gap ~ v1 t ~ 1e-8 allows; and V - mu rd0 carries the rounding of
+            # V and mu (~eps |V|, the same at every bounce) into a v1 ~ 1e-5. Rigid-wall dashpot
+            # chatter (1725 contacts) lost ~1e-9 in the COR and ~1e-5 in the time to these.
+            v1 = b[0].real if b.size > 0 else c1 - mu * rd0
+            d1, d2 = _small_d(xi, t)
+            res[0] = c0 + v1 * t - mu * (rd0 * d1 + r0 * d2)
+            res[1] = v1 - mu * (rd - rd0)
+        else:
+            res[0] = f - mu * (r - r0)  # c0 = u1(0): no cancellation against X0 = u1(0) + mu r0
+            res[1] = f1 - mu * rd
+        res[2] = -mu * r2
+        res[3] = -mu * r3
+        res[4] = mu * math.sqrt(r * r + rd * rd)
+        res[5] = mu * math.sqrt(r2 * r2 + r3 * r3)
+        res[6] = mu * math.sqrt(r3 * r3 + r4 * r4)
+        res[7] = abs(c0) + abs(c1 * t) + mu * abs(r0) + res[4]
+        res[8] = c0 + mu * r0 + c1 * t
+        return
+    f2 = 0.0
+    f3 = 0.0
+    b0 = 0.0
+    b2 = 0.0
+    b3 = 0.0
+    # f = c0 + c1 t + (osc(t) - osc(0)), so that f(0) = c0 exactly: the modal reconstruction of
+    # u1 at a phase start is only good to eps * |state|, which may exceed the band of f's terms.
+    w0 = 0.0
+    osc = 0.0
+    for k in range(b.size):
+        w0 += b[k].real
+        lk = lam[k]
+        e = b[k] * cmath.exp(lk * t)
+        le = lk * e
+        l2e = lk * le
+        osc += e.real
+        f1 += le.real
+        f2 += l2e.real
+        f3 += (lk * l2e).real
+        a = abs(e)
+        al = abs(lk)
+        b0 += a
+        b2 += a * al * al
+        b3 += a * al * al * al
+    res[0] = f + (osc - w0)
+    res[1] = f1
+    res[2] = f2
+    res[3] = f3
+    res[4] = b0
+    res[5] = b2
+    res[6] = b3
+    res[7] = abs(c0) + abs(c1 * t) + abs(w0) + b0
+    res[8] = c0 - w0 + c1 * t
+
+
+@njit(cache=True)
+def _cubic(a0, a1, a2, a3, s):
+    return a0 + s * (a1 + s * (0.5 * a2 - s * a3 / 6.0))
+
+
+@njit(cache=True)
+def _safe_step(a0, a1, a2, a3):
+    """Largest h (to ~1e-13, from below) with p(s) = a0 + a1 s + a2 s^2/2 - a3 s^3/6 > 0 on
+    [0, h); a0 > 0, a3 >= 0. Returns inf if p never vanishes."""
+    if a0 <= 0.0:
+        return 0.0
+    if a3 <= 0.0:  # all higher derivatives vanish: f is linear
+        if a1 < 0.0:
+            return a0 / -a1
+        return math.inf
+    lo = 0.0
+    disc = a2 * a2 + 2.0 * a1 * a3
+    if disc > 0.0:
+        sq = math.sqrt(disc)
+        cr1 = (a2 - sq) / a3
+        cr2 = (a2 + sq) / a3
+        if cr1 > 0.0:  # p decreases on [0, cr1], increases on [cr1, cr2]
+            if _cubic(a0, a1, a2, a3, cr1) <= 0.0:
+                return _mono_root(a0, a1, a2, a3, 0.0, cr1)
+            lo = cr2
+        elif cr2 > 0.0:
+            lo = cr2
+    # p decreases on [lo, inf) from p(lo) > 0.
+    plo = _cubic(a0, a1, a2, a3, lo)
+    h = max((6.0 * plo / a3) ** (1.0 / 3.0), 1e-300)
+    hi = lo + h
+    for _ in range(200):
+        if _cubic(a0, a1, a2, a3, hi) <= 0.0:
+            break
+        lo = hi
+        h *= 2.0
+        hi = lo + h
+    return _mono_root(a0, a1, a2, a3, lo, hi)
+
+
+@njit(cache=True)
+def _mono_root(a0, a1, a2, a3, lo, hi):
+    """Root of the cubic, decreasing on [lo, hi] with p(lo) > 0 >= p(hi); returns a point below
+    it (p > 0 there)."""
+    x = lo
+    for _ in range(100):
+        p = _cubic(a0, a1, a2, a3, x)
+        if p > 0.0:
+            lo = x
+        else:
+            hi = x
+        if hi - lo <= 1e-14 * hi:
+            break
+        dp = a1 + x * (a2 - 0.5 * a3 * x)
+        xn = x - p / dp if dp < 0.0 else 0.5 * (lo + hi)
+        if not (lo < xn < hi):
+            xn = 0.5 * (lo + hi)
+        elif abs(xn - x) <= 1e-15 * xn:  # Newton has converged (maybe one-sided)
+            xs = min(x, xn) * (1.0 - 4e-15)
+            if xs > lo and _cubic(a0, a1, a2, a3, xs) > 0.0:
+                return xs
+            break
+        x = xn
+    return lo
+
+
+@njit(cache=True)
+def _refine(kind, lo, hi, c0, c1, b, lam, xi, mu, r0, rd0, res):
+    """Root of the gap on [lo, hi], f(lo) > 0 > f(hi) (f strictly decreasing on [lo, hi], or at
+    least past its last crossing): safeguarded Newton to machine precision."""
+    _eval_gap(kind, lo, c0, c1, b, lam, xi, mu, r0, rd0, res)
+    if res[0] <= 0.0:
+        return lo
+    x = lo
+    best = lo
+    bestf = res[0]
+    for _ in range(200):
+        _eval_gap(kind, x, c0, c1, b, lam, xi, mu, r0, rd0, res)
+        f = res[0]
+        if abs(f) < bestf:
+            best = x
+            bestf = abs(f)
+        if f == 0.0:
+            return x
+        if f > 0.0:
+            lo = x
+        else:
+            hi = x
+        if hi - lo <= 2.0 * EPS * max(abs(hi), 1.0):
+            break
+        xn = x - f / res[1] if res[1] < 0.0 else 0.5 * (lo + hi)
+        if not (lo < xn < hi):
+            xn = 0.5 * (lo + hi)
+        elif abs(xn - x) <= 2.0 * EPS * abs(x):  # Newton has converged (maybe one-sided)
+            break
+        x = xn
+    return best
+
+
+@njit(cache=True)
+def _never_ends(t, b, lam, tol):
+    """Proof that a damped contact never ends: the slowest real term outweighs all others now,
+    hence forever (all others decay faster)."""
+    kmax = -1
+    lr = -math.inf
+    for k in range(b.size):
+        if abs(b[k]) > 0.0 and lam[k].real > lr:
+            lr = lam[k].real
+            kmax = k
+    if kmax < 0 or abs(lam[kmax].imag) > 1e-12 * abs(lam[kmax]):
+        return False
+    dom = (b[kmax] * cmath.exp(lam[kmax] * t)).real
+    rest = 0.0
+    for k in range(b.size):
+        if k == kmax or abs(b[k]) == 0.0:
+            continue
+        if lam[k].real >= lr - 1e-12 * abs(lr):
+            return False
+        rest += abs(b[k]) * math.exp(lam[k].real * t)
+    return dom - rest > tol
+
+
+@njit(cache=True)
+def _locate(kind, c0, c1, b, lam, xi, mu, r0, rd0, check_permanent, info):
+    """First time the gap goes below the touching band; see the module docstring.
+
+    Returns a LOC_* code; info = [event time, max gap, time of max gap, steps].
+    """
+    res = np.empty(9)
+    t = 0.0
+    fmax = -math.inf
+    tmax = 0.0
+    _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res)
+    # The phase's data carry absolute errors ~eps * (their size at the phase start), so the band
+    # never shrinks below that even when the motion decays (else exponentially small lobes of a
+    # damped approach, e.g. V = 0, would count as contacts).
+    tol0 = TOL_ULPS * EPS * res[7] + 1e-300
+    t_pos = -1.0  # last step end with f > 0 (none yet)
+    for it in range(MAX_STEPS):
+        _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res)
+        f = res[0]
+        f1 = res[1]
+        f2 = res[2]
+        b2 = res[5]
+        b3 = res[6]
+        tol = max(TOL_ULPS * EPS * res[7], tol0)
+        info[3] = it
+        if f > fmax:
+            fmax = f
+            tmax = t
+        info[1] = fmax
+        info[2] = tmax
+        # f(s) >= X(t) - B0(t) for all s >= t when V >= 0: never below the band again.
+        if c1 >= 0.0 and res[8] - res[4] > -0.5 * tol0:
+            return LOC_NEVER
+        if check_permanent and _never_ends(t, b, lam, tol + abs(res[8])):
+            return LOC_PERMANENT
+        # A step may end just past the root of f (it only keeps f >= -tol): a near-parabolic
+        # shallow flight lands it at f ~ -tol. The root is then in [t_pos, t] (t_pos = the last
+        # step end with f > 0), not at t: polishing from t itself misplaced dashpot-chatter
+        # contacts by tol/|f'| ~ 1e-9 at approach speeds ~1e-5 (COR off by 2e-9 over 1725 contacts).
+        lo = t if (f > 0.0 or t_pos < 0.0) else t_pos
+        if f < -tol:  # only by round-off at a step end: the crossing is in [lo, t]
+            info[0] = _refine(kind, lo, t, c0, c1, b, lam, xi, mu, r0, rd0, res) if lo < t else t
+            return LOC_EVENT
+        if f1 < 0.0:
+            if b2 > 0.0:
+                reach = -f1 / b2
+                dip = f + 0.5 * f1 * reach
+            else:
+                reach = 2.0 * (f + tol) / -f1
+                dip = -math.inf
+            if dip < -tol:  # f strictly decreasing on [t, t + reach]
+                hi = t if lo < t else t + reach  # the root is behind t if f(t) <= 0
+                info[0] = _refine(kind, lo, hi, c0, c1, b, lam, xi, mu, r0, rd0, res)
+                return LOC_EVENT
+        if f > 0.0:
+            t_pos = t
+        h = _safe_step(f + tol, f1, f2, b3)
+        if h == math.inf:
+            return LOC_NEVER
+        if h <= 4.0 * EPS * max(t, 1.0):
+            # Stalled on a tangency exactly at the band edge: it is a graze by the rule; pass it.
+            h = max(_safe_step(f + 2.0 * tol, f1, f2, b3), 4.0 * EPS * max(t, 1.0))
+        t += h
+    return LOC_BUDGET
+
+
+@njit(cache=True)
+def _xmax(kind, t0, tend, c0, c1, b, lam, xi, mu, r0, rd0):
+    """Largest gap on [0, tend] (history only).
+
+    A long damped contact rings with many local maxima, so a Newton climb from the locator's best
+    sample (t0, kept as a candidate) can stop on a lower one: that left x_max 2% low for the last
+    contact at alpha = 100, beta = 1e-3, xi = 0.3. Instead f' is scanned at 1/16 of the fastest
+    ringing period, every + to - sign change is bisected on f' to round-off, and the largest f
+    wins; two maxima inside one scan step would need content faster than the fastest mode.
+    """
+    res = np.empty(9)
+    _eval_gap(kind, t0, c0, c1, b, lam, xi, mu, r0, rd0, res)
+    best = res[0]
+    rate = 0.0
+    for k in range(lam.size):
+        rate = max(rate, abs(lam[k].imag), abs(lam[k].real))
+    n = 1 if rate == 0.0 else min(max(int(math.ceil(tend * rate * 8.0 / math.pi)), 1), 4_000_000)
+    h = tend / n
+    _eval_gap(kind, 0.0, c0, c1, b, lam, xi, mu, r0, rd0, res)
+    best = max(best, res[0])
+    slope = res[1]
+    for i in range(1, n + 1):
+        t = tend if i == n else i * h
+        _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res)
+        best = max(best, res[0])
+        if slope > 0.0 and res[1] <= 0.0:
+            lo, hi = t - h, t
+            for _ in range(200):
+                mid = 0.5 * (lo + hi)
+                if mid <= lo or mid >= hi:
+                    break
+                _eval_gap(kind, mid, c0, c1, b, lam, xi, mu, r0, rd0, res)
+                if res[1] > 0.0:
+                    lo = mid
+                else:
+                    hi = mid
+            _eval_gap(kind, 0.5 * (lo + hi), c0, c1, b, lam, xi, mu, r0, rd0, res)
+            best = max(best, res[0])
+            _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res)
+        slope = res[1]
+    return best
+
+
+# ----------------------------------------------------------------------------------------------
+# State propagation and dissipation
+# ----------------------------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def _modal_state(t, z, lam, U, X0, V, u, v):
+    """u, v at phase time t from modal coefficients z (plus centre-of-mass motion X0 + V t)."""
+    n = U.shape[0]
+    ez = np.empty(z.size, np.complex128)
+    lz = np.empty(z.size, np.complex128)
+    for k in range(z.size):
+        ez[k] = z[k] * cmath.exp(lam[k] * t)
+        lz[k] = lam[k] * ez[k]
+    for i in range(n):
+        su = 0.0
+        sv = 0.0
+        for k in range(z.size):
+            su += (U[i, k] * ez[k]).real
+            sv += (U[i, k] * lz[k]).real
+        u[i] = X0 + V * t + su
+        v[i] = V + sv
+
+
+@njit(cache=True)
+def _scalar_state(t, xi, r0, rd0, mu, u10, V, u, v):
+    r, rd = _osc(xi, r0, rd0, t)
+    u[0] = u10 + V * t - mu * (r - r0)
+    u[1] = u[0] + r
+    v[0] = V - mu * rd
+    v[1] = V + (1.0 - mu) * rd
+
+
+@njit(cache=True)
+def _scalar_advance(t, xi, r0, rd0, mu, u, v):
+    """Advance a two-mass free flight from (u, v) at its start to phase time t in place, the
+    velocities by increments (v1 - mu dr', v2 + (1 - mu) dr', momentum-conserving): m1's small
+    chatter speeds then carry no rounding of V or mu (see _eval_gap)."""
+    r, rd = _osc(xi, r0, rd0, t)
+    drd = rd - rd0
+    u[0] = u[0] + (v[0] + mu * rd0) * t - mu * (r - r0)
+    u[1] = u[0] + r
+    v[0] = v[0] - mu * drd
+    v[1] = v[1] + (1.0 - mu) * drd
+
+
+@njit(cache=True)
+def _diss_modal(T, g, lam, c):
+    """Integral of c (Re sum g_k e^{lam_k t})^2 over [0, T] by Gauss-Legendre (round-off exact)."""
+    if c == 0.0 or T <= 0.0:
+        return 0.0
+    nk = g.size
+    ng = _GL_X.size
+    lmax = 1e-300
+    for k in range(nk):
+        if g[k] != 0.0:
+            lmax = max(lmax, abs(lam[k]))
+    nsub = max(int(math.ceil(T * lmax / GL_H)), 1)
+    h = T / nsub
+    # e^{lam t} at the nodes = e^{lam t_s} * E[k, j]; e^{lam t_s} advanced by a factor per
+    # sub-interval and recomputed from scratch every ANCHOR sub-intervals.
+    E = np.empty((nk, ng), np.complex128)
+    step = np.empty(nk, np.complex128)
+    base = np.empty(nk, np.complex128)
+    for k in range(nk):
+        step[k] = cmath.exp(lam[k] * h)
+        for j in range(ng):
+            E[k, j] = cmath.exp(lam[k] * (0.5 * h * (1.0 + _GL_X[j])))
+    acc = 0.0
+    for s in range(nsub):
+        if s % ANCHOR == 0:
+            for k in range(nk):
+                base[k] = g[k] * cmath.exp(lam[k] * (s * h))
+        bmax = 0.0
+        for k in range(nk):
+            bmax = max(bmax, abs(base[k]))
+        cut = 1e-18 * bmax  # terms this small change the integrand below round-off
+        part = 0.0
+        for j in range(ng):
+            val = 0.0
+            for k in range(nk):
+                if abs(base[k]) > cut:
+                    val += (base[k] * E[k, j]).real
+            part += _GL_W[j] * val * val
+        acc += part
+        for k in range(nk):
+            base[k] *= step[k]
+    return c * 0.5 * h * acc
+
+
+@njit(cache=True)
+def _diss_scalar(T, xi, r0, rd0, c):
+    """Integral of c r'^2 over [0, T] by Gauss-Legendre (round-off exact)."""
+    if c == 0.0 or T <= 0.0:
+        return 0.0
+    lmax = max(1.0, xi + math.sqrt(max(xi * xi - 1.0, 0.0)))
+    nsub = max(int(math.ceil(T * lmax / GL_H)), 1)
+    h = T / nsub
+    acc = 0.0
+    for s in range(nsub):
+        part = 0.0
+        for j in range(_GL_X.size):
+            t = (s + 0.5 + 0.5 * _GL_X[j]) * h
+            rd = _osc(xi, r0, rd0, t)[1]
+            part += _GL_W[j] * rd * rd
+        acc += part
+    return c * 0.5 * h * acc

@@ -1,0 +1,272 @@
+"""The solver table: every method, the scenes it applies to, its cost rank and its runner.
+
+Shaped like the ``METHODS`` dict of scipy's ``integrate/_ivp/ivp.py``: a method is one entry of
+``METHODS``; ``choose`` is the only dispatcher (``auto`` takes the cheapest exact method that
+applies, else the cheapest numerical one; a forced method is checked against the scene here and
+nowhere else). docs/guides/adding-a-method.md shows how to add one.
+
+========== ===================================================================================
+impulsive  rigid wall, linear links and dashpots: impulsive reversal of m1's velocity at each
+           contact, closed-form motion between contacts (exact)
+piecewise  linear contact spring, linear links and dashpots: closed form per phase, exact
+           switching times (exact)
+adaptive   embedded Dormand-Prince 5(4) with guaranteed event location, for the phases whose
+           force law is nonlinear (any law)
+verlet     the paper's velocity Verlet, fixed step (finite contact stiffness, two masses)
+reference  scipy ``solve_ivp`` DOP853 with events: slow, for checks (two masses)
+========== ===================================================================================
+
+A runner takes a validated ``Chain`` and ``Options`` and returns ``(out, hist)``: the kernel's
+output row (``restitution.kernels.layout``; times are omega * t) and the contact history (or
+None). ``label`` names what was used: ``impulsive+sticking`` when the kernel continued a Zeno
+chatter by its sticking limit (bit 0 of ``OUT_FLAGS``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from .chain import Chain, SceneError, check
+from .compiling import announce
+from .kernels import layout as L
+
+# Bit of out[OUT_FLAGS] set by the chain kernel when it used the sticking limit.
+FLAG_STICKING = getattr(L, "FLAG_STICKING", 1)
+
+
+@dataclass(frozen=True)
+class Options:
+    """Settings of one solve (checked by ``options``)."""
+
+    history: bool = False
+    max_events: int = 100_000
+    rtol: float = 1e-9
+    step: float = 0.01
+
+
+def options(history=False, max_events=100_000, rtol=1e-9, step=0.01) -> Options:
+    return Options(
+        bool(history), check("max_events", max_events), check("rtol", rtol), check("step", step)
+    )
+
+
+@dataclass(frozen=True)
+class Method:
+    """One row of the solver table.
+
+    ``applies(chain)`` returns None when the method can solve the scene, else the reason (shown
+    to the user when the method was forced). ``cost`` orders methods for ``auto`` (lower first);
+    only ``exact`` methods or, when none applies, numerical ones are picked by ``auto``.
+    """
+
+    name: str
+    exact: bool
+    cost: int
+    applies: Callable[[Chain], str | None]
+    run: Callable[[Chain, Options], tuple]
+    doc: str
+
+
+# ----------------------------------------------------------------------------------------------
+# Applicability
+# ----------------------------------------------------------------------------------------------
+def _impulsive_applies(ch: Chain) -> str | None:
+    if not ch.linear:
+        return "it needs linear contact and links; use 'adaptive' for nonlinear laws"
+    if not ch.rigid:
+        return "'impulsive' needs beta = 0 (a rigid wall, k_contact = inf); use 'piecewise'"
+    return None
+
+
+def _piecewise_applies(ch: Chain) -> str | None:
+    if not ch.linear:
+        return "it needs linear contact and links; use 'adaptive' for nonlinear laws"
+    if ch.rigid:
+        return "'piecewise' needs beta > 0 (a finite k_contact); use 'impulsive'"
+    return None
+
+
+def _nonlinear_chain():
+    """H7's general nonlinear entry point, if this installation has it."""
+    from . import nonlinear
+
+    return getattr(nonlinear, "solve_nonlinear_chain", None)
+
+
+def _adaptive_applies(ch: Chain) -> str | None:
+    if ch.n_masses != 2 and _nonlinear_chain() is None:
+        return "it is implemented for two masses only (n_masses must be 2)"
+    return None
+
+
+def _verlet_applies(ch: Chain) -> str | None:
+    if ch.n_masses != 2:
+        return "it is implemented for two masses only (n_masses must be 2)"
+    if ch.rigid:
+        return "it needs a finite contact stiffness (beta > 0)"
+    return None
+
+
+def _reference_applies(ch: Chain) -> str | None:
+    return (
+        None if ch.n_masses == 2 else "it is implemented for two masses only (n_masses must be 2)"
+    )
+
+
+# ----------------------------------------------------------------------------------------------
+# Runners
+# ----------------------------------------------------------------------------------------------
+def _hist(opts: Options) -> np.ndarray:
+    return np.zeros((opts.max_events if opts.history else 0, L.N_HIST))
+
+
+def _general_kernel():
+    try:
+        from .kernels.chain import solve_chain
+    except ImportError:  # pragma: no cover - only before the chain kernel is installed
+        raise SceneError(
+            "this chain is not one of the paper's scenes and the general chain kernel "
+            "(restitution.kernels.chain) is not installed"
+        ) from None
+    return solve_chain
+
+
+def _run_exact(ch: Chain, opts: Options):
+    """Paper-form scenes on the paper's kernels (bit for bit as before); any other chain on
+    the general chain kernel."""
+    hist = _hist(opts)
+    paper = ch.paper_form
+    if paper is not None:
+        from .api import _kernels
+
+        rigid2, _, solve_linear, _ = _kernels()
+        alpha, beta, xi, n = paper
+        kernel = rigid2 if beta == 0.0 and n == 2 else solve_linear
+        announce(kernel)
+        if kernel is rigid2:
+            out = rigid2(alpha, xi, opts.max_events, hist)
+        else:
+            out = solve_linear(alpha, beta, xi, n, opts.max_events, hist)
+    else:
+        m, k, c, kc = ch.scaled()
+        kernel = _general_kernel()
+        announce(kernel)
+        out = kernel(m, k, c, kc, opts.max_events, hist)
+    return out, (hist if opts.history else None)
+
+
+def legacy_laws(ch: Chain) -> dict:
+    """A two-mass chain's laws as keywords of ``restitution.nonlinear.solve_nonlinear`` (the
+    scene in its units m1 = 1, omega = 1 with lengths kept: stiffnesses / (m1 omega**2), speeds
+    / omega)."""
+    w = ch.omega
+    law = {"v0": ch.v0 / w}
+    contact = ch.contact
+    if contact is not None:
+        law["contact"] = contact["law"]
+        law.update({k: v for k, v in contact.items() if k in ("eta", "dr")})
+    if ch.links is not None:
+        (spec,) = ch.links
+        if spec["law"] == "scissor":
+            k2 = float(ch.springs[0])
+            law.update(structure="scissor", ks_ratio=spec["ks"] / k2)
+            law.update({k: spec[k] for k in ("L", "theta0", "corner") if k in spec})
+    return law
+
+
+def _run_numerical(name: str):
+    def run(ch: Chain, opts: Options):
+        if ch.n_masses == 2:
+            from .nonlinear import solve_nonlinear
+
+            if ch.contact is not None and ch.contact["law"] not in ("plastic",):
+                raise SceneError(f"the {ch.contact['law']!r} contact law needs the chain solver")
+            r = solve_nonlinear(
+                ch.alpha,
+                ch.beta,
+                ch.xi,
+                method=name,
+                rtol=opts.rtol,
+                step=opts.step,
+                max_events=opts.max_events,
+                history=opts.history,
+                **legacy_laws(ch),
+            )
+            return r, None
+        return _nonlinear_chain()(
+            ch.masses,
+            ch.springs,
+            ch.dashpots,
+            ch.contact_law,
+            ch.link_laws,
+            ch.v0,
+            name,
+            opts.rtol,
+            opts.max_events,
+            opts.history,
+        ), None
+
+    return run
+
+
+METHODS: dict[str, Method] = {
+    "impulsive": Method("impulsive", True, 0, _impulsive_applies, _run_exact, "rigid wall, exact"),
+    "piecewise": Method(
+        "piecewise", True, 1, _piecewise_applies, _run_exact, "linear contact spring, exact"
+    ),
+    "adaptive": Method(
+        "adaptive", False, 10, _adaptive_applies, _run_numerical("adaptive"), "DP5(4), any law"
+    ),
+    "verlet": Method(
+        "verlet", False, 20, _verlet_applies, _run_numerical("verlet"), "velocity Verlet"
+    ),
+    "reference": Method(
+        "reference", False, 30, _reference_applies, _run_numerical("reference"), "scipy DOP853"
+    ),
+}
+NAMES = ("auto", *METHODS)
+
+
+def check_method(value) -> str:
+    """``value`` if it names a method (or 'auto'); else SceneError listing them."""
+    if not isinstance(value, str) or (value != "auto" and value not in METHODS):
+        raise SceneError(f"method must be one of {', '.join(NAMES)}; got {value!r}")
+    return value
+
+
+def choose(ch: Chain, method: str = "auto") -> Method:
+    """The method that solves ``ch``: the forced one if it applies, else the cheapest exact
+    one, else the cheapest numerical one. The one place a method is chosen or checked."""
+    check_method(method)
+    if method != "auto":
+        m = METHODS[method]
+        reason = m.applies(ch)
+        if reason is not None:
+            raise SceneError(f"method {method!r} does not fit this scene: {reason}")
+        return m
+    ranked = sorted(METHODS.values(), key=lambda m: (not m.exact, m.cost))
+    reasons = []
+    for m in ranked:
+        reason = m.applies(ch)
+        if reason is None:
+            return m
+        reasons.append(f"{m.name}: {reason}")
+    raise SceneError("no method applies to this scene (" + "; ".join(reasons) + ")")
+
+
+def label(name: str, out) -> str:
+    """The method recorded in a result: ``name``, plus ``+sticking`` when the kernel used the
+    sticking limit (bit 0 of OUT_FLAGS)."""
+    flags_at = getattr(L, "OUT_FLAGS", None)
+    if flags_at is not None and len(out) > flags_at:
+        f = out[flags_at]
+        if math.isfinite(f) and int(f) & FLAG_STICKING:
+            return name + "+sticking"
+    return name
+
+
+__all__ = ["METHODS", "NAMES", "Method", "Options", "check_method", "choose", "label", "options"]

@@ -1,0 +1,324 @@
+"""Strict reading of scene tables: every column known, every cell checked, before any work.
+
+Rules (the same for ``solve_many`` and ``restitution batch``):
+
+* column names are strings without surrounding whitespace, each at most once;
+* a column not in ``COLUMNS`` (nor in the caller's ``keep``) is an error that suggests the
+  nearest known name ("did you mean 'beta'?");
+* the paper's form (``alpha``...) and the general form (``masses``...) are not mixed;
+* numbers must be numbers: booleans, text and NaN in a numeric column are errors naming the row
+  and the column (a missing optional cell, NaN in a law or setting column, takes its default);
+* list cells (``masses``, ``springs``, ``dashpots``) are lists or ``;``-separated text (spaces
+  inside a cell are fine); law cells (``contact``, ``links``) are mappings / lists of mappings
+  (parquet structs) or their JSON text;
+* per-row settings ``rtol`` and ``step`` are honoured for rows solved by a numerical method and
+  refused on rows solved exactly (where they would silently do nothing).
+"""
+
+from __future__ import annotations
+
+import difflib
+import json
+import math
+from collections.abc import Mapping
+
+import numpy as np
+import pandas as pd
+
+from . import methods as M
+from .chain import Chain, SceneError, check_column, paper_with_laws
+from .result import RESULT_COLUMNS, T_COL
+
+PAPER = ("alpha", "beta", "xi", "n_masses")
+GENERAL = ("masses", "springs", "dashpots", "k_contact", "v0", "contact", "links")
+LEGACY_LAWS = ("contact", "eta", "dr", "structure", "L", "ks_ratio", "theta0", "corner", "v0")
+SETTINGS = ("method", "rtol", "step")
+COLUMNS = tuple(dict.fromkeys((*PAPER, *GENERAL, *LEGACY_LAWS, *SETTINGS)))
+DEFAULTS = {"beta": 0.0, "xi": 0.0, "n_masses": 2}
+
+
+def _row(frame, i) -> str:
+    return f"row {frame.index[i]!r}"
+
+
+def check_columns(frame, keep=()) -> None:
+    """Column names: strings, unique, no stray whitespace, all known (or kept)."""
+    if not isinstance(frame, pd.DataFrame):
+        raise SceneError(f"expected a pandas DataFrame of scenes; got {type(frame).__name__}")
+    keep = set(keep)
+    seen = set()
+    for name in frame.columns:
+        if not isinstance(name, str):
+            raise SceneError(f"column names must be text; got {name!r}")
+        if name != name.strip():
+            raise SceneError(f"column {name!r} has stray whitespace in its name; remove it")
+        if name in seen:
+            raise SceneError(f"column {name!r} appears more than once")
+        seen.add(name)
+    clash = [c for c in (*RESULT_COLUMNS, T_COL) if c in frame and c != "method"]
+    if clash:
+        raise SceneError(f"the scene table already has result columns {clash}; drop them first")
+    unknown = [c for c in frame.columns if c not in COLUMNS and c not in keep]
+    if unknown:
+        hints = []
+        for c in unknown:
+            near = difflib.get_close_matches(c, COLUMNS, n=1, cutoff=0.6)
+            hints.append(f"{c!r}" + (f" (did you mean {near[0]!r}?)" if near else ""))
+        raise SceneError(
+            f"unknown column(s) {', '.join(hints)}; known: {', '.join(COLUMNS)} "
+            "(pass keep=[...] / --keep to carry other columns through)"
+        )
+
+
+def _is_missing(v) -> bool:
+    return v is None or (isinstance(v, float) and math.isnan(v))
+
+
+def parse_list(name: str, cell, where: str):
+    """A list cell: a sequence, or ';'-separated text (spaces fine)."""
+    if isinstance(cell, str):
+        parts = [p.strip() for p in cell.split(";")]
+        if parts == [""]:
+            raise SceneError(f"{name} must not be empty ({where})")
+        try:
+            return [float(p) for p in parts]
+        except ValueError:
+            raise SceneError(
+                f"{name} must be ';'-separated numbers, e.g. '1; 0.5; 2'; got {cell!r} ({where})"
+            ) from None
+    if _is_missing(cell):
+        raise SceneError(f"{name} is missing ({where})")
+    return cell
+
+
+def parse_law(name: str, cell, where: str):
+    """A law cell: a mapping (or for links a list of mappings), or its JSON text."""
+    if _is_missing(cell):
+        return None
+    if isinstance(cell, str):
+        try:
+            cell = json.loads(cell)
+        except json.JSONDecodeError:
+            raise SceneError(
+                f'{name} must be a mapping such as {{"law": "hertz", "k": 50}} or its '
+                f"JSON text; got {cell!r} ({where})"
+            ) from None
+    if name == "links" and not isinstance(cell, Mapping):
+        cell = list(cell)
+    return cell
+
+
+class SceneTable:
+    """A checked scene table: ``plan`` (alpha, beta, xi, n_masses, method, paper, omega per
+    row), the Chains of a general table (``chains``; None for the paper's form)."""
+
+    def __init__(self, frame: pd.DataFrame, keep=()):
+        check_columns(frame, keep)
+        self.frame = frame
+        has_paper = "alpha" in frame
+        has_general = "masses" in frame or "springs" in frame
+        if has_paper and has_general:
+            raise SceneError(
+                "a scene table takes either the paper's form (alpha, beta, xi, n_masses) or a "
+                "general chain (masses, springs, dashpots, ...), not both"
+            )
+        if not has_paper and not has_general:
+            raise SceneError(
+                "the scene table needs a column 'alpha' (the paper's form; optional beta, xi, "
+                "n_masses, method) or columns 'masses' and 'springs' (a general chain); got "
+                f"columns {list(frame.columns)}"
+            )
+        self.settings_cols = {}
+        for name in ("rtol", "step"):
+            if name in frame:
+                values = frame[name].to_numpy()
+                given = ~pd.isna(values)
+                if given.any():
+                    check_column(name, values[given], frame.index[given])
+                self.settings_cols[name] = (values, given)
+        method = self._methods()
+        if has_paper:
+            self.chains = None
+            self._legacy = {}
+            self.plan = self._paper_plan(method)
+        else:
+            self.chains = self._general_chains()
+            self.plan = self._general_plan(method)
+        self._check_settings()
+
+    # ------------------------------------------------------------------------------------------
+    def _methods(self) -> np.ndarray:
+        frame = self.frame
+        if "method" not in frame:
+            return np.full(len(frame), "auto", dtype=object)
+        values = frame["method"].to_numpy(dtype=object)
+        out = np.where(pd.isna(values), "auto", values).astype(object)
+        bad = ~pd.Series(out).isin(M.NAMES).to_numpy()
+        if bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            raise SceneError(
+                f"method must be one of {', '.join(M.NAMES)}; got {values[i]!r} "
+                f"({_row(frame, i)}, column 'method')"
+            )
+        return out
+
+    def _paper_plan(self, method: np.ndarray) -> pd.DataFrame:
+        frame = self.frame
+        n = len(frame)
+        illegal = [c for c in ("masses", "springs", "dashpots", "k_contact", "links") if c in frame]
+        if illegal:
+            raise SceneError(f"columns {illegal} belong to the general form, not with 'alpha'")
+        plan = pd.DataFrame(index=frame.index)
+        for name in PAPER:
+            if name in frame:
+                plan[name] = check_column(name, frame[name].to_numpy(), frame.index)
+            else:
+                plan[name] = np.full(n, DEFAULTS[name])
+        legacy = np.zeros(n, dtype=bool)
+        law_cols = [c for c in LEGACY_LAWS if c in frame]
+        for c in ("contact", "structure"):
+            if c in frame:
+                v = frame[c].to_numpy(dtype=object)
+                legacy |= ~(pd.isna(v) | (v == "linear"))
+        if "v0" in frame:
+            legacy |= ~pd.isna(frame["v0"].to_numpy(dtype=object))
+        alpha, beta = plan["alpha"].to_numpy(), plan["beta"].to_numpy()
+        xi, nm = plan["xi"].to_numpy(), plan["n_masses"].to_numpy()
+        chosen = np.empty(n, dtype=object)
+        # Linear rows: one dispatcher call per distinct (rigid wall, N, method), so the solver
+        # table decides for every row at the cost of a few calls.
+        lin = np.flatnonzero(~legacy)
+        if len(lin):
+            key = pd.DataFrame({"r": beta[lin] == 0.0, "n": nm[lin], "m": method[lin]})
+            first = ~key.duplicated()
+            groups = key.groupby(["r", "n", "m"], sort=False).ngroup().to_numpy()
+            for g, j in zip(
+                groups[first.to_numpy()], np.flatnonzero(first.to_numpy()), strict=True
+            ):
+                i = lin[j]
+                try:
+                    name = M.choose(
+                        Chain._paper(alpha[i], beta[i], xi[i], int(nm[i])), method[i]
+                    ).name
+                except SceneError as e:
+                    raise SceneError(f"{e} ({_row(frame, i)})") from None
+                chosen[lin[groups == g]] = name
+        for i in np.flatnonzero(legacy):
+            law = {c: frame[c].iat[i] for c in law_cols if not _is_missing(frame[c].iat[i])}
+            try:
+                ch, _ = paper_with_laws(alpha[i], beta[i], xi[i], int(nm[i]), law)
+                chosen[i] = M.choose(ch, method[i]).name
+            except SceneError as e:
+                raise SceneError(f"{e} ({_row(frame, i)})") from None
+            self._legacy[i] = ch
+        plan["method"] = chosen
+        plan["paper"] = ~legacy
+        plan["omega"] = 1.0
+        return plan
+
+    def _general_chains(self) -> list:
+        frame = self.frame
+        illegal = [c for c in (*PAPER, "eta", "dr", "structure", "L", "ks_ratio", "theta0",
+                               "corner") if c in frame]  # fmt: skip
+        if illegal:
+            raise SceneError(
+                f"columns {illegal} belong to the paper's form; a general chain gives its laws "
+                "in the struct columns 'contact' and 'links' (docs/general-chains.md)"
+            )
+        for c in ("masses", "springs"):
+            if c not in frame:
+                raise SceneError(f"a general chain table needs a column {c!r}")
+        n = len(frame)
+        kc = (
+            check_column("k_contact", frame["k_contact"].to_numpy(), frame.index)
+            if "k_contact" in frame
+            else np.full(n, math.inf)
+        )
+        if "v0" in frame:
+            v0 = check_column("v0", frame["v0"].to_numpy(), frame.index)
+        else:
+            v0 = np.ones(n)
+        cols = {c: frame[c].to_numpy(dtype=object) for c in GENERAL if c in frame}
+        chains = []
+        for i in range(n):
+            where = _row(frame, i)
+            try:
+                masses = parse_list("masses", cols["masses"][i], where)
+                springs = parse_list("springs", cols["springs"][i], where)
+                dashpots = None
+                if "dashpots" in cols and not _is_missing_list(cols["dashpots"][i]):
+                    dashpots = parse_list("dashpots", cols["dashpots"][i], where)
+                contact = (
+                    parse_law("contact", cols["contact"][i], where) if "contact" in cols else None
+                )
+                links = parse_law("links", cols["links"][i], where) if "links" in cols else None
+                chains.append(Chain(masses, springs, dashpots, kc[i], v0[i], contact, links))
+            except SceneError as e:
+                msg = str(e)
+                raise SceneError(msg if where in msg else f"{msg} ({where})") from None
+        return chains
+
+    def _general_plan(self, method: np.ndarray) -> pd.DataFrame:
+        frame = self.frame
+        plan = pd.DataFrame(index=frame.index)
+        ch = self.chains
+        summary = [c.paper_form for c in ch]
+        plan["alpha"] = [c.alpha for c in ch]
+        plan["beta"] = [c.beta for c in ch]
+        plan["xi"] = [c.xi for c in ch]
+        plan["n_masses"] = np.array([c.n_masses for c in ch], dtype=np.int64)
+        chosen = []
+        for i, c in enumerate(ch):
+            try:
+                chosen.append(M.choose(c, method[i]).name)
+            except SceneError as e:
+                raise SceneError(f"{e} ({_row(frame, i)})") from None
+        plan["method"] = np.array(chosen, dtype=object)
+        plan["paper"] = np.array([s is not None for s in summary], dtype=bool)
+        plan["omega"] = [c.omega for c in ch]
+        return plan
+
+    def _check_settings(self) -> None:
+        exact = np.isin(
+            self.plan["method"].to_numpy(), [n for n, m in M.METHODS.items() if m.exact]
+        )
+        for name, (_, given) in self.settings_cols.items():
+            wrong = given & exact
+            if wrong.any():
+                i = int(np.flatnonzero(wrong)[0])
+                raise SceneError(
+                    f"{name} is a setting of the numerical methods; {_row(self.frame, i)} is "
+                    f"solved by the exact method {self.plan['method'].iat[i]!r}, where it would do "
+                    "nothing (leave the cell empty)"
+                )
+
+    # ------------------------------------------------------------------------------------------
+    def chain(self, i: int) -> Chain:
+        if self.chains is not None:
+            return self.chains[i]
+        if i in self._legacy:
+            return self._legacy[i]
+        p = self.plan
+        return Chain._paper(
+            float(p["alpha"].iat[i]), float(p["beta"].iat[i]), float(p["xi"].iat[i]),
+            int(p["n_masses"].iat[i]),
+        )  # fmt: skip
+
+    def settings(self, i: int) -> dict:
+        return {
+            name: float(values[i])
+            for name, (values, given) in self.settings_cols.items()
+            if given[i]
+        }
+
+
+def _is_missing_list(cell) -> bool:
+    return _is_missing(cell) or (isinstance(cell, str) and cell.strip() == "")
+
+
+def scene_table(frame, keep=()) -> SceneTable:
+    """The checked table (raises SceneError naming the row and column of the first bad cell)."""
+    return SceneTable(frame, keep)
+
+
+__all__ = ["COLUMNS", "SceneTable", "check_columns", "parse_law", "parse_list", "scene_table"]

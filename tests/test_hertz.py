@@ -1,0 +1,149 @@
+"""Hertz contact F = k_h x**1.5: closed-form contact of a single mass, elastic chains.
+
+A single mass m hitting the wall at V0 stores m V0**2/2 = (2/5) k_h x**(5/2) at its deepest point,
+so x_max = (5 m V0**2 / (4 k_h))**(2/5), and with v(x) = V0 sqrt(1 - (x/x_max)**(5/2)) the
+contact lasts
+
+    t_c = 2 (x_max/V0) I,   I = int_0^1 ds / sqrt(1 - s**(5/2)) = (2/5) B(2/5, 1/2)
+        = C (m/k_h)**(2/5) V0**(-1/5),   C = 2 I (5/4)**(2/5) = 3.218065...
+
+and the mass leaves at +V0 (COR 1: the law is elastic).
+"""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+from scipy.special import beta as beta_fn
+
+from restitution import laws
+from restitution.kernels.layout import (
+    H_XMAX,
+    N_HIST,
+    OUT_COR,
+    OUT_EDISS,
+    OUT_NCOL,
+    OUT_STATUS,
+    OUT_TCOL,
+    STATUS_OK,
+)
+from restitution.kernels.nonlinear import METHOD_ADAPTIVE, METHOD_VERLET, solve_chain_scene
+from restitution.nonlinear import solve_nonlinear_chain
+
+I_HERTZ = 0.4 * beta_fn(0.4, 0.5)
+C_HERTZ = 2.0 * I_HERTZ * 1.25**0.4
+
+
+def test_contact_time_constant_against_quadrature():
+    i_quad, err = quad(lambda s: 1.0 / math.sqrt(1.0 - s**2.5), 0.0, 1.0, limit=200)
+    assert err < 1e-10
+    assert I_HERTZ == pytest.approx(i_quad, rel=1e-10)
+    assert 2.0 * I_HERTZ == pytest.approx(2.943275, abs=5e-7)
+    assert C_HERTZ == pytest.approx(3.218065, abs=5e-7)
+
+
+def _single_mass(k_h, v0, m=1.0, rtol=1e-12, method=METHOD_ADAPTIVE, step=0.01):
+    """The chain kernel with one mass (kernel units: m = 1 unless given)."""
+    ms = np.array([m])
+    cp = laws.hertz_params(k_h, v0, m)
+    hist = np.zeros((4, N_HIST))
+    etol = 1e-9 if method == METHOD_ADAPTIVE else 1.0  # Verlet: its energy error is checked here
+    out = solve_chain_scene(
+        ms, np.zeros((0, laws.N_SP)), np.zeros(0), cp, v0, method, rtol, step, etol, 10, 1e6,
+        hist, np.zeros(5),
+    )  # fmt: skip
+    return out, hist
+
+
+@pytest.mark.parametrize("k_h, v0, m", [(1.0, 1.0, 1.0), (50.0, 0.3, 1.0), (2.0, 7.0, 3.5)])
+def test_single_mass_contact_time_depth_and_unit_cor(k_h, v0, m):
+    out, hist = _single_mass(k_h, v0, m)
+    assert out[OUT_STATUS] == STATUS_OK and out[OUT_NCOL] == 1
+    t_c = C_HERTZ * (m / k_h) ** 0.4 * v0**-0.2
+    assert out[OUT_TCOL] == pytest.approx(t_c, rel=1e-9)
+    x_max = (5.0 * m * v0 * v0 / (4.0 * k_h)) ** 0.4
+    assert hist[0, H_XMAX] == pytest.approx(x_max, rel=1e-10)
+    # elastic: m leaves at +V0 (COR 1 up to the integration tolerance) and dissipates nothing
+    assert abs(out[OUT_COR] - 1.0) < 1e-10
+    assert abs(out[OUT_EDISS]) < 1e-10
+
+
+def test_single_mass_verlet_converges_to_the_closed_form():
+    t_c = C_HERTZ
+    errs = []
+    for step in (0.004, 0.002, 0.001):
+        out, _ = _single_mass(1.0, 1.0, method=METHOD_VERLET, step=step)
+        assert out[OUT_STATUS] == STATUS_OK and out[OUT_NCOL] == 1
+        errs.append(abs(out[OUT_COR] - 1.0))
+    assert errs[-1] < 1e-4 and errs[-1] < errs[0]
+    # the contact time is resolved to one step (contact detected at step ends)
+    out, _ = _single_mass(1.0, 1.0, method=METHOD_VERLET, step=0.001)
+    assert abs(out[OUT_TCOL] - t_c) < 0.02 * t_c
+
+
+def test_hertz_force_energy_slope_are_consistent():
+    cp = laws.hertz_params(3.0, 1.0, 2.0)
+    for x in (1e-6, 0.1, 0.7, 2.0):
+        f = laws.contact_force(cp, 1, 0.0, 0.0, x)
+        assert f == pytest.approx(3.0 * x**1.5, rel=1e-14)
+        force = lambda s: laws.contact_force(cp, 1, 0.0, 0.0, s)  # noqa: E731
+        w, _ = quad(force, 0.0, x, epsabs=0.0, epsrel=1e-12)
+        assert laws.contact_energy(cp, x) == pytest.approx(w, rel=1e-10)
+        h = 1e-6 * x
+        d = (laws.contact_force(cp, 1, 0, 0, x + h) - laws.contact_force(cp, 1, 0, 0, x - h)) / (
+            2 * h
+        )
+        assert laws.contact_slope(cp, 1, 0.0, x) == pytest.approx(d, rel=1e-7)
+    for x in (0.0, -1e-3, -5.0):
+        assert laws.contact_force(cp, 1, 0.0, 0.0, x) == 0.0
+        assert laws.contact_energy(cp, x) == 0.0
+    # the slope scale bounds the slope at any penetration the initial energy could reach
+    x_deep = (2.5 * 0.5 * 2.0 / 3.0) ** 0.4
+    assert cp[1] == pytest.approx(laws.contact_slope(cp, 1, 0.0, x_deep), rel=1e-14)
+
+
+@pytest.mark.parametrize("v0", [0.2, 1.0, 5.0])
+def test_elastic_hertz_chain_conserves_energy(v0):
+    acct = {}
+    r = solve_nonlinear_chain(
+        [1.0, 0.7, 2.0], [1.0, 0.5], None, {"law": "hertz", "k": 10.0}, None, v0, rtol=1e-11,
+        account=acct,
+    )  # fmt: skip
+    assert r.status == "ok" and r.n_collisions >= 1
+    assert abs(r.e_translational + r.e_vibrational - 1.0) < 1e-9
+    assert abs(acct["dissipated_contact"]) < 1e-9 and acct["dissipated_dashpot"] == 0.0
+    assert 0.0 < r.cor < 1.0
+
+
+def test_hertz_in_the_two_mass_kernel_matches_the_chain_kernel():
+    # the same law id runs through the two-mass scene kernel (integrated free flight) too
+    from restitution.kernels.nonlinear import solve_scene
+
+    alpha = 1.7
+    k2 = alpha / (1 + alpha)
+    cp = laws.hertz_params(4.0, 1.0, 1.0 + alpha)
+    sp = laws.linear_structure_params(k2)
+    h0 = np.zeros((0, N_HIST))
+    a = solve_scene(alpha, 1.0, 0.0, cp, sp, 0, 1e-12, 0.01, True, 1e-9, 100, h0, np.zeros(5))
+    b = solve_chain_scene(
+        np.array([1.0, alpha]), sp[None, :].copy(), np.zeros(1), cp, 1.0, 0, 1e-12, 0.01, 1e-9,
+        100, 1e7, h0, np.zeros(5),
+    )  # fmt: skip
+    assert a[OUT_STATUS] == b[OUT_STATUS] == STATUS_OK and a[OUT_NCOL] == b[OUT_NCOL]
+    assert abs(a[OUT_COR] - b[OUT_COR]) < 1e-10
+
+
+def test_hertz_user_units_scale_as_documented():
+    # doubling every mass and k_h, springs (time scale unchanged): the same scene; then a unit
+    # change of length by s: k_h -> k_h / s**1.5 at fixed speed in the new unit
+    base = dict(c=None, link_laws=None, rtol=1e-11)
+    r1 = solve_nonlinear_chain([1.0, 2.0], [0.5], contact_law={"law": "hertz", "k": 3.0}, **base)
+    r2 = solve_nonlinear_chain([2.0, 4.0], [1.0], contact_law={"law": "hertz", "k": 6.0}, **base)
+    assert r1.n_collisions == r2.n_collisions and abs(r1.cor - r2.cor) < 1e-12
+    s = 10.0  # a length unit s times smaller: positions, speeds and forces (mass * length /
+    # time**2) all grow by s numerically, so springs (force/length) stay and k_h -> k_h/sqrt(s)
+    r3 = solve_nonlinear_chain(
+        [1.0, 2.0], [0.5], contact_law={"law": "hertz", "k": 3.0 / math.sqrt(s)}, v0=s, **base
+    )
+    assert r3.n_collisions == r1.n_collisions and abs(r3.cor - r1.cor) < 1e-8
