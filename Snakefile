@@ -22,6 +22,7 @@ include: "workflow/rules/fig4_5.smk"
 include: "workflow/rules/fig7.smk"
 include: "workflow/rules/reproduction.smk"
 include: "workflow/rules/benchmarks.smk"
+include: "workflow/rules/design.smk"
 
 
 rule all:
@@ -69,3 +70,7 @@ rule all:
         rules.fig7d.output.png,
         rules.fig7d.output.pdf,
         rules.reproduction.output.table,
+        rules.fig8a.output.png,
+        rules.fig8a.output.pdf,
+        rules.fig8b.output.png,
+        rules.fig8b.output.pdf,
