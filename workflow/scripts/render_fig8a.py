@@ -57,7 +57,7 @@ def draw(grid: pd.DataFrame, curves: pd.DataFrame, params, logger):
     ax.set_xscale("log")
     ax.set_yscale("symlog", linthresh=linthresh, linscale=0.5)
     ax.axhline(linthresh / 2, color="white", lw=0.4)
-    for cid, c in curves.groupby("curve"):
+    for _, c in curves.groupby("curve"):
         kind = c["kind"].iloc[0]
         ax.plot(c["alpha"], c["beta"], color=COLOURS[kind], lw=0.9,
                 ls="-" if kind == "new" else "--")  # fmt: skip

@@ -74,11 +74,15 @@ def caption_data(table: pd.DataFrame) -> dict:
         two_cor=fmt(two["cor"].iloc[0], 10) if len(two) else "not run",
         per_family="; ".join(per_family),
         n_bound=len(hits),
-        bound_list="; ".join(f"{LABEL[r.family]} N = {r.n_masses}: {r.bounds_hit}"
-                             for r in hits.itertuples()) or "none",  # fmt: skip
+        bound_list="; ".join(
+            f"{LABEL[r.family]} N = {r.n_masses}: {r.bounds_hit}" for r in hits.itertuples()
+        )
+        or "none",  # fmt: skip
         robust_price=(
-            ", ".join(f"N = {int(r.n_masses)}: {fmt(r.worst_cor - r.cor, 2)}"
-                      for r in robust.itertuples()) or "not run"  # fmt: skip
+            ", ".join(
+                f"N = {int(r.n_masses)}: {fmt(r.worst_cor - r.cor, 2)}" for r in robust.itertuples()
+            )
+            or "not run"  # fmt: skip
         ),
         recheck=f"{recheck:.1e}",
         evaluations=int(ok["evaluations"].sum()),
