@@ -35,7 +35,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import brentq, differential_evolution, minimize
+from scipy.optimize import brentq, differential_evolution, minimize, root_scalar
 
 log = logging.getLogger(__name__)
 
@@ -55,27 +55,38 @@ def general_api_available() -> bool:
     return "masses" in inspect.signature(restitution.solve).parameters
 
 
+def _paper_form(masses, springs, k_contact):
+    """(alpha, beta, n_masses) if the scaled chain is a paper scene (m = [1, a, .., a], equal
+    springs k = a/(1 + a)), else None."""
+    m, k = masses, springs
+    uniform = m[0] == 1.0 and all(x == m[1] for x in m[1:]) and all(x == k[0] for x in k)
+    if uniform and abs(k[0] - m[1] / (1.0 + m[1])) <= 1e-14 * k[0]:  # omega = 1
+        beta = 0.0 if math.isinf(k_contact) else k[0] / k_contact
+        return m[1], beta, len(m)
+    return None
+
+
 def _solve_chain(masses, springs, k_contact, *, history=False, max_events=100_000):
     """Solve a chain given in scaled units (m_1 = 1, omega = 1; ``k_contact = inf``: rigid wall).
 
-    Uses the general ``restitution.solve(masses=..., springs=..., k_contact=...)`` when the
-    package has it; otherwise the paper's form, which covers every chain m = [1, a, ..., a] with
-    equal springs (all two-mass chains among them). Raises ``NotImplementedError`` for other chains
-    on a package without the general form.
+    The one place that calls the solver for a single chain. Paper scenes (every two-mass chain,
+    the uniform chain of Fig. 6) go through the paper form ``restitution.solve(alpha=..., ...)``,
+    the others through the general form ``restitution.solve(masses=..., springs=...,
+    k_contact=...)``; without the general form (issue 13) they raise ``NotImplementedError``.
     """
     import restitution
 
     m = [float(x) for x in masses]
     k = [float(x) for x in springs]
+    paper = _paper_form(m, k, k_contact)
+    if paper is not None:
+        alpha, beta, n = paper
+        return restitution.solve(
+            alpha=alpha, beta=beta, n_masses=n, history=history, max_events=max_events
+        )
     if general_api_available():
         return restitution.solve(
             masses=m, springs=k, k_contact=k_contact, history=history, max_events=max_events
-        )
-    if all(x == m[1] for x in m[1:]) and all(x == k[0] for x in k):
-        alpha = m[1] / m[0]
-        beta = 0.0 if math.isinf(k_contact) else k[0] / k_contact
-        return restitution.solve(
-            alpha=alpha, beta=beta, n_masses=len(m), history=history, max_events=max_events
         )
     raise NotImplementedError(
         "a chain with unequal masses m_2..m_N or unequal springs needs the general form "
@@ -84,12 +95,16 @@ def _solve_chain(masses, springs, k_contact, *, history=False, max_events=100_00
 
 
 def _solve_chains(chains, max_events=100_000):
-    """COR and success of many scaled chains ``[(masses, springs, k_contact), ...]`` in one call."""
+    """COR and success of many scaled chains ``[(masses, springs, k_contact), ...]`` in one call
+    to ``restitution.solve_many`` (paper form when every chain is a paper scene)."""
     import pandas as pd
 
     import restitution
 
-    if general_api_available():
+    forms = [_paper_form([float(x) for x in m], [float(x) for x in k], kc) for m, k, kc in chains]
+    if all(f is not None for f in forms):
+        frame = pd.DataFrame(forms, columns=["alpha", "beta", "n_masses"])
+    elif general_api_available():
         frame = pd.DataFrame(
             {
                 "masses": [list(map(float, c[0])) for c in chains],
@@ -98,14 +113,7 @@ def _solve_chains(chains, max_events=100_000):
             }
         )
     else:
-        rows = []
-        for m, k, kc in chains:
-            if not (all(x == m[1] for x in m[1:]) and all(x == k[0] for x in k)):
-                return np.array(
-                    [_solve_chain(*c, max_events=max_events).cor for c in chains]
-                ), np.ones(len(chains), bool)
-            rows.append((m[1] / m[0], 0.0 if math.isinf(kc) else k[0] / kc, len(m)))
-        frame = pd.DataFrame(rows, columns=["alpha", "beta", "n_masses"])
+        _solve_chain(*next(c for c, f in zip(chains, forms, strict=True) if f is None))
     res = restitution.solve_many(frame, max_events=max_events)
     return res["cor"].to_numpy(), (res["status"] == "ok").to_numpy()
 
@@ -242,11 +250,37 @@ class _Objective:
 
     def cor(self, x) -> float:
         m, k = self.fam.chain(x)
-        try:
-            r = self.solve(m, k)
-        except (ValueError, NotImplementedError):
-            raise
+        r = self.solve(m, k)
         return r.cor if r.success else _BAD
+
+    def _box(self, n):
+        """Error vectors of the robust objective: centre, corners (<= 64), a Sobol sample."""
+        corners = np.array(np.meshgrid(*[[-1.0, 1.0]] * n)).reshape(n, -1).T
+        if corners.shape[0] > 64:
+            corners = corners[np.random.default_rng(0).choice(corners.shape[0], 64, replace=False)]
+        return np.vstack([np.zeros(n), corners, 2.0 * _sobol(n, self.samples) - 1.0]) * self.tol
+
+    def batch(self, X) -> np.ndarray:
+        """Objective of a whole population X (dim, S) in one ``solve_many`` call.
+
+        Robust: the worst over the batch of error vectors of :meth:`_box` (the reported design's
+        worst case is then searched properly by :meth:`worst`).
+        """
+        X = np.atleast_2d(X)
+        chains, owner = [], []
+        for s in range(X.shape[1]):
+            m, k = self.fam.chain(X[:, s])
+            errs = self._box(m.size) if self.tol > 0.0 else np.zeros((1, m.size))
+            for d in errs:
+                mm = m * (1.0 + d)
+                chains.append(scaled_chain(mm / mm[0], k, self.beta))
+                owner.append(s)
+        self.calls += len(chains)
+        cor, ok = _solve_chains(chains, self.max_events)
+        cor = np.where(ok, cor, _BAD)
+        out = np.full(X.shape[1], -np.inf)
+        np.maximum.at(out, np.asarray(owner), cor)
+        return out
 
     def worst(self, x) -> float:
         """Worst COR over independent mass errors |d_i| <= tol (inner search, see module doc)."""
@@ -258,10 +292,7 @@ class _Objective:
 
         # One batch over the error box (its corners, a scrambled Sobol sample, the centre), then a
         # bounded local climb from the worst: near a cusp the worst case may be interior.
-        corners = np.array(np.meshgrid(*[[-1.0, 1.0]] * n)).reshape(n, -1).T
-        if corners.shape[0] > 64:
-            corners = corners[np.random.default_rng(0).choice(corners.shape[0], 64, replace=False)]
-        pts = np.vstack([np.zeros(n), corners, 2.0 * _sobol(n, self.samples) - 1.0]) * self.tol
+        pts = self._box(n)
         self.calls += pts.shape[0]
         cor, ok = _solve_chains([chain(d) for d in pts], self.max_events)
         cor = np.where(ok, cor, _BAD)
@@ -314,6 +345,15 @@ def _solve_on_manifold(fam, beta, x, j, n, kind, span=0.05):
     f0 = f(x[j])
     if not math.isfinite(f0):
         return None
+    # Fast path (the manifold search calls this often from points near the manifold): secant.
+    try:
+        sec = root_scalar(f, x0=x[j], x1=x[j] + 1e-7, method="secant", xtol=1e-15, maxiter=30)
+        if sec.converged and abs(sec.root - x[j]) <= span:
+            y = _to_safe_side(f, sec.root, x, j)
+            if y is not None:
+                return y
+    except (ValueError, OverflowError, ZeroDivisionError):
+        pass
     step = span / 64
     while step <= span:
         for s in (1.0, -1.0):
@@ -321,20 +361,29 @@ def _solve_on_manifold(fam, beta, x, j, n, kind, span=0.05):
             if math.isfinite(f1) and f1 * f0 <= 0.0:
                 lo, hi = sorted((x[j], x[j] + s * step))
                 t = brentq(f, lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
-                # Step onto the side without the grazing contact (G >= 0): there the COR is
-                # linear in the distance, so round-off in the root costs round-off in the COR.
-                g, d = f(t), 0
-                direction = 1.0 if f(hi) >= 0.0 else -1.0
-                while g < 0.0 and d < 64:
-                    t = np.nextafter(t, direction * math.inf)
-                    g, d = f(t), d + 1
-                if not (g >= 0.0 and abs(g) < 1e-9):
-                    return None
-                y = np.array(x, dtype=float)
-                y[j] = t
-                return y
+                return _to_safe_side(f, t, x, j)
         step *= 2.0
     return None
+
+
+def _to_safe_side(f, t, x, j):
+    """Step a root t of f by ulps onto the side without the grazing contact (f >= 0).
+
+    There the COR is linear in the distance, so round-off in the root costs round-off in the COR
+    (on the other side it rises like the square root)."""
+    g = f(t)
+    if not math.isfinite(g) or abs(g) > 1e-9:
+        return None
+    direction = 1.0 if f(t + 1e-9) >= g else -1.0
+    d = 0
+    while g < 0.0 and d < 64:
+        t = np.nextafter(t, direction * math.inf)
+        g, d = f(t), d + 1
+    if not g >= 0.0:
+        return None
+    y = np.array(x, dtype=float)
+    y[j] = t
+    return y
 
 
 def _candidates(n_col: int, beta: float):
@@ -417,7 +466,7 @@ def _minimise_on_manifold(fam, beta, y0, j, n, kind, objective):
         f,
         np.asarray(y0)[free],
         method="Nelder-Mead",
-        options={"xatol": 1e-10, "fatol": 1e-14, "maxfev": 400},
+        options={"xatol": 1e-9, "fatol": 1e-14, "maxfev": 150 * len(free)},
     )
     x = np.array(state["y"])
     x[free] = res.x
@@ -461,7 +510,7 @@ def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, 
             )
 
     res = differential_evolution(
-        objective,
+        objective.batch,
         list(zip(lb, ub, strict=True)),
         seed=seed,
         popsize=popsize,
@@ -472,6 +521,7 @@ def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, 
         polish=False,
         callback=callback,
         init="sobol",
+        vectorized=True,
     )
     x, graz = res.x, None
     method = "differential_evolution"
@@ -481,7 +531,7 @@ def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, 
     elif tolerance > 0.0:
         # Robust objective is not a cusp of one condition: refine it where it is (bounded Powell).
         loc = minimize(
-            objective,
+            lambda z: float(objective.batch(np.asarray(z)[:, None])[0]),
             res.x,
             method="Powell",
             bounds=list(zip(lb, ub, strict=True)),
@@ -489,7 +539,7 @@ def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, 
         )
         if loc.fun <= res.fun:
             x = loc.x
-        method += " + Powell (worst case: inner Powell from centre and corners)"
+        method += " + Powell; worst case: batch over the error box, then an inner Powell climb"
     m, k = fam.chain(x)
     r = objective.solve(m, k)
     masses, springs, kc = scaled_chain(m, k, beta)

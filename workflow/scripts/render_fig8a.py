@@ -57,6 +57,8 @@ def draw(grid: pd.DataFrame, curves: pd.DataFrame, params, logger):
     ax.set_xscale("log")
     ax.set_yscale("symlog", linthresh=linthresh, linscale=0.5)
     ax.axhline(linthresh / 2, color="white", lw=0.4)
+    ax.text(params.map["alpha_max"] / 1.15, linthresh / 5, r"rigid wall $\beta = 0$", color="white",
+            ha="right", va="center", fontsize="x-small")  # fmt: skip
     for _, c in curves.groupby("curve"):
         kind = c["kind"].iloc[0]
         ax.plot(c["alpha"], c["beta"], color=COLOURS[kind], lw=0.9,

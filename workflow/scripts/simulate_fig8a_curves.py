@@ -32,16 +32,22 @@ def _crossings(curves, beta, lo, hi) -> bool:
     return False
 
 
-def unexplained_steps(grid: pd.DataFrame, curves) -> list:
-    """(alpha_lo, alpha_hi, beta, n_lo, n_hi) of grid count steps no traced curve crosses."""
+def grid_steps(grid: pd.DataFrame, n_max: int) -> list:
+    """(alpha_lo, alpha_hi, beta, n_lo, n_hi) of the grid's count steps along alpha between
+    counts up to n_max + 1 (the steps the curves of contacts 1..n_max can explain)."""
     out = []
     for beta, row in grid.groupby("beta"):
         row = row.sort_values("alpha")
         a, n = row["alpha"].to_numpy(), row["n_collisions"].to_numpy()
         for i in np.flatnonzero(np.diff(n) != 0):
-            if not _crossings(curves, beta, a[i], a[i + 1]):
+            if max(n[i], n[i + 1]) <= n_max + 1:
                 out.append((a[i], a[i + 1], beta, n[i], n[i + 1]))
     return out
+
+
+def unexplained_steps(steps, curves) -> list:
+    """The grid steps no traced curve crosses."""
+    return [s for s in steps if not _crossings(curves, s[2], s[0], s[1])]
 
 
 def main(params, map_paths, output_path, logger) -> pd.DataFrame:
@@ -53,10 +59,11 @@ def main(params, map_paths, output_path, logger) -> pd.DataFrame:
     box = (params.map["alpha_min"], params.map["alpha_max"], params.map["beta_max"])
     curves = cormap.trace_all(stars, progress=logger.info, box=box)
     grid = pd.concat([read_table(p) for p in map_paths], ignore_index=True)
-    missing = unexplained_steps(grid, curves)
-    total = int(sum((np.diff(r.sort_values("alpha")["n_collisions"].to_numpy()) != 0).sum()
-                    for _, r in grid.groupby("beta")))  # fmt: skip
-    logger.info("grid count steps: %d, not crossed by a traced curve: %d", total, len(missing))
+    steps = grid_steps(grid, cfg["n_max"])
+    total = len(steps)
+    missing = unexplained_steps(steps, curves)
+    logger.info("grid count steps between counts <= %d: %d, not crossed by a traced curve: %d",
+                cfg["n_max"] + 1, total, len(missing))  # fmt: skip
     # Seed the unexplained steps (at most max_extra_seeds, the largest beta first: there the
     # split curves live) with the condition that vanishes at the count step.
     seeds = []
@@ -74,7 +81,7 @@ def main(params, map_paths, output_path, logger) -> pd.DataFrame:
             seeds.append((best[1], best[2], a, beta))
     if seeds:
         cormap.trace_all([], extra_seeds=seeds, progress=logger.info, box=box, curves=curves)
-    missing_after = unexplained_steps(grid, curves)
+    missing_after = unexplained_steps(steps, curves)
     coverage = 1.0 - len(missing_after) / max(total, 1)
     logger.info("after grid seeds: %d curves, %d of %d grid steps explained (%.1f %%)",
                 len(curves), total - len(missing_after), total, 100 * coverage)  # fmt: skip
