@@ -109,7 +109,7 @@ plt.show()
 if TOL > 0:
     rob = design.minimize_cor(
         N, bounds=BOUNDS, beta=BETA, tolerance=TOL, popsize=POPSIZE,
-        maxiter=max(10, MAXITER // 3), progress=None,
+        maxiter=max(5, MAXITER // 6), progress=None,
     )  # fmt: skip
     print(
         f"robust: nominal COR {rob.cor:.6f}, worst {rob.worst_cor:.6f} "

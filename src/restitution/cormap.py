@@ -304,10 +304,13 @@ def trace(
     h_max: float = 0.08,
     h_min: float = 1e-5,
     max_points: int = 2000,
+    box=(*ALPHA_RANGE, BETA_MAX),
 ) -> Curve:
-    """Follow the zero set of G(n, kind) from z0 = (ln alpha, sqrt beta) along the tangent t0."""
-    x_lo, x_hi = (math.log(a) for a in ALPHA_RANGE)
-    y_hi = math.sqrt(BETA_MAX)
+    """Follow the zero set of G(n, kind) from z0 = (ln alpha, sqrt beta) along the tangent t0.
+
+    ``box`` = (alpha_min, alpha_max, beta_max) ends the curve (``end = "box"``)."""
+    x_lo, x_hi = math.log(box[0]), math.log(box[1])
+    y_hi = math.sqrt(box[2])
     z = np.asarray(z0, dtype=float)
     t = np.asarray(t0, dtype=float) / np.hypot(*t0)
     g0 = _g(n, kind, *z)
@@ -405,7 +408,9 @@ def _land(n, kind, z):
     return None if lam is None else np.asarray(z, float) + lam * nrm
 
 
-def trace_all(alpha_star, n_max: int | None = None, extra_seeds=(), progress=None) -> list[Curve]:
+def trace_all(
+    alpha_star, n_max: int | None = None, extra_seeds=(), progress=None, box=None, curves=None
+) -> list[Curve]:
     """Trace every count-step curve reachable from the beta = 0 grazing points and extra seeds.
 
     ``alpha_star``: the exact beta = 0 points alpha*_1.. (``special_points``), seeds of the ``new``
@@ -413,9 +418,11 @@ def trace_all(alpha_star, n_max: int | None = None, extra_seeds=(), progress=Non
     there (|G| small, contact index up to n + 1) are the curves it meets: they are traced in both
     directions from that junction. ``extra_seeds``: (n, kind, alpha, beta) points on other curves
     (e.g. from the grid, for components not connected to beta = 0). Returns the curves in the order
-    traced.
+    traced. ``box`` = (alpha_min, alpha_max, beta_max); ``curves``: already traced curves, extended
+    in place (their conditions are not traced again).
     """
-    curves: list[Curve] = []
+    box = box or (*ALPHA_RANGE, BETA_MAX)
+    curves = [] if curves is None else curves
     queue = []
     for n, a in enumerate(alpha_star[:n_max], start=1):
         z = np.array([math.log(a), 0.0])
@@ -429,7 +436,7 @@ def trace_all(alpha_star, n_max: int | None = None, extra_seeds=(), progress=Non
         n, kind, z, t = queue.pop(0)
         if _near(curves, n, kind, z + 0.01 * t):
             continue
-        c = trace(n, kind, z, t)
+        c = trace(n, kind, z, t, box=box)
         curves.append(c)
         if progress:
             progress(f"curve {len(curves)}: {kind} n={n}, {len(c.alpha)} points, end: {c.end}")
