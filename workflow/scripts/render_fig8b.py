@@ -33,7 +33,7 @@ def draw(table: pd.DataFrame, params):
         if family == "robust":
             ax.plot(rows["n_masses"], rows["cor"], color=colour, marker=marker, ms=4, lw=0.6,
                     ls="--", mfc="none", label="robust (nominal)")  # fmt: skip
-    ax.set_yscale("log")
+    ax.set_ylim(0.0, 1.0)
     ax.set_xlabel("number of masses N")
     ax.set_ylabel("smallest COR")
     ax.legend(fontsize="x-small", loc="best")
@@ -55,10 +55,17 @@ def caption_data(table: pd.DataFrame) -> dict:
             continue
         y = rows["worst_cor"] if family == "robust" else rows["cor"]
         first, last = rows.iloc[0], rows.iloc[-1]
-        trend = "falls" if y.iloc[-1] < y.iloc[0] else "does not fall"
+        if len(rows) == 1:
+            per_family.append(
+                f"{LABEL[family]}: {fmt(y.iloc[0], 4)} at N = {int(first['n_masses'])}"
+            )
+            continue
+        trend = "falls" if y.iloc[-1] < y.iloc[0] else "rises"
+        low = rows.iloc[int(y.to_numpy().argmin())]
         per_family.append(
             f"{LABEL[family]}: {fmt(y.iloc[0], 4)} at N = {int(first['n_masses'])} to "
-            f"{fmt(y.iloc[-1], 4)} at N = {int(last['n_masses'])} ({trend})"
+            f"{fmt(y.iloc[-1], 4)} at N = {int(last['n_masses'])} ({trend}; lowest "
+            f"{fmt(y.min(), 4)} at N = {int(low['n_masses'])})"
         )
     hits = ok[ok["bounds_hit"].str.len() > 0]
     robust = ok[ok["family"] == "robust"]
