@@ -5,19 +5,6 @@
 # that `all` leaves out (config fig8.design.extra).
 
 
-def fig8_map_chunks():
-    return [
-        f"results/fig8/map_{k}.parquet" for k in range(config["fig8"]["map"]["chunks"])
-    ]
-
-
-def fig8_design_tables(which):
-    d = config["fig8"]["design"][which]
-    return [
-        f"results/design/{family}_N{n}.parquet" for family, ns in d.items() for n in ns
-    ]
-
-
 # ---------------------------------------------------------------------------------------------
 # Fig. 8(a): the (alpha, beta) map
 # ---------------------------------------------------------------------------------------------
@@ -47,8 +34,13 @@ rule simulate_fig8a_map:
 rule simulate_fig8a_curves:
     """Trace the count-step curves from the exact beta = 0 points; seed grid steps they miss."""
     input:
-        code=package_sources("cormap.py", "design.py", "special_points.py"),
-        maps=fig8_map_chunks(),
+        code=package_sources(
+            "cormap.py", "design.py", "special_points.py", "chain.py", "methods.py"
+        ),
+        maps=expand(
+            "results/fig8/map_{chunk}.parquet",
+            chunk=range(config["fig8"]["map"]["chunks"]),
+        ),
     output:
         table=report(
             "results/fig8/curves.parquet",
@@ -77,7 +69,10 @@ rule simulate_fig8a_curves:
 rule fig8a:
     """Draw Fig. 8(a) and write its caption from the tables."""
     input:
-        maps=fig8_map_chunks(),
+        maps=expand(
+            "results/fig8/map_{chunk}.parquet",
+            chunk=range(config["fig8"]["map"]["chunks"]),
+        ),
         curves=rules.simulate_fig8a_curves.output.table,
         template="workflow/report/fig8a.rst",
         style="src/restitution/restitution.mplstyle",
@@ -114,7 +109,15 @@ rule fig8a:
 rule design_fig8b:
     """One design: the minimum-COR chain of one family and one N, re-checked by a fresh solve."""
     input:
-        code=package_sources("cormap.py", "design.py"),
+        code=package_sources(
+            "cormap.py",
+            "design.py",
+            "chain.py",
+            "methods.py",
+            "tables.py",
+            "kernels/chain.py",
+            "kernels/locator.py",
+        ),
     output:
         table="results/design/{family}_N{n}.parquet",
     log:
@@ -143,7 +146,11 @@ rule design_fig8b:
 rule design_fig8b_collect:
     """All designs of `all` in one table."""
     input:
-        tables=fig8_design_tables("all"),
+        tables=[
+            f"results/design/{family}_N{n}.parquet"
+            for family, ns in config["fig8"]["design"]["all"].items()
+            for n in ns
+        ],
     output:
         table=report(
             "results/design/designs.parquet",
@@ -165,7 +172,11 @@ rule design_fig8b_collect:
 rule design_extra_collect:
     """The costly designs `all` leaves out (config fig8.design.extra), in one table."""
     input:
-        tables=fig8_design_tables("extra"),
+        tables=[
+            f"results/design/{family}_N{n}.parquet"
+            for family, ns in config["fig8"]["design"]["extra"].items()
+            for n in ns
+        ],
     output:
         table="results/design/designs_extra.parquet",
     log:
