@@ -45,6 +45,21 @@ def test_same_result_for_every_run():
     assert a.masses.tolist() == b.masses.tolist() and a.cor == b.cor
 
 
+def test_same_result_for_any_thread_count():
+    import numba
+
+    threads = numba.get_num_threads()
+    results = []
+    try:
+        for n in sorted({1, threads}):
+            numba.set_num_threads(n)
+            d = design.best_tapered(3, progress=None)
+            results.append((d.masses.tolist(), d.cor, d.evaluations))
+    finally:
+        numba.set_num_threads(threads)
+    assert all(r == results[0] for r in results)
+
+
 def test_progress_lines_are_printed():
     lines = []
     design.minimize_cor(2, progress=lines.append, maxiter=5)
