@@ -71,7 +71,7 @@ def test_optimum_rides_a_bound_and_says_so():
     # optimum sits on the upper bound 0.5.
     d = design.minimize_cor(2, bounds=(0.01, 0.5), progress=None)
     assert d.masses[1] == pytest.approx(0.5, rel=1e-6)
-    assert d.bounds_hit and "upper" in d.bounds_hit[0]
+    assert d.bounds_hit and "at upper bound" in d.bounds_hit[0]
     assert d.cor == pytest.approx(restitution.solve(alpha=0.5).cor, abs=1e-9)
 
 
