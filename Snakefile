@@ -31,6 +31,7 @@ include: "workflow/rules/fig4_5.smk"
 include: "workflow/rules/fig7.smk"
 include: "workflow/rules/reproduction.smk"
 include: "workflow/rules/benchmarks.smk"
+include: "workflow/rules/design.smk"
 include: "workflow/rules/study.smk"
 
 
@@ -79,6 +80,10 @@ rule all:
         rules.fig7d.output.png,
         rules.fig7d.output.pdf,
         rules.reproduction.output.table,
+        rules.fig8a.output.png,
+        rules.fig8a.output.pdf,
+        rules.fig8b.output.png,
+        rules.fig8b.output.pdf,
         # Every documented result table (workflow/tables.yaml, docs/tables.md): a deleted one is
         # rebuilt even when no figure needs it.
         result_tables(),

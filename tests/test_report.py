@@ -28,6 +28,7 @@ SECTIONS = {
     "5": "Sect. 3.2: scissor structural spring",
     "6": "Sect. 3.3: chains of N masses",
     "7": "Sect. 3.4: dashpot between the masses",
+    "8": "Beyond the paper",
 }
 CATEGORIES = set(SECTIONS.values()) | {"Reproduction", "Work-precision"}
 

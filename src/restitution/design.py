@@ -1,0 +1,693 @@
+"""Minimum-COR design of mass-spring chains: which masses (and springs) rebound the least.
+
+The paper's two-mass optimum alpha*_1 = 0.6971..., COR e*_1 = 0.178... is a *cusp*: the COR is
+smallest exactly where one more contact grazes the wall, and rises like the square root of the
+distance on one side. This module asks the same of an N-mass chain.
+
+Method
+------
+1. **Global search**: scipy's ``differential_evolution`` over the logarithms of the ratios
+   m_i/m_1 (i = 2..N; optionally also k_i/k_12, i = 2..N-1) within user bounds, seeded, one worker
+   and ``updating="deferred"``, so the result is identical for any thread count.
+2. **Polish on the grazing manifold**: the optimum sits where some contact grazes, i.e. on the
+   zero set of a smooth grazing condition G (``restitution.cormap``: the first gap minimum after
+   the n-th separation, or the first compression minimum of the n-th contact). The polish does not
+   poke at the cusp: it solves G = 0 for the coordinate G depends on most (Brent's method) and, for
+   more than one free parameter, minimises the COR over the remaining coordinates on that manifold
+   (Nelder-Mead, where the COR is smooth). The COR is read on the side of the manifold where the
+   grazing contact is absent (there it varies linearly, not like a square root).
+3. **Robust variant**: the worst COR over independent mass errors of +-``tolerance`` (each mass
+   on its own), searched by an inner optimiser (the worst case near a cusp need not be a corner of
+   the error box), is minimised instead.
+
+Every design's COR is re-checked by a fresh solver call (``cor_check``).
+
+Units: ratios to m_1 and k_12; the chain is scaled to omega = 1 (omega^2 = k_12/m_1 + k_12/m_2)
+for the solver, so beta = k_12/k_contact as in the paper.
+"""
+
+from __future__ import annotations
+
+import functools
+import inspect
+import logging
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import brentq, differential_evolution, minimize, root_scalar
+
+log = logging.getLogger(__name__)
+
+DEFAULT_BOUNDS = (0.01, 100.0)
+MAX_MASSES = 16
+_BAD = 10.0  # objective of a scene the solver could not finish (never a minimum: COR <= 1)
+
+
+# ---------------------------------------------------------------------------------------------
+# The one place that calls the solver.
+# ---------------------------------------------------------------------------------------------
+@functools.lru_cache(maxsize=1)
+def general_api_available() -> bool:
+    """Whether ``restitution.solve`` takes the general chain form ``masses=..., springs=...``."""
+    import restitution
+
+    return "masses" in inspect.signature(restitution.solve).parameters
+
+
+def _paper_form(masses, springs, k_contact):
+    """(alpha, beta, n_masses) if the scaled chain is a paper scene (m = [1, a, .., a], equal
+    springs k = a/(1 + a)), else None."""
+    m, k = masses, springs
+    uniform = m[0] == 1.0 and all(x == m[1] for x in m[1:]) and all(x == k[0] for x in k)
+    if uniform and abs(k[0] - m[1] / (1.0 + m[1])) <= 1e-14 * k[0]:  # omega = 1
+        beta = 0.0 if math.isinf(k_contact) else k[0] / k_contact
+        return m[1], beta, len(m)
+    return None
+
+
+def _solve_chain(masses, springs, k_contact, *, history=False, max_events=100_000):
+    """Solve a chain given in scaled units (m_1 = 1, omega = 1; ``k_contact = inf``: rigid wall).
+
+    The one place that calls the solver for a single chain. Paper scenes (every two-mass chain,
+    the uniform chain of Fig. 6) go through the paper form ``restitution.solve(alpha=..., ...)``,
+    the others through the general form ``restitution.solve(masses=..., springs=...,
+    k_contact=...)``; without the general form (issue 13) they raise ``NotImplementedError``.
+    """
+    import restitution
+
+    m = [float(x) for x in masses]
+    k = [float(x) for x in springs]
+    paper = _paper_form(m, k, k_contact)
+    if paper is not None:
+        alpha, beta, n = paper
+        return restitution.solve(
+            alpha=alpha, beta=beta, n_masses=n, history=history, max_events=max_events
+        )
+    if general_api_available():
+        return restitution.solve(
+            masses=m, springs=k, k_contact=k_contact, history=history, max_events=max_events
+        )
+    raise NotImplementedError(
+        "a chain with unequal masses m_2..m_N or unequal springs needs the general form "
+        "restitution.solve(masses=..., springs=..., k_contact=...) (issue 13)"
+    )
+
+
+def _solve_chains(chains, max_events=100_000):
+    """COR and success of many scaled chains ``[(masses, springs, k_contact), ...]`` in one call
+    to ``restitution.solve_many`` (paper form when every chain is a paper scene)."""
+    import pandas as pd
+
+    import restitution
+
+    forms = [_paper_form([float(x) for x in m], [float(x) for x in k], kc) for m, k, kc in chains]
+    if all(f is not None for f in forms):
+        frame = pd.DataFrame(forms, columns=["alpha", "beta", "n_masses"])
+    elif general_api_available():
+        frame = pd.DataFrame(
+            {
+                "masses": [list(map(float, c[0])) for c in chains],
+                "springs": [list(map(float, c[1])) for c in chains],
+                "k_contact": [float(c[2]) for c in chains],
+            }
+        )
+    else:
+        _solve_chain(*next(c for c, f in zip(chains, forms, strict=True) if f is None))
+    res = restitution.solve_many(frame, max_events=max_events)
+    return res["cor"].to_numpy(), (res["status"] == "ok").to_numpy()
+
+
+def scaled_chain(mass_ratios, spring_ratios, beta: float):
+    """(masses, springs, k_contact) in solver units from ratios to m_1 and k_12 and beta."""
+    m = np.asarray(mass_ratios, dtype=float)
+    kr = np.asarray(spring_ratios, dtype=float)
+    k12 = 1.0 / (1.0 / m[0] + 1.0 / m[1])  # omega = 1 with m_1 = 1
+    k = kr * k12
+    return m, k, (math.inf if beta == 0.0 else k[0] / beta)
+
+
+# ---------------------------------------------------------------------------------------------
+# Results.
+# ---------------------------------------------------------------------------------------------
+@dataclass
+class Design:
+    """An optimised chain.
+
+    Attributes
+    ----------
+    masses, springs : numpy arrays
+        Ratios m_i/m_1 (masses[0] = 1) and k_i/k_12 (springs[0] = 1).
+    cor : float
+        COR of the design (the robust objective's nominal COR for ``robust`` designs).
+    n_collisions : int
+        Contacts of the design (on the side of the cusp where the grazing contact is absent).
+    worst_cor : float
+        Worst COR over the mass errors (nan unless ``tolerance`` > 0).
+    cor_check : float
+        COR re-solved by a fresh ``restitution.solve`` call.
+    bounds_hit : list of str
+        Parameters that sit on a bound (e.g. ``["m_3/m_1 = 100 (upper)"]``).
+    grazing : tuple or None
+        (n, kind) of the grazing condition the polish solved, or None.
+    method : str
+        How the optimum was found.
+    evaluations : int
+        Solver calls.
+    """
+
+    family: str
+    n_masses: int
+    beta: float
+    masses: np.ndarray
+    springs: np.ndarray
+    cor: float
+    n_collisions: int
+    worst_cor: float = math.nan
+    tolerance: float = 0.0
+    cor_check: float = math.nan
+    bounds_hit: list = field(default_factory=list)
+    grazing: tuple | None = None
+    method: str = ""
+    evaluations: int = 0
+    parameter: float = math.nan  # the family's one parameter (uniform: alpha; tapered: ratio)
+
+    def row(self) -> dict:
+        """One table row (lists for the chain)."""
+        return dict(
+            family=self.family,
+            n_masses=self.n_masses,
+            beta=self.beta,
+            tolerance=self.tolerance,
+            cor=self.cor,
+            cor_check=self.cor_check,
+            worst_cor=self.worst_cor,
+            n_collisions=self.n_collisions,
+            parameter=self.parameter,
+            masses=[float(x) for x in self.masses],
+            springs=[float(x) for x in self.springs],
+            bounds_hit="; ".join(self.bounds_hit),
+            grazing="" if self.grazing is None else f"{self.grazing[1]} n={self.grazing[0]}",
+            method=self.method,
+            evaluations=self.evaluations,
+        )
+
+
+# ---------------------------------------------------------------------------------------------
+# Parametrisations: log-parameters -> (mass ratios, spring ratios).
+# ---------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Family:
+    """A family of chains: ``chain(x)`` maps log-parameters x to (mass ratios, spring ratios)."""
+
+    name: str
+    n_masses: int
+    dim: int
+    names: tuple
+
+    def chain(self, x):
+        n = self.n_masses
+        x = np.asarray(x, dtype=float)
+        if self.name == "uniform":
+            return np.r_[1.0, np.full(n - 1, math.exp(x[0]))], np.ones(n - 1)
+        if self.name == "tapered":
+            return np.exp(x[0] * np.arange(n)), np.ones(n - 1)
+        m = np.r_[1.0, np.exp(x[: n - 1])]
+        k = np.r_[1.0, np.exp(x[n - 1 :])] if self.name == "masses+springs" else np.ones(n - 1)
+        return m, k
+
+
+def family(name: str, n_masses: int) -> Family:
+    if name in ("uniform", "tapered"):
+        label = "m_2/m_1 (all)" if name == "uniform" else "m_(i+1)/m_i"
+        return Family(name, n_masses, 1, (label,))
+    masses = tuple(f"m_{i}/m_1" for i in range(2, n_masses + 1))
+    if name == "masses":
+        return Family(name, n_masses, n_masses - 1, masses)
+    if name == "masses+springs":
+        springs = tuple(f"k_{i}/k_12" for i in range(2, n_masses))
+        return Family(name, n_masses, n_masses - 1 + len(springs), masses + springs)
+    raise ValueError(
+        f"family={name!r}: must be one of 'masses', 'masses+springs', 'uniform', 'tapered'"
+    )
+
+
+# ---------------------------------------------------------------------------------------------
+# Objective.
+# ---------------------------------------------------------------------------------------------
+class _Objective:
+    """COR (or worst COR over mass errors) of a family member, counting solver calls."""
+
+    def __init__(self, fam: Family, beta: float, tolerance: float, max_events: int):
+        self.fam, self.beta, self.tol, self.max_events = fam, beta, tolerance, max_events
+        self.calls = 0
+        self.samples = 16  # Sobol points of the robust objective's error box
+
+    def solve(self, m, k):
+        self.calls += 1
+        masses, springs, kc = scaled_chain(m / m[0], k, self.beta)
+        return _solve_chain(masses, springs, kc, max_events=self.max_events)
+
+    def cor(self, x) -> float:
+        m, k = self.fam.chain(x)
+        r = self.solve(m, k)
+        return r.cor if r.success else _BAD
+
+    def _box(self, n):
+        """Error vectors of the robust objective: centre, corners (<= 64), a Sobol sample."""
+        corners = np.array(np.meshgrid(*[[-1.0, 1.0]] * n)).reshape(n, -1).T
+        if corners.shape[0] > 64:
+            corners = corners[np.random.default_rng(0).choice(corners.shape[0], 64, replace=False)]
+        return np.vstack([np.zeros(n), corners, 2.0 * _sobol(n, self.samples) - 1.0]) * self.tol
+
+    def batch(self, X) -> np.ndarray:
+        """Objective of a whole population X (dim, S) in one ``solve_many`` call.
+
+        Robust: the worst over the batch of error vectors of :meth:`_box` (the reported design's
+        worst case is then searched properly by :meth:`worst`).
+        """
+        X = np.atleast_2d(X)
+        chains, owner = [], []
+        for s in range(X.shape[1]):
+            m, k = self.fam.chain(X[:, s])
+            errs = self._box(m.size) if self.tol > 0.0 else np.zeros((1, m.size))
+            for d in errs:
+                mm = m * (1.0 + d)
+                chains.append(scaled_chain(mm / mm[0], k, self.beta))
+                owner.append(s)
+        self.calls += len(chains)
+        cor, ok = _solve_chains(chains, self.max_events)
+        cor = np.where(ok, cor, _BAD)
+        out = np.full(X.shape[1], -np.inf)
+        np.maximum.at(out, np.asarray(owner), cor)
+        return out
+
+    def worst(self, x) -> float:
+        """Worst COR over independent mass errors |d_i| <= tol (inner search, see module doc)."""
+        m, k = self.fam.chain(x)
+        n = m.size
+
+        def chain(d):
+            return scaled_chain(m * (1.0 + np.asarray(d)) / (m[0] * (1.0 + d[0])), k, self.beta)
+
+        # One batch over the error box (its corners, a scrambled Sobol sample, the centre), then a
+        # bounded local climb from the worst: near a cusp the worst case may be interior.
+        pts = self._box(n)
+        self.calls += pts.shape[0]
+        cor, ok = _solve_chains([chain(d) for d in pts], self.max_events)
+        cor = np.where(ok, cor, _BAD)
+        i = int(np.argmax(cor))
+
+        def neg(d):
+            self.calls += 1
+            r = _solve_chain(*chain(d), max_events=self.max_events)
+            return -(r.cor if r.success else _BAD)
+
+        res = minimize(
+            neg,
+            pts[i],
+            method="Powell",
+            bounds=[(-self.tol, self.tol)] * n,
+            options={"xtol": 1e-3 * self.tol, "ftol": 1e-12, "maxfev": 20 * n},
+        )
+        return max(float(cor[i]), -float(res.fun))
+
+    def __call__(self, x) -> float:
+        return self.worst(x) if self.tol > 0.0 else self.cor(x)
+
+
+@functools.lru_cache(maxsize=16)
+def _sobol(dim: int, n: int) -> np.ndarray:
+    from scipy.stats import qmc
+
+    return qmc.Sobol(dim, scramble=True, seed=0).random(n)
+
+
+# ---------------------------------------------------------------------------------------------
+# Polish on the grazing manifold.
+# ---------------------------------------------------------------------------------------------
+def _grazing_value(fam: Family, beta: float, x, n: int, kind: str) -> float:
+    from .cormap import grazing
+
+    m, k = fam.chain(x)
+    masses, springs, kc = scaled_chain(m, k, beta)
+    return grazing(masses, springs, kc, n, kind).value
+
+
+def _solve_on_manifold(fam, beta, x, j, n, kind, span=0.05):
+    """x with coordinate j moved so that G(n, kind) = 0 (nearest root within +-span), or None."""
+
+    def f(t):
+        y = np.array(x, dtype=float)
+        y[j] = t
+        return _grazing_value(fam, beta, y, n, kind)
+
+    f0 = f(x[j])
+    if not math.isfinite(f0):
+        return None
+    # Fast path (the manifold search calls this often from points near the manifold): secant.
+    try:
+        sec = root_scalar(f, x0=x[j], x1=x[j] + 1e-7, method="secant", xtol=1e-15, maxiter=30)
+        if sec.converged and abs(sec.root - x[j]) <= span:
+            y = _to_safe_side(f, sec.root, x, j)
+            if y is not None:
+                return y
+    except (ValueError, OverflowError, ZeroDivisionError):
+        pass
+    step = span / 64
+    while step <= span:
+        for s in (1.0, -1.0):
+            f1 = f(x[j] + s * step)
+            if math.isfinite(f1) and f1 * f0 <= 0.0:
+                lo, hi = sorted((x[j], x[j] + s * step))
+                t = brentq(f, lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
+                return _to_safe_side(f, t, x, j)
+        step *= 2.0
+    return None
+
+
+def _to_safe_side(f, t, x, j):
+    """Step a root t of f by ulps onto the side without the grazing contact (f >= 0).
+
+    There the COR is linear in the distance, so round-off in the root costs round-off in the COR
+    (on the other side it rises like the square root)."""
+    g = f(t)
+    if not math.isfinite(g) or abs(g) > 1e-9:
+        return None
+    direction = 1.0 if f(t + 1e-9) >= g else -1.0
+    d = 0
+    while g < 0.0 and d < 64:
+        t = np.nextafter(t, direction * math.inf)
+        g, d = f(t), d + 1
+    if not g >= 0.0:
+        return None
+    y = np.array(x, dtype=float)
+    y[j] = t
+    return y
+
+
+def _candidates(n_col: int, beta: float):
+    """Grazing conditions that can bound a cusp next to a scene with n_col contacts."""
+    out = [(n, "new") for n in (n_col - 1, n_col) if n >= 1]
+    if beta > 0.0:
+        out += [(n, "split") for n in range(1, n_col + 1)]
+    return out
+
+
+def _polish(fam, beta, x0, objective: _Objective, progress, box):
+    """Polish the global search's best point on the grazing manifold; (x, grazing) or (x0, None)."""
+    m, k = fam.chain(x0)
+    n_col = objective.solve(m, k).n_collisions
+    best_x, best_f, best_g = np.asarray(x0, float), objective.cor(x0), None
+    for n, kind in _candidates(n_col, beta):
+        # Solve G = 0 for the coordinate it depends on most.
+        grads = []
+        for j in range(fam.dim):
+            e = np.zeros(fam.dim)
+            e[j] = 1e-6
+            gp = _grazing_value(fam, beta, x0 + e, n, kind)
+            gm = _grazing_value(fam, beta, x0 - e, n, kind)
+            grads.append(abs(gp - gm) if math.isfinite(gp - gm) else 0.0)
+        if not any(grads):
+            continue
+        j = int(np.argmax(grads))
+        y = _solve_on_manifold(fam, beta, x0, j, n, kind)
+        if y is None or not _inside(y, box):
+            continue
+        if fam.dim > 1:
+            y = _minimise_on_manifold(fam, beta, y, j, n, kind, objective)
+            if not _inside(y, box):
+                continue
+        fy = objective.cor(y)
+        if progress:
+            progress(f"polish: grazing {kind} n={n}: COR {fy:.15g} (search: {best_f:.15g})")
+        if fy <= best_f + 1e-12:
+            best_x, best_f, best_g = y, fy, (n, kind)
+    # At beta > 0 the COR may also have a smooth minimum next to the cusp (the new contact's
+    # impulse then grows smoothly, not like a square root): a tight local search finds it.
+    loc = minimize(
+        objective.cor,
+        x0,
+        method="Nelder-Mead",
+        bounds=box,
+        options={
+            "xatol": 1e-13,
+            "fatol": 1e-16,
+            "maxfev": 400 * fam.dim,
+            "initial_simplex": np.vstack([x0, x0 + 1e-4 * np.eye(fam.dim)]),
+        },
+    )
+    if loc.fun < best_f - 1e-12:  # more than round-off below the grazing point
+        if progress:
+            progress(f"polish: smooth minimum: COR {loc.fun:.15g}")
+        best_x, best_f, best_g = loc.x, loc.fun, None
+    return best_x, best_g
+
+
+def _inside(x, box) -> bool:
+    return all(lo <= xi <= hi for xi, (lo, hi) in zip(x, box, strict=True))
+
+
+def _minimise_on_manifold(fam, beta, y0, j, n, kind, objective):
+    """Minimise the COR over the other coordinates, coordinate j solved from G = 0 each time."""
+    free = [i for i in range(fam.dim) if i != j]
+    state = {"y": np.array(y0)}
+
+    def f(z):
+        x = np.array(state["y"])
+        x[free] = z
+        y = _solve_on_manifold(fam, beta, x, j, n, kind)
+        if y is None:
+            return _BAD
+        state["y"] = y
+        return objective.cor(y)
+
+    res = minimize(
+        f,
+        np.asarray(y0)[free],
+        method="Nelder-Mead",
+        options={"xatol": 1e-9, "fatol": 1e-14, "maxfev": 60 * len(free)},
+    )
+    x = np.array(state["y"])
+    x[free] = res.x
+    y = _solve_on_manifold(fam, beta, x, j, n, kind)
+    return y0 if y is None or objective.cor(y) > objective.cor(y0) else y
+
+
+# ---------------------------------------------------------------------------------------------
+# Public entry points.
+# ---------------------------------------------------------------------------------------------
+def _check(n_masses, beta, bounds, tolerance, vary):
+    if not isinstance(n_masses, (int, np.integer)) or not 2 <= n_masses <= MAX_MASSES:
+        raise ValueError(f"n_masses={n_masses!r}: must be an integer in [2, {MAX_MASSES}]")
+    if not (isinstance(beta, (int, float)) and math.isfinite(beta) and 0.0 <= beta <= 1e6):
+        raise ValueError(f"beta={beta!r}: must be a number in [0, 1e6] (0: rigid wall)")
+    lo, hi = bounds
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 < lo < hi):
+        raise ValueError(f"bounds={bounds!r}: must be (low, high) with 0 < low < high, finite")
+    if not (math.isfinite(tolerance) and 0.0 <= tolerance < 0.5):
+        raise ValueError(f"tolerance={tolerance!r}: must be a number in [0, 0.5)")
+    if vary not in ("masses", "masses+springs"):
+        raise ValueError(f"vary={vary!r}: must be 'masses' or 'masses+springs'")
+
+
+def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, progress, polish):
+    objective = _Objective(fam, beta, tolerance, max_events)
+    lb = [math.log(bounds[0])] * fam.dim
+    ub = [math.log(bounds[1])] * fam.dim
+    if fam.name == "tapered":
+        # Ratio per step r: the end mass r**(N-1) stays within the bounds.
+        lb = [math.log(bounds[0]) / (fam.n_masses - 1)]
+        ub = [math.log(bounds[1]) / (fam.n_masses - 1)]
+    gen = [0]
+
+    def callback(intermediate_result):
+        gen[0] += 1
+        if progress:
+            progress(
+                f"{fam.name} N={fam.n_masses} generation {gen[0]}: best "
+                f"{intermediate_result.fun:.10g} ({objective.calls} solves)"
+            )
+
+    res = differential_evolution(
+        objective.batch,
+        list(zip(lb, ub, strict=True)),
+        seed=seed,
+        popsize=popsize,
+        maxiter=maxiter,
+        # The search only has to find the cusp's basin: the polish resolves the cusp itself.
+        tol=1e-7,
+        workers=1,
+        updating="deferred",
+        polish=False,
+        callback=callback,
+        init="sobol",
+        vectorized=True,
+    )
+    x, graz = res.x, None
+    method = "differential_evolution"
+    if polish and tolerance == 0.0:
+        x, graz = _polish(fam, beta, res.x, objective, progress, list(zip(lb, ub, strict=True)))
+        method += " + grazing-manifold polish" if graz else " + local polish (smooth minimum)"
+    elif tolerance > 0.0:
+        # Robust objective is not a cusp of one condition: refine it where it is (bounded Powell).
+        loc = minimize(
+            lambda z: float(objective.batch(np.asarray(z)[:, None])[0]),
+            res.x,
+            method="Powell",
+            bounds=list(zip(lb, ub, strict=True)),
+            options={"xtol": 1e-8, "ftol": 1e-12, "maxfev": 50 * fam.dim},
+        )
+        if loc.fun <= res.fun:
+            x = loc.x
+        method += " + Powell; worst case: batch over the error box, then an inner Powell climb"
+    m, k = fam.chain(x)
+    r = objective.solve(m, k)
+    masses, springs, kc = scaled_chain(m, k, beta)
+    check = _solve_chain(masses, springs, kc, max_events=max_events)
+    hit = []
+    for name, xi, low, up in zip(fam.names, x, lb, ub, strict=True):
+        # "near": within 1 % of a bound, where the local polish may stop short of it while the
+        # COR still falls towards it (the optimum then depends on the bound too).
+        for edge, which in ((low, "lower"), (up, "upper")):
+            gap = abs(xi - edge)
+            if gap < 0.01:
+                word = "at" if gap < 1e-6 else f"within {100 * (math.exp(gap) - 1):.2g} % of"
+                hit.append(f"{name} = {math.exp(xi):.4g} {word} {which} bound {math.exp(edge):.4g}")
+    return Design(
+        family=fam.name,
+        n_masses=fam.n_masses,
+        beta=beta,
+        masses=m,
+        springs=k,
+        cor=r.cor,
+        n_collisions=r.n_collisions,
+        worst_cor=objective.worst(x) if tolerance > 0.0 else math.nan,
+        tolerance=tolerance,
+        cor_check=check.cor,
+        bounds_hit=hit,
+        grazing=graz,
+        method=method,
+        evaluations=objective.calls,
+        parameter=math.exp(x[0]) if fam.dim == 1 else math.nan,
+    )
+
+
+def minimize_cor(
+    n_masses: int = 2,
+    *,
+    beta: float = 0.0,
+    bounds=DEFAULT_BOUNDS,
+    vary: str = "masses",
+    tolerance: float = 0.0,
+    seed: int = 1,
+    popsize: int = 15,
+    maxiter: int = 200,
+    max_events: int = 100_000,
+    polish: bool = True,
+    progress=print,
+) -> Design:
+    """Chain of ``n_masses`` masses with the smallest COR (see the module docstring).
+
+    Parameters
+    ----------
+    n_masses : int
+        N in [2, 16].
+    beta : float
+        k_12/k_contact in [0, 1e6]; 0 is the rigid wall.
+    bounds : (low, high)
+        Bounds of every ratio m_i/m_1 (and k_i/k_12), 0 < low < high.
+    vary : {"masses", "masses+springs"}
+        Free parameters: the mass ratios (springs equal), or the springs k_i/k_12 too.
+    tolerance : float
+        > 0: minimise the worst COR over independent mass errors |dm_i/m_i| <= tolerance (robust).
+    seed, popsize, maxiter
+        Of ``differential_evolution`` (seeded: the same result on every run and thread count).
+    progress : callable or None
+        Called with one line per generation (default ``print``; a logger's ``info`` works).
+
+    Returns
+    -------
+    Design
+
+    Examples
+    --------
+    >>> d = minimize_cor(2, progress=None)
+    >>> round(d.masses[1], 6), round(d.cor, 6)
+    (0.697123, 0.178465)
+    """
+    _check(n_masses, beta, bounds, tolerance, vary)
+    fam = family(vary, n_masses)
+    return _optimise(
+        fam, float(beta), bounds, tolerance, seed, popsize, maxiter, max_events, progress, polish
+    )
+
+
+def best_uniform(
+    n_masses: int,
+    *,
+    beta: float = 0.0,
+    bounds=DEFAULT_BOUNDS,
+    seed: int = 1,
+    popsize: int = 15,
+    maxiter: int = 200,
+    progress=print,
+) -> Design:
+    """The paper's uniform chain (Fig. 6: m_2..m_N all alpha m_1, equal springs), best alpha."""
+    _check(n_masses, beta, bounds, 0.0, "masses")
+    return _optimise(
+        family("uniform", n_masses),
+        float(beta),
+        bounds,
+        0.0,
+        seed,
+        popsize,
+        maxiter,
+        100_000,
+        progress,
+        True,
+    )
+
+
+def best_tapered(
+    n_masses: int,
+    *,
+    direction: str = "decreasing",
+    beta: float = 0.0,
+    bounds=DEFAULT_BOUNDS,
+    seed: int = 1,
+    popsize: int = 15,
+    maxiter: int = 200,
+    progress=print,
+) -> Design:
+    """Geometric chain m_i = r**(i-1) m_1, equal springs, best r < 1 ("decreasing" from the wall)
+    or r > 1 ("increasing"); the end mass r**(N-1) stays within ``bounds``."""
+    _check(n_masses, beta, bounds, 0.0, "masses")
+    if direction not in ("decreasing", "increasing"):
+        raise ValueError(f"direction={direction!r}: must be 'decreasing' or 'increasing'")
+    b = (bounds[0], 1.0) if direction == "decreasing" else (1.0, bounds[1])
+    d = _optimise(
+        family("tapered", n_masses),
+        float(beta),
+        b,
+        0.0,
+        seed,
+        popsize,
+        maxiter,
+        100_000,
+        progress,
+        True,
+    )
+    d.family = f"tapered ({direction})"
+    return d
+
+
+__all__ = [
+    "DEFAULT_BOUNDS",
+    "Design",
+    "best_tapered",
+    "best_uniform",
+    "general_api_available",
+    "minimize_cor",
+    "scaled_chain",
+]

@@ -1,0 +1,155 @@
+"""The minimum-COR design optimiser against closed forms and brute force."""
+
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import restitution
+from restitution import design, special_points
+
+GENERAL = pytest.mark.skipif(
+    not design.general_api_available(),
+    reason="chains with unequal masses need restitution.solve(masses=..., springs=...) "
+    "(issue 13, branch chain-api, not merged yet)",
+)
+
+
+@pytest.fixture(scope="module")
+def star():
+    return special_points.special_points(2).iloc[0]
+
+
+def test_two_masses_match_the_exact_minimum(star):
+    d = design.minimize_cor(2, progress=None)
+    assert d.masses[0] == 1.0
+    assert d.masses[1] == pytest.approx(star["alpha_star"], abs=1e-9)
+    assert d.cor == pytest.approx(star["e_star"], abs=1e-9)
+    assert d.cor_check == d.cor
+    assert d.n_collisions == 1
+    assert d.grazing == (1, "new")
+    assert d.bounds_hit == []
+    assert "polish" in d.method and d.evaluations > 0
+
+
+def test_closed_form_of_alpha_star_1(star):
+    # Paper Eqs. 10-11, independent of the solvers.
+    d = design.minimize_cor(2, progress=None, seed=7)
+    assert d.masses[1] == pytest.approx(special_points.alpha_star_1_closed_form(), abs=1e-9)
+
+
+def test_same_result_for_every_run():
+    a = design.minimize_cor(2, progress=None, seed=3)
+    b = design.minimize_cor(2, progress=None, seed=3)
+    assert a.masses.tolist() == b.masses.tolist() and a.cor == b.cor
+
+
+def test_same_result_for_any_thread_count():
+    import numba
+
+    threads = numba.get_num_threads()
+    results = []
+    try:
+        for n in sorted({1, threads}):
+            numba.set_num_threads(n)
+            d = design.best_tapered(3, progress=None)
+            results.append((d.masses.tolist(), d.cor, d.evaluations))
+    finally:
+        numba.set_num_threads(threads)
+    assert all(r == results[0] for r in results)
+
+
+def test_progress_lines_are_printed():
+    lines = []
+    design.minimize_cor(2, progress=lines.append, maxiter=5)
+    assert any("generation 1" in s for s in lines)
+
+
+def test_optimum_rides_a_bound_and_says_so():
+    # Bounds that exclude alpha*_1 = 0.697 from below: the COR decreases towards it, so the
+    # optimum sits on the upper bound 0.5.
+    d = design.minimize_cor(2, bounds=(0.01, 0.5), progress=None)
+    assert d.masses[1] == pytest.approx(0.5, rel=1e-6)
+    assert d.bounds_hit and "at upper bound" in d.bounds_hit[0]
+    assert d.cor == pytest.approx(restitution.solve(alpha=0.5).cor, abs=1e-9)
+
+
+def test_finite_beta_optimum_beats_a_fine_grid():
+    # At beta = 0.01 the smallest COR is a smooth minimum just past the count step (the grazing
+    # contact's impulse grows smoothly through a contact spring). Independent: a coarse grid,
+    # then a fine grid around its lowest point.
+    beta = 0.01
+    d = design.minimize_cor(2, beta=beta, progress=None)
+    a = np.geomspace(0.3, 1.5, 4001)
+    res = restitution.solve_many(pd.DataFrame({"alpha": a, "beta": beta}))
+    i = int(res["cor"].idxmin())
+    fine = np.linspace(a[i - 1], a[i + 1], 20001)
+    cor = restitution.solve_many(pd.DataFrame({"alpha": fine, "beta": beta}))["cor"].min()
+    assert cor - 1e-10 <= d.cor <= cor + 1e-13
+    assert d.cor_check == d.cor
+
+
+def test_uniform_chain_beats_a_fine_grid():
+    for n in (3, 4):
+        d = design.best_uniform(n, progress=None)
+        a = np.geomspace(0.01, 100, 20001)
+        res = restitution.solve_many(pd.DataFrame({"alpha": a, "n_masses": n}))
+        assert d.cor <= res["cor"].min() + 1e-12
+        assert d.cor_check == pytest.approx(d.cor, abs=1e-12)
+        assert d.grazing is not None
+
+
+def test_robust_worst_case_is_the_worst_over_the_error_band():
+    tol = 0.01
+    d = design.minimize_cor(2, tolerance=tol, popsize=8, maxiter=25, progress=None)
+    r = d.masses[1]
+    # Two masses: the errors act only through m2(1 + d2) / (m1 (1 + d1)); brute force the band.
+    band = np.linspace(r * (1 - tol) / (1 + tol), r * (1 + tol) / (1 - tol), 4001)
+    worst = restitution.solve_many(pd.DataFrame({"alpha": band}))["cor"].max()
+    assert d.worst_cor == pytest.approx(worst, abs=1e-5)
+    assert d.worst_cor >= d.cor
+    # Robustness costs COR: the nominal optimum's worst case is worse than the robust design's.
+    star = special_points.special_points(1)["alpha_star"][0]
+    band0 = np.linspace(star * (1 - tol) / (1 + tol), star * (1 + tol) / (1 - tol), 4001)
+    worst0 = restitution.solve_many(pd.DataFrame({"alpha": band0}))["cor"].max()
+    assert d.worst_cor < worst0
+
+
+@pytest.mark.parametrize(
+    "kwargs, word",
+    [
+        (dict(n_masses=1), "n_masses"),
+        (dict(n_masses=2, beta=-1.0), "beta"),
+        (dict(n_masses=2, bounds=(1.0, 0.5)), "bounds"),
+        (dict(n_masses=2, tolerance=-0.1), "tolerance"),
+        (dict(n_masses=2, vary="springs"), "vary"),
+    ],
+)
+def test_bad_input_is_refused_before_work(kwargs, word):
+    with pytest.raises(ValueError, match=word):
+        design.minimize_cor(progress=None, **kwargs)
+
+
+@GENERAL
+def test_three_masses_free_beats_uniform_and_rechecks():
+    u = design.best_uniform(3, progress=None)
+    d = design.minimize_cor(3, progress=None)
+    assert d.cor <= u.cor + 1e-12
+    assert d.cor_check == pytest.approx(d.cor, abs=1e-12)
+    m, k, kc = design.scaled_chain(d.masses, d.springs, 0.0)
+    assert restitution.solve(masses=list(m), springs=list(k), k_contact=kc).cor == pytest.approx(
+        d.cor, abs=1e-12
+    )
+
+
+@GENERAL
+def test_tapered_chain_both_directions():
+    dec = design.best_tapered(4, direction="decreasing", progress=None)
+    inc = design.best_tapered(4, direction="increasing", progress=None)
+    assert dec.parameter <= 1.0 <= inc.parameter
+    for d in (dec, inc):
+        assert d.cor_check == pytest.approx(d.cor, abs=1e-12)
+        # The masses form the geometric progression of the reported ratio.
+        np.testing.assert_allclose(d.masses, d.parameter ** np.arange(4), rtol=1e-12)
+    assert math.isfinite(dec.cor) and math.isfinite(inc.cor)

@@ -1,0 +1,225 @@
+# Beyond the paper (issue 14): Fig. 8(a), the (alpha, beta) plane of the two-mass model with the
+# exact curves where the contact count steps, and Fig. 8(b), minimum-COR chain designs against N.
+# simulate -> parquet under results/fig8 and results/design -> render (figure + caption from the
+# tables). `snakemake fig8a` / `snakemake fig8b` build one panel; `design_extra` the costly designs
+# that `all` leaves out (config fig8.design.extra).
+
+
+# ---------------------------------------------------------------------------------------------
+# Fig. 8(a): the (alpha, beta) map
+# ---------------------------------------------------------------------------------------------
+rule simulate_fig8a_map:
+    """COR and contact count on one chunk of the (alpha, beta) grid (beta rows split in chunks)."""
+    input:
+        code=package_sources(),
+    output:
+        table="results/fig8/map_{chunk}.parquet",
+    log:
+        "logs/fig8/simulate_map_{chunk}.log",
+    benchmark:
+        "logs/benchmarks/fig8/simulate_map_{chunk}.tsv"
+    conda:
+        "../envs/restitution.yaml"
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=10,
+    params:
+        map=config["fig8"]["map"],
+        solver=solver_settings(),
+    script:
+        "../scripts/simulate_fig8a_map.py"
+
+
+rule simulate_fig8a_curves:
+    """Trace the count-step curves from the exact beta = 0 points; seed grid steps they miss."""
+    input:
+        code=package_sources(
+            "cormap.py", "design.py", "special_points.py", "chain.py", "methods.py"
+        ),
+        maps=expand(
+            "results/fig8/map_{chunk}.parquet",
+            chunk=range(config["fig8"]["map"]["chunks"]),
+        ),
+    output:
+        table=report(
+            "results/fig8/curves.parquet",
+            caption="../report/fig8a_curves.rst",
+            category="Beyond the paper",
+            subcategory="Fig. 8",
+            labels={"figure": "8(a)", "quantity": "table: count-step curves"},
+        ),
+    log:
+        "logs/fig8/simulate_curves.log",
+    benchmark:
+        "logs/benchmarks/fig8/simulate_curves.tsv"
+    conda:
+        "../envs/restitution.yaml"
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=10,
+    params:
+        map=config["fig8"]["map"],
+        curves=config["fig8"]["curves"],
+    script:
+        "../scripts/simulate_fig8a_curves.py"
+
+
+rule fig8a:
+    """Draw Fig. 8(a) and write its caption from the tables."""
+    input:
+        maps=expand(
+            "results/fig8/map_{chunk}.parquet",
+            chunk=range(config["fig8"]["map"]["chunks"]),
+        ),
+        curves=rules.simulate_fig8a_curves.output.table,
+        template="workflow/report/fig8a.rst",
+        style="src/restitution/restitution.mplstyle",
+        plotting="src/restitution/plotting.py",
+    output:
+        png=report(
+            "figures/fig8a.png",
+            caption="../../results/captions/fig8a.rst",
+            category="Beyond the paper",
+            subcategory="Fig. 8",
+            labels={"figure": "8(a)", "quantity": "COR map over (alpha, beta)"},
+        ),
+        pdf="figures/fig8a.pdf",
+        caption="results/captions/fig8a.rst",
+    log:
+        "logs/fig8/render_fig8a.log",
+    benchmark:
+        "logs/benchmarks/fig8/render_fig8a.tsv"
+    conda:
+        "../envs/restitution.yaml"
+    params:
+        map=config["fig8"]["map"],
+        curves=config["fig8"]["curves"],
+        fig2a_betas=config["fig2a"]["betas"],
+        fig3_alphas=config["fig3"]["sweep"]["alphas"],
+        fig3_beta_min=config["fig3"]["sweep"]["beta_min"],
+    script:
+        "../scripts/render_fig8a.py"
+
+
+# ---------------------------------------------------------------------------------------------
+# Fig. 8(b): minimum-COR designs against N
+# ---------------------------------------------------------------------------------------------
+rule design_fig8b:
+    """One design: the minimum-COR chain of one family and one N, re-checked by a fresh solve."""
+    input:
+        code=package_sources(
+            "cormap.py",
+            "design.py",
+            "chain.py",
+            "methods.py",
+            "tables.py",
+            "kernels/chain.py",
+            "kernels/locator.py",
+        ),
+    output:
+        table="results/design/{family}_N{n}.parquet",
+    log:
+        "logs/design/{family}_N{n}.log",
+    benchmark:
+        "logs/benchmarks/design/{family}_N{n}.tsv"
+    wildcard_constraints:
+        family="uniform|tapered_decreasing|tapered_increasing|masses|masses_springs|robust",
+        n=r"\d+",
+    conda:
+        "../envs/restitution.yaml"
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=30,
+    params:
+        design={
+            k: v
+            for k, v in config["fig8"]["design"].items()
+            if k not in ("all", "extra")
+        },
+    script:
+        "../scripts/design_fig8b.py"
+
+
+rule design_fig8b_collect:
+    """All designs of `all` in one table."""
+    input:
+        tables=[
+            f"results/design/{family}_N{n}.parquet"
+            for family, ns in config["fig8"]["design"]["all"].items()
+            for n in ns
+        ],
+    output:
+        table=report(
+            "results/design/designs.parquet",
+            caption="../report/fig8b_designs.rst",
+            category="Beyond the paper",
+            subcategory="Fig. 8",
+            labels={"figure": "8(b)", "quantity": "table: designs"},
+        ),
+    log:
+        "logs/design/collect.log",
+    benchmark:
+        "logs/benchmarks/design/collect.tsv"
+    conda:
+        "../envs/restitution.yaml"
+    script:
+        "../scripts/design_fig8b_collect.py"
+
+
+rule design_extra_collect:
+    """The costly designs `all` leaves out (config fig8.design.extra), in one table."""
+    input:
+        tables=[
+            f"results/design/{family}_N{n}.parquet"
+            for family, ns in config["fig8"]["design"]["extra"].items()
+            for n in ns
+        ],
+    output:
+        table="results/design/designs_extra.parquet",
+    log:
+        "logs/design/collect_extra.log",
+    benchmark:
+        "logs/benchmarks/design/collect_extra.tsv"
+    conda:
+        "../envs/restitution.yaml"
+    script:
+        "../scripts/design_fig8b_collect.py"
+
+
+rule design_extra:
+    """Optional target: the designs of config fig8.design.extra (robust optima for larger N)."""
+    default_target: False
+    input:
+        rules.design_extra_collect.output.table,
+
+
+rule fig8b:
+    """Draw Fig. 8(b) and write its caption from the design table."""
+    input:
+        table=rules.design_fig8b_collect.output.table,
+        template="workflow/report/fig8b.rst",
+        style="src/restitution/restitution.mplstyle",
+        plotting="src/restitution/plotting.py",
+    output:
+        png=report(
+            "figures/fig8b.png",
+            caption="../../results/captions/fig8b.rst",
+            category="Beyond the paper",
+            subcategory="Fig. 8",
+            labels={"figure": "8(b)", "quantity": "smallest COR vs N"},
+        ),
+        pdf="figures/fig8b.pdf",
+        caption="results/captions/fig8b.rst",
+    log:
+        "logs/fig8/render_fig8b.log",
+    benchmark:
+        "logs/benchmarks/fig8/render_fig8b.tsv"
+    conda:
+        "../envs/restitution.yaml"
+    params:
+        design=config["fig8"]["design"],
+    script:
+        "../scripts/render_fig8b.py"
