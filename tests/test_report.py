@@ -219,7 +219,8 @@ def test_figure_captions_name_every_parameter(inventory):
 # Figures whose captions state results (a trend, a minimum, a fitted slope): their render rule
 # writes the caption from the tables it draws.
 DATA_CAPTIONS = {"fig2a", "fig2b", "fig2c", "fig2d", "fig3a", "fig3b", "fig4b", "fig4c", "fig4d",
-                 "fig5a", "fig5b", "fig6b", "fig7a", "fig7b", "fig7c", "fig7d"}  # fmt: skip
+                 "fig5a", "fig5b", "fig6b", "fig7a", "fig7b", "fig7c", "fig7d",
+                 "fig8a", "fig8b"}  # fmt: skip
 
 
 def test_result_captions_are_written_by_their_render_rule(inventory):
