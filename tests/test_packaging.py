@@ -149,28 +149,13 @@ def test_no_references_outside_the_repository():
     assert not hits, hits
 
 
-# Pages other branches add (their owners write them); mkdocs.yml lists them already and reports
-# a missing one as info (validation.nav.not_found). Empty this once they are merged.
-PENDING_PAGES = {
-    "guides/adding-a-law.md",
-    "guides/adding-a-method.md",
-    "general-chains.md",
-    "study.md",
-    "runs.md",
-    "tables.md",
-    "design-study.md",
-}
-
-
-def test_docs_nav_files_exist_or_are_pending():
+def test_docs_nav_files_exist():
     """Every page in mkdocs.yml's nav is in docs/, and every docs page is in the nav."""
     text = (ROOT / "mkdocs.yml").read_text()
     nav = text[text.index("\nnav:") :]
     pages = re.findall(r":\s*([\w/.-]+\.md)\s*$", nav, flags=re.M)
     assert "index.md" in pages and "api.md" in pages
     missing = {p for p in pages if not (ROOT / "docs" / p).is_file()}
-    assert missing <= PENDING_PAGES, (
-        f"nav entries without a page: {sorted(missing - PENDING_PAGES)}"
-    )
+    assert not missing, f"nav entries without a page: {sorted(missing)}"
     on_disk = {str(p.relative_to(ROOT / "docs")) for p in (ROOT / "docs").rglob("*.md")}
     assert on_disk <= set(pages), f"docs pages not in the nav: {sorted(on_disk - set(pages))}"

@@ -1,6 +1,6 @@
 """Dimensional inputs to the non-dimensional scene, and results back to dimensional units.
 
-The solvers work in the units of DESIGN.md (m1 = 1, V0 = 1, omega = 1 with
+The solvers work in the units of docs/physics.md (m1 = 1, V0 = 1, omega = 1 with
 omega**2 = k2/m1 + k2/m2). A physical two-mass system (or chain: m2..mN all equal to m2) is
 
     m1, m2 [kg], structural spring k2 [N/m], contact spring k1 [N/m] (None: rigid wall),

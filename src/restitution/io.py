@@ -20,7 +20,7 @@ import pyarrow.parquet as pq
 
 PROVENANCE_KEY = b"restitution"
 
-# The data contract of DESIGN.md; columns outside it keep the type pandas gives them.
+# The data contract of docs/physics.md; columns outside it keep the type pandas gives them.
 CONTRACT_TYPES = {
     "alpha": pa.float64(),
     "beta": pa.float64(),

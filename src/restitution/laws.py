@@ -1,7 +1,7 @@
 """Force laws: the contact laws (rigid, linear, plastic of Section 3.1, Hertz) and the link laws
 (linear, the scissor spring of Section 3.2); how to add one: docs/guides/adding-a-law.md.
 
-Units are those of DESIGN.md (m1 = 1, omega = 1 from the *nominal* k2 = alpha/(1+alpha)), except
+Units are those of docs/physics.md (m1 = 1, omega = 1 from the *nominal* k2 = alpha/(1+alpha)), except
 that the impact speed ``v0`` is a parameter: both laws make the response velocity dependent, so
 lengths are in units of V_ref/omega with V_ref = 1 and the masses start at -v0.
 

@@ -21,7 +21,7 @@ mass velocity V, spring extension r = u2 - u1 with r'' = -r, and m1's gap to the
 s being the time since the contact. Its local minima are explicit, so "is there another contact"
 and the grazing condition need no sampling; the contact time is a safeguarded Newton root on the
 one monotone piece of g that brackets it. This module is an independent reference for the
-project's kernels (DESIGN.md) and is used by the tests to check them.
+project's kernels (docs/physics.md) and is used by the tests to check them.
 
 Finite beta (contact spring k1 = k2/beta): the same points are where the contact count changes;
 :func:`count_changes` finds them by bracketing and bisecting the count returned by any solver,

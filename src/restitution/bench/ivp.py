@@ -136,7 +136,7 @@ def _two_masses(scene, method, rtol, atol, steps_per_period, deadline, max_event
 
 
 def chain_matrices(alpha, beta, xi, n):
-    """Masses, stiffness, damping matrices and k1 of the chain (units of DESIGN.md)."""
+    """Masses, stiffness, damping matrices and k1 of the chain (units of docs/physics.md)."""
     m = np.full(n, float(alpha))
     m[0] = 1.0
     k2 = alpha / (1.0 + alpha)

@@ -2,7 +2,7 @@
 
 Every kernel returns ``out`` (length ``N_OUT``) and fills up to ``hist.shape[0]`` rows of ``hist``
 (shape ``(rows, N_HIST)``; pass a ``(0, N_HIST)`` array to record nothing). Units are the
-non-dimensional ones of DESIGN.md: m1 = 1, V0 = 1, omega = 1, so a kernel time *is* omega*t.
+non-dimensional ones of docs/physics.md: m1 = 1, V0 = 1, omega = 1, so a kernel time *is* omega*t.
 """
 
 # Columns of ``out``.

@@ -1,6 +1,6 @@
 """Exact impulsive solver: two masses, rigid wall (beta = 0), optional dashpot between them.
 
-Units (DESIGN.md): m1 = 1, V0 = 1, omega = 1, alpha = m2/m1, mu = alpha/(1 + alpha).
+Units (docs/physics.md): m1 = 1, V0 = 1, omega = 1, alpha = m2/m1, mu = alpha/(1 + alpha).
 Between contacts the centre of mass X moves at constant V and the relative coordinate
 r = u2 - u1 obeys r'' + 2 xi r' + r = 0; m1 sits at u1 = X - mu r. Each contact reverses m1's
 velocity (paper Eq. 13) and leaves m2's untouched. Time is measured from the previous contact
