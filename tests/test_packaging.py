@@ -24,16 +24,29 @@ PYPROJECT = tomllib.loads((ROOT / "pyproject.toml").read_text())
 VERSION = PYPROJECT["project"]["version"]
 
 
-def _src_imports() -> set[str]:
-    """Top-level modules imported anywhere under src/restitution (parsed, not grepped)."""
-    names: set[str] = set()
+def _imported(node) -> set[str]:
+    if isinstance(node, ast.Import):
+        return {alias.name.split(".")[0] for alias in node.names}
+    if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+        return {node.module.split(".")[0]}
+    return set()
+
+
+def _src_imports() -> tuple[set[str], set[str]]:
+    """Top-level modules imported under src/restitution (parsed, not grepped): (at import time,
+    only inside functions). A function-level import is an optional feature's (e.g. PyYAML for
+    restitution.study.load_study), needed only when that function runs."""
+    eager: set[str] = set()
+    lazy: set[str] = set()
     for path in (ROOT / "src" / "restitution").rglob("*.py"):
-        for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
-            if isinstance(node, ast.Import):
-                names.update(alias.name.split(".")[0] for alias in node.names)
-            elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-                names.add(node.module.split(".")[0])
-    return names
+        tree = ast.parse(path.read_text(), filename=str(path))
+        inner = set()
+        for func in ast.walk(tree):
+            if isinstance(func, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                inner.update(id(n) for n in ast.walk(func))
+        for node in ast.walk(tree):
+            (lazy if id(node) in inner else eager).update(_imported(node))
+    return eager, lazy - eager
 
 
 def _requirement_name(spec: str) -> str:
@@ -42,12 +55,25 @@ def _requirement_name(spec: str) -> str:
 
 def test_core_dependencies_are_what_src_imports():
     """Every third-party import of src/ is a core dependency, and nothing else is."""
-    third_party = _src_imports() - set(sys.stdlib_module_names) - {"restitution"}
+    eager, lazy = _src_imports()
+    ours = set(sys.stdlib_module_names) | {"restitution"}
+    third_party, optional = eager - ours, lazy - ours
     declared = {_requirement_name(d) for d in PYPROJECT["project"]["dependencies"]}
-    assert third_party == declared, (
-        f"src/ imports {sorted(third_party)}, pyproject.toml's core dependencies are "
-        f"{sorted(declared)}: workflow, notebook and test tools belong in the extras"
+    # Core = everything imported at import time, plus what functions import that is declared
+    # core (tqdm for progress bars); nothing else.
+    assert third_party <= declared <= third_party | optional, (
+        f"src/ imports {sorted(third_party)} at import time and {sorted(optional)} inside "
+        f"functions; pyproject.toml's core dependencies are {sorted(declared)}: workflow, "
+        "notebook and test tools belong in the extras"
     )
+    # A function-level import outside the core must come from an extra (PyPI name of the module).
+    extras = {
+        _requirement_name(d)
+        for group in PYPROJECT["project"]["optional-dependencies"].values()
+        for d in group
+    }
+    pypi = {"yaml": "pyyaml"}
+    assert {pypi.get(m, m) for m in optional - declared} <= extras, optional
 
 
 def test_extras_cover_the_environments():

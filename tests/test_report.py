@@ -12,8 +12,10 @@ import json
 import re
 import subprocess
 import sys
+from html import escape
 from pathlib import Path
 
+import pandas as pd
 import pytest
 import yaml
 
@@ -295,10 +297,12 @@ def test_report_builds_on_a_small_configuration(tmp_path):
 
     # The front page; the reproduction table is its own page, written from this run's CSV.
     assert "A reproduction of" in html and "paper vs ours (readable page)" in html
-    repro = (tmp_path / "results" / "reproduction.csv").read_text().splitlines()
-    first_row = repro[1].split(",")
+    repro = pd.read_csv(tmp_path / "results" / "reproduction.csv")
     page = (tmp_path / "results" / "reproduction.html").read_text()
-    assert first_row[0] in page and first_row[2] in page  # quantity and our value
+    assert page.count("<tr>") == len(repro) + 1  # the header and one row per quantity
+    for row in repro.itertuples():  # every quantity with our value (6 significant digits)
+        assert escape(row.quantity) in page, row.quantity
+        assert f"{row.ours:.6g}" in page, (row.quantity, row.ours)
     # Captions of the figures and tables, rendered with this run's configuration.
     assert "Fig. 2(a)." in html and "Fig. 2(b)." in html and "Fig. 2(a) minima (table)" in html
     assert "[0.0, 0.1]" in html  # fig2a.betas of SMALL, printed by the Jinja caption
