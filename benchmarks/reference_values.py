@@ -47,7 +47,7 @@ from scipy.integrate import solve_ivp
 
 
 def _two_mass_matrices(mp, alpha, beta, xi):
-    """(A_free, A_contact or None, k2) in the units of docs/physics.md, exact from the float inputs."""
+    """(A_free, A_contact or None, k2) in the units of docs/physics.md, exact from the floats."""
     a = mp.mpf(alpha)
     k2 = a / (1 + a)
     c = 2 * mp.mpf(xi) * k2

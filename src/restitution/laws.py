@@ -1,9 +1,9 @@
 """Force laws: the contact laws (rigid, linear, plastic of Section 3.1, Hertz) and the link laws
 (linear, the scissor spring of Section 3.2); how to add one: docs/guides/adding-a-law.md.
 
-Units are those of docs/physics.md (m1 = 1, omega = 1 from the *nominal* k2 = alpha/(1+alpha)), except
-that the impact speed ``v0`` is a parameter: both laws make the response velocity dependent, so
-lengths are in units of V_ref/omega with V_ref = 1 and the masses start at -v0.
+Units are those of docs/physics.md (m1 = 1, omega = 1 from the *nominal* k2 = alpha/(1+alpha)),
+except that the impact speed ``v0`` is a parameter: both laws make the response velocity
+dependent, so lengths are in units of V_ref/omega with V_ref = 1 and the masses start at -v0.
 
 Every law is packed into a small float64 array (``contact_params`` / ``structure_params``) read by
 the numba kernels through the scalar functions below, which are plain ``@njit`` functions and so

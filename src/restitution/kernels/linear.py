@@ -1,9 +1,9 @@
 """The paper's piecewise-linear scenes (any N >= 2, beta >= 0, xi >= 0) as presets of the general
 chain kernel restitution.kernels.chain: one kernel, this module only builds the chain.
 
-Model (non-dimensional, docs/physics.md): m1 = 1, m2..mN = alpha, springs k2 = alpha/(1+alpha) between
-neighbours, contact spring k1 = k2/beta on m1 while u1 < 0 (beta = 0: rigid wall, v1 -> -v1),
-dashpot c = 2 xi k2 between m1 and m2 only. At t = 0 all u = 0, all v = -1.
+Model (non-dimensional, docs/physics.md): m1 = 1, m2..mN = alpha, springs k2 = alpha/(1+alpha)
+between neighbours, contact spring k1 = k2/beta on m1 while u1 < 0 (beta = 0: rigid wall,
+v1 -> -v1), dashpot c = 2 xi k2 between m1 and m2 only. At t = 0 all u = 0, all v = -1.
 
 Closed form per phase
 ---------------------
