@@ -62,7 +62,7 @@ def solve(
     Parameters
     ----------
     alpha : float or Chain
-        Paper form: mass ratio m2/m1, in (0, 1e8]. Or a ``restitution.Chain``.
+        Paper form: mass ratio m2/m1, in [1e-8, 1e8]. Or a ``restitution.Chain``.
     beta, xi, n_masses : float, float, int
         Paper form: stiffness ratio k2/k1 in [0, 1e6] (0: rigid wall), damping ratio of the
         dashpot between m1 and m2 in [0, 1e3], number of masses in [2, 512].
@@ -171,7 +171,8 @@ def _solve_paper(alpha, beta, xi, n_masses, method, history, max_events):
     else:
         announce(solve_linear)
         out = solve_linear(a, b, x, n, max_events, hist)
-    return Result.from_row(_PaperScene(a, b, x, n), out, name, hist if history else None)
+    hist = hist if history else None
+    return Result.from_row(_PaperScene(a, b, x, n), out, name, hist, passive=True)
 
 
 class _PaperScene:
@@ -191,7 +192,7 @@ def _run(ch: Chain, chosen: M.Method, opts: M.Options) -> Result:
     out, hist = chosen.run(ch, opts)
     if isinstance(out, Result):  # numerical runners return a Result of their own
         return replace(out, t_col=out.omega_t_col / ch.omega, scene=ch)
-    return Result.from_row(ch, out, chosen.name, hist)
+    return Result.from_row(ch, out, chosen.name, hist, passive=True)  # exact: linear laws
 
 
 # ----------------------------------------------------------------------------------------------
@@ -392,6 +393,7 @@ def solve_many(
 
 def _fill(cols: dict, idx: np.ndarray, out: np.ndarray, errors: dict) -> None:
     """Result columns of the exact rows from their kernel rows."""
+    out = L.void_unfinished(out, passive=True)
     cols["cor"][idx] = out[:, L.OUT_COR]
     ncol = out[:, L.OUT_NCOL]
     cols["n_collisions"][idx] = np.where(np.isfinite(ncol), ncol, 0).astype(np.int64)

@@ -129,7 +129,7 @@ def solve_nonlinear(
     Parameters
     ----------
     alpha, beta, xi : float
-        Mass ratio (0, 1e8], stiffness ratio k2/k1 [0, 1e6] (0: rigid wall), damping ratio.
+        Mass ratio [1e-8, 1e8], stiffness ratio k2/k1 [0, 1e6] (0: rigid wall), damping ratio.
     contact : {"linear", "plastic"}
         "plastic": power-law loading F = kappa*x**eta, linear unloading (laws.py); needs beta > 0.
     eta, dr : float
@@ -322,6 +322,7 @@ def solve_nonlinear_many(frame, *, method="adaptive", rtol=1e-9, step=0.01, max_
         coarse, out = run(_coarser(rtol), step), run(rtol, step)
     for row, other in zip(out, coarse, strict=True):
         _two_setting_estimate(row, other)
+    LY.void_unfinished(out)
     result = frame.copy()
     result["cor"] = out[:, LY.OUT_COR]
     result["n_collisions"] = out[:, LY.OUT_NCOL].astype(np.int64)
@@ -634,6 +635,7 @@ def solve_nonlinear_chain_many(
         coarse, out = run(_coarser(rtol), step), run(rtol, step)
     for row, other in zip(out, coarse, strict=True):
         _two_setting_estimate(row, other)
+    LY.void_unfinished(out)
     ok = out[:, LY.OUT_STATUS] == LY.STATUS_OK
     return pd.DataFrame(
         {

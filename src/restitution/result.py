@@ -118,14 +118,27 @@ class Result:
         return d
 
     @classmethod
-    def from_row(cls, scene, out: np.ndarray, method: str, hist: np.ndarray | None = None):
+    def from_row(
+        cls,
+        scene,
+        out: np.ndarray,
+        method: str,
+        hist: np.ndarray | None = None,
+        passive: bool = False,
+    ):
         """The Result of a kernel row; ``method`` is completed from the row's OUT_FLAGS
-        (``+sticking``, ``+rigid-limit``) by ``restitution.methods.label``."""
+        (``+sticking``, ``+rigid-limit``) by ``restitution.methods.label``. An unfinished row
+        (``layout.UNFINISHED``; with ``passive``, a linear scene, an open energy account too)
+        has NaN COR, duration and energies."""
         history = None
         if hist is not None:
             n = min(int(out[L.OUT_NEVENTS]), hist.shape[0])
             history = pd.DataFrame(hist[:n], columns=list(HISTORY_COLUMNS))
         row = out.tolist()  # Python floats, once
+        unfinished = L.UNFINISHED_PASSIVE if passive else L.UNFINISHED
+        if row[L.OUT_STATUS] in unfinished or row[L.OUT_STATUS] != row[L.OUT_STATUS]:
+            for k in L.VOIDED:  # not a finished result: no COR, duration or energies
+                row[k] = math.nan
         ncol, tcol = row[L.OUT_NCOL], row[L.OUT_TCOL]
         if len(row) > L.OUT_FLAGS and row[L.OUT_FLAGS]:  # NaN or a flag: let the table say
             from .methods import label

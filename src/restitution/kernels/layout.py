@@ -41,3 +41,34 @@ STATUS_NOT_RUN = 8  # a batch row the kernel never finished (rows start with it,
 # Bits of out[OUT_FLAGS].
 FLAG_STICKING = 1  # a Zeno chatter was continued by its sticking limit (method impulsive+sticking)
 FLAG_RIGID_LIMIT = 2  # a very stiff contact spring was solved as its rigid limit (OUT_ERR: bound)
+
+# Statuses of a row that is not a finished result. Before a user sees such a row its COR,
+# duration and energies are voided (NaN, ``void_unfinished``); the count of contacts reached
+# stays. Not in the list: energy_account_open keeps its numbers (the plastic law with eta > 1 is
+# not passive, and the flag says the account is open, not that the run stopped), and
+# permanent_contact is a finished result (cor = 0, omega_t_col = inf).
+UNFINISHED = (
+    STATUS_EVENT_BUDGET,
+    STATUS_ILL_CONDITIONED,
+    STATUS_NONCONVERGED,
+    STATUS_WORK_BUDGET,
+    STATUS_INVALID,
+    STATUS_NOT_RUN,
+)
+# A linear chain is passive: an open energy account there means the result is wrong, not that
+# energy came from a law, so exact (linear) rows void it too.
+UNFINISHED_PASSIVE = (*UNFINISHED, STATUS_ENERGY)
+VOIDED = (OUT_COR, OUT_TCOL, OUT_ETRANS, OUT_EVIB, OUT_EDISS)
+
+
+def void_unfinished(out, passive: bool = False):
+    """Set COR, duration and energies of the unfinished rows of ``out`` (a block of kernel rows,
+    2-D) to NaN, in place; a NaN status counts as unfinished, and so does an open energy account
+    of a ``passive`` (linear) scene. Returns ``out``."""
+    import numpy as np
+
+    status = out[:, OUT_STATUS]
+    bad = np.isin(status, UNFINISHED_PASSIVE if passive else UNFINISHED) | np.isnan(status)
+    if bad.any():
+        out[np.ix_(bad, VOIDED)] = np.nan
+    return out
