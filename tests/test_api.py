@@ -15,10 +15,10 @@ from restitution.result import RESULT_COLUMNS
 @pytest.mark.parametrize(
     "kwargs, name, allowed",
     [
-        ({"alpha": 0.0}, "alpha", "(0, 1e8]"),
-        ({"alpha": -1.0}, "alpha", "(0, 1e8]"),
-        ({"alpha": math.nan}, "alpha", "(0, 1e8]"),
-        ({"alpha": "heavy"}, "alpha", "(0, 1e8]"),
+        ({"alpha": 0.0}, "alpha", "[1e-8, 1e8]"),
+        ({"alpha": -1.0}, "alpha", "[1e-8, 1e8]"),
+        ({"alpha": math.nan}, "alpha", "[1e-8, 1e8]"),
+        ({"alpha": "heavy"}, "alpha", "[1e-8, 1e8]"),
         ({"alpha": 1.0, "beta": -1e-3}, "beta", "[0, 1e6]"),
         ({"alpha": 1.0, "xi": -0.1}, "xi", "[0, 1e3]"),
         ({"alpha": 1.0, "xi": math.inf}, "xi", "[0, 1e3]"),
@@ -88,7 +88,7 @@ def test_solve_many_matches_solve_and_keeps_input_columns():
 
 def test_solve_many_validates_every_row_before_work():
     frame = pd.DataFrame({"alpha": [1.0, 2.0, -3.0], "beta": [0.0, 0.0, 0.0]})
-    with pytest.raises(SceneError, match=r"alpha must be in \(0, 1e8\]; got -3.0 \(row 2\)"):
+    with pytest.raises(SceneError, match=r"alpha must be in \[1e-8, 1e8\]; got -3.0 \(row 2\)"):
         solve_many(frame)
     with pytest.raises(SceneError, match="needs a column 'alpha'"):
         solve_many(pd.DataFrame({"beta": [0.0]}))

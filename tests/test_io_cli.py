@@ -60,7 +60,7 @@ def test_cli_cor_json():
 def test_cli_cor_bad_input_names_parameter():
     p = _run("cor", "--alpha", "-2")
     assert p.returncode == 2
-    assert "alpha must be in (0, 1e8]; got -2.0" in p.stderr
+    assert "alpha must be in [1e-8, 1e8]; got -2.0" in p.stderr
 
 
 @pytest.mark.parametrize("suffix_in, suffix_out", [(".csv", ".parquet"), (".parquet", ".csv")])

@@ -69,7 +69,7 @@ def test_defaults_and_grid():
         ({"scene": [1, 2]}, "scene = [1, 2]: must be a mapping of keys to values"),
         (
             {"scene": {"alpha": -1.0}, "axes": [{"param": "beta", "values": [0.0, 0.1]}]},
-            "scene.alpha = -1.0: alpha must be in (0, 1e8]",
+            "scene.alpha = -1.0: alpha must be in [1e-8, 1e8]",
         ),
         ({"scene": {"beta": 0.0, "n_masses": 1}}, "scene.n_masses = 1: must be an integer >= 2"),
         ({"axes": []}, "axes = []: must be a list of a mapping of keys to values"),
@@ -235,7 +235,7 @@ def test_study_target_refuses_bad_files_before_any_job(tmp_path):
     result = run_snakemake("-n", "study", "--config", f"study={bad}")
     text = result.stdout + result.stderr
     assert result.returncode != 0
-    assert "axis alpha = -1.0: alpha must be in (0, 1e8]" in text, text
+    assert "axis alpha = -1.0: alpha must be in [1e-8, 1e8]" in text, text
     assert "Job stats" not in text
 
     result = run_snakemake("-n", "study")

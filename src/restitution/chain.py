@@ -65,19 +65,66 @@ class Range:
 
 # The one table of scene parameter ranges (the workflow's configuration check calls ``check``).
 RANGES = {
-    "alpha": Range(0.0, 1e8, True, "in (0, 1e8]"),
+    # Below 1e-8 the linear kernels lose the light masses to round-off (alpha = 5e-324 gave garbage
+    # rows marked ok); 1e-8 is also the floor of the mass ratios of the general form (RATIOS).
+    "alpha": Range(1e-8, 1e8, False, "in [1e-8, 1e8]"),
     "beta": Range(0.0, 1e6, False, "in [0, 1e6] (0 = rigid wall)"),
     "xi": Range(0.0, 1e3, False, "in [0, 1e3]"),
     "n_masses": Range(2, MAX_MASSES, False, f"an integer in [2, {MAX_MASSES}]", integer=True),
-    "masses": Range(0.0, math.inf, True, "finite and > 0", integer=False),
-    "springs": Range(0.0, math.inf, True, "finite and > 0"),
-    "dashpots": Range(0.0, math.inf, False, "finite and >= 0"),
+    # Any consistent units, within 200 decades so that the scaling to the kernels' units
+    # (products of two of them) cannot overflow; their ratios have ranges of their own (RATIOS).
+    "masses": Range(1e-100, 1e100, False, "in [1e-100, 1e100]", integer=False),
+    "springs": Range(1e-100, 1e100, False, "in [1e-100, 1e100]"),
+    "dashpots": Range(0.0, 1e100, False, "in [0, 1e100]"),
     "k_contact": Range(0.0, math.inf, True, "> 0 (math.inf = rigid wall)"),
     "v0": Range(0.0, 1e6, True, "in (0, 1e6]"),
     "max_events": Range(1, 2**62, False, "a positive integer", integer=True),
     "rtol": Range(1e-14, 1e-2, False, "in [1e-14, 1e-2]"),
     "step": Range(0.0, 0.25, True, "in (0, 0.25]"),
 }
+# The ratios the kernels see (their units: m_1 = 1, omega = 1), with the ranges of the paper's form:
+# m_i/m_1 and k_i/k_12 like alpha, beta = k_12/k_contact like beta, and a damping ratio per link
+# c_i omega / (2 k_12) like xi (for the first link it is the paper's xi). Checked in log space.
+RATIOS = {
+    "masses[i]/masses[0]": (1e-8, 1e8),
+    "springs[i]/springs[0]": (1e-8, 1e8),
+    "beta = springs[0]/k_contact": (0.0, 1e6),
+    "damping ratio dashpots[i]*omega/(2*springs[0])": (0.0, 1e3),
+}
+
+
+def _pow10(x: float) -> str:
+    """10**x as text, for any x (the ratio may be outside the floats)."""
+    e = math.floor(x)
+    return f"{10.0 ** (x - e):.3g}e{e:+d}"
+
+
+def _check_ratios(m: np.ndarray, k: np.ndarray, c: np.ndarray, kc: float) -> None:
+    """Raise SceneError naming the first ratio outside RATIOS (values already in their ranges)."""
+    lm, lk = np.log10(m), np.log10(k)
+    # log10(omega) = (log k_12 - log m_1 + log(1 + m_1/m_2)) / 2, without forming k/m.
+    lw = 0.5 * (lk[0] - lm[0] + math.log10(1.0 + 10.0 ** min(lm[0] - lm[1], 300.0)))
+    checks = (
+        ("masses[i]/masses[0]", lm - lm[0]),
+        ("springs[i]/springs[0]", lk - lk[0]),
+        ("beta = springs[0]/k_contact", [lk[0] - math.log10(kc)] if math.isfinite(kc) else []),
+        (
+            "damping ratio dashpots[i]*omega/(2*springs[0])",
+            [math.log10(x) + lw - math.log10(2.0) - lk[0] for x in c if x > 0.0],
+        ),
+    )
+    for name, logs in checks:
+        low, high = RATIOS[name]
+        for i, x in enumerate(logs):
+            if x > math.log10(high) * (1 + 1e-12) or (
+                low > 0.0 and x < math.log10(low) * (1 + 1e-12)
+            ):
+                raise SceneError(
+                    f"{name} must be in [{low:g}, {high:g}]; got {_pow10(x)}"
+                    + (f" (i = {i})" if "[i]" in name else "")
+                )
+
+
 # Array parameters must be finite even where the range's upper end is inf (k_contact may be inf).
 _FINITE = {"masses", "springs", "dashpots"}
 
@@ -276,6 +323,7 @@ class Chain:
             object.__setattr__(self, name, value)
         for a in (m, k, c):
             a.setflags(write=False)
+        _check_ratios(m, k, c, kc)
         if contact is not None or links is not None:
             # The laws' own parameter checks (restitution.laws), before any work.
             from .nonlinear import pack_chain

@@ -77,7 +77,7 @@ def _parser() -> argparse.ArgumentParser:
         formatter_class=fmt,
     )
     paper = cor.add_argument_group("the paper's form (m1 = V0 = omega = 1)")
-    paper.add_argument("--alpha", type=float, help="mass ratio m2/m1, in (0, 1e8]")
+    paper.add_argument("--alpha", type=float, help="mass ratio m2/m1, in [1e-8, 1e8]")
     paper.add_argument("--beta", type=float, default=0.0, help="k2/k1 in [0, 1e6]; 0: rigid wall")
     paper.add_argument("--xi", type=float, default=0.0, help="damping ratio in [0, 1e3]")
     paper.add_argument("--n-masses", type=int, default=2, help="masses in the chain, [2, 512]")
