@@ -9,12 +9,6 @@ import pytest
 import restitution
 from restitution import design, special_points
 
-GENERAL = pytest.mark.skipif(
-    not design.general_api_available(),
-    reason="chains with unequal masses need restitution.solve(masses=..., springs=...) "
-    "(issue 13, branch chain-api, not merged yet)",
-)
-
 
 @pytest.fixture(scope="module")
 def star():
@@ -131,7 +125,6 @@ def test_bad_input_is_refused_before_work(kwargs, word):
         design.minimize_cor(progress=None, **kwargs)
 
 
-@GENERAL
 def test_three_masses_free_beats_uniform_and_rechecks():
     u = design.best_uniform(3, progress=None)
     d = design.minimize_cor(3, progress=None)
@@ -143,7 +136,6 @@ def test_three_masses_free_beats_uniform_and_rechecks():
     )
 
 
-@GENERAL
 def test_tapered_chain_both_directions():
     dec = design.best_tapered(4, direction="decreasing", progress=None)
     inc = design.best_tapered(4, direction="increasing", progress=None)
