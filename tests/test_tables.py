@@ -247,7 +247,13 @@ def test_sigterm_during_batch_leaves_no_temporary_file(tmp_path):
     out = tmp_path / "out.csv"
     proc = subprocess.Popen([sys.executable, "-m", "restitution.cli", "batch", str(src), "-o",
                              str(out)], stderr=subprocess.PIPE, text=True)  # fmt: skip
-    time.sleep(2.5)
+    # Signal once the output's temporary file exists (the write is under way), not after a fixed
+    # sleep: how long reading and solving take depends on the machine and the numba cache.
+    deadline = time.monotonic() + 120
+    while proc.poll() is None and time.monotonic() < deadline:
+        if any(p.name.startswith(".out.csv") for p in tmp_path.iterdir()):
+            break
+        time.sleep(0.01)
     proc.send_signal(signal.SIGTERM)
     _, err = proc.communicate(timeout=120)
     if proc.returncode == 3 or proc.returncode == 0:
