@@ -16,6 +16,7 @@ from dataclasses import replace
 import numpy as np
 import pandas as pd
 
+from . import blas
 from . import methods as M
 from .chain import LAW_KEYS, RANGES, Chain, SceneError, check, make_chain, paper_with_laws
 from .compiling import announce
@@ -170,7 +171,8 @@ def _solve_paper(alpha, beta, xi, n_masses, method, history, max_events):
         out = rigid2(a, x, max_events, hist)
     else:
         announce(solve_linear)
-        out = solve_linear(a, b, x, n, max_events, hist)
+        with blas.one_thread(n):
+            out = solve_linear(a, b, x, n, max_events, hist)
     hist = hist if history else None
     return Result.from_row(_PaperScene(a, b, x, n), out, name, hist, passive=True)
 
@@ -223,7 +225,8 @@ def _guarded(batch, args, sel, single):
     never an uninitialised row."""
     announce(batch)
     try:
-        return batch(*args), None
+        with blas.one_thread():  # numba's parallel rows must not each start BLAS threads
+            return batch(*args), None
     except Exception:  # noqa: BLE001 - a kernel failure must not lose the whole table
         out = np.full((len(sel), L.N_OUT), np.nan)
         errors = {}

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import blas
 from .chain import Chain, SceneError, check
 from .compiling import announce
 from .kernels import layout as L
@@ -168,7 +169,8 @@ def _run_exact(ch: Chain, opts: Options):
     the general chain kernel. A contact stiffer than the kernels' rigid limit (beta below
     kernels.chain.BETA_RIGID) comes back flagged FLAG_RIGID_LIMIT, with its error bound."""
     hist = _hist(opts)
-    out = _exact_out(ch, opts.max_events, hist)
+    with blas.one_thread(ch.n_masses):
+        out = _exact_out(ch, opts.max_events, hist)
     return out, (hist if opts.history else None)
 
 

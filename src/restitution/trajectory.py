@@ -16,6 +16,7 @@ from collections.abc import Mapping
 import numpy as np
 import pandas as pd
 
+from . import blas
 from .chain import Chain, SceneError, check
 from .methods import choose
 
@@ -45,6 +46,11 @@ def _scene(scene, keywords: dict) -> Chain:
 
 def _sample(ch: Chain, wt: np.ndarray, max_events: int):
     """(u, v, f, impacts) in kernel units (omega*t, V0/omega, V0, m1 V0 omega, m1 V0)."""
+    with blas.one_thread(ch.n_masses):
+        return _sample_kernels(ch, wt, max_events)
+
+
+def _sample_kernels(ch: Chain, wt: np.ndarray, max_events: int):
     paper = ch.paper_form
     if paper is not None and (ch.preset is not None or _no_chain_kernel()):
         from .api import solve
