@@ -119,3 +119,40 @@ def test_fig7a_caption_states_the_order_below_the_first_minimum_from_the_data():
     data = render_fig7.caption_data(pd.concat(rows), "a", {"xis": [0.1, 1.0], "alpha_max": 10.0})
     assert data["low_trend"] == "rises"
     assert data["ordered_share"] == "100%"
+
+
+def _chromatic(colour) -> bool:
+    r, g, b = to_rgb(colour)
+    return max(r, g, b) - min(r, g, b) > 0.05  # greys and black are neutral
+
+
+def test_other_quantities_take_no_colour_of_beta_xi_alpha():
+    """N, eta, DR and the role of a curve are drawn in greys with line styles; L and V0 have
+    sets of their own: no chromatic colour means a beta, xi or alpha in one panel and something
+    else in another."""
+    taken = {
+        c.lower()
+        for c in [
+            *plotting.BETA_COLOURS.values(), *plotting.BETA_EXTRA,
+            *plotting.XI_COLOURS.values(), *plotting.XI_EXTRA,
+            *plotting.ALPHA_COLOURS.values(), *plotting.ALPHA_EXTRA,
+        ]
+    }  # fmt: skip
+    others = [s["color"] for s in plotting.SERIES_STYLES]
+    others += [s["color"] for s in plotting.ROLE_STYLES.values()]
+    others += [plotting.REFERENCE_STYLE["color"]]
+    assert not any(_chromatic(c) for c in others), others
+    for c in [*plotting.L_COLOURS, *plotting.V0_COLOURS]:
+        assert not any(_distance(c, t) < 0.2 for t in taken if _chromatic(t)), c
+
+
+def test_paper_figure_scripts_define_no_colours_of_their_own():
+    """Every colour of Figs. 2-7 comes from restitution.plotting (one place)."""
+    import re
+    from pathlib import Path
+
+    scripts = sorted(Path("workflow/scripts").glob("render_fig[2-7]*.py"))
+    assert len(scripts) >= 8
+    for path in scripts:
+        hexes = re.findall(r"#[0-9A-Fa-f]{6}\b", path.read_text())
+        assert not hexes, (path.name, hexes)

@@ -116,6 +116,41 @@ XI_EXTRA = ("#DDCC77", "#117733", "#AA4499")
 ALPHA_COLOURS = {2.0: "#8C510A", 2.2: "#DDAA33", 2.5: "#555555", 100.0: "#5AB4AC", 200.0: "#01665E"}
 ALPHA_EXTRA = ("#BF812D", "#543005", "#999999")
 
+# Everything that is none of beta, xi, alpha -- the number of masses N (Fig. 6), the plastic
+# law's eta and DR (Fig. 4), the role of a curve (exact, the paper's law, our fit: Figs. 2(b)-(d))
+# -- is drawn in black and greys told apart by line style and marker, so that no chromatic colour
+# means two things (black and grey are neutral: black is also beta = 0). Bar lengths L and impact
+# speeds V0 (Fig. 5 only) have colour sets of their own (ColorBrewer's Set1 with Tol's dark blue,
+# and sequential purples), each at least 0.2 (RGB distance) from every colour of the three sets.
+SERIES_STYLES = (
+    {"color": "#000000", "ls": "-"},
+    {"color": "#4D4D4D", "ls": (0, (4, 1.5))},
+    {"color": "#000000", "ls": (0, (1, 1.2))},
+    {"color": "#6E6E6E", "ls": (0, (6, 1.5, 1, 1.5))},
+    {"color": "#262626", "ls": (0, (2.5, 1, 1, 1, 1, 1))},
+    {"color": "#9A9A9A", "ls": "-"},
+)
+#: A reference curve the others are read against (the exact COR, a linear law, a limit branch):
+#: a light grey band under the data.
+REFERENCE_STYLE = {"color": "0.75", "lw": 2.4, "ls": "-"}
+#: The role of a curve in a comparison of models.
+ROLE_STYLES = {
+    "exact": {"color": "#000000", "marker": "o", "mfc": "none", "ls": "none", "ms": 2.5},
+    "paper": {"color": "#5A5A5A", "ls": (0, (4, 2)), "lw": 0.9},
+    "fit": {"color": "#000000", "ls": "-", "lw": 0.9},
+    "fit_alt": {"color": "#000000", "ls": (0, (1, 1.2)), "lw": 0.9},
+}
+#: Rows whose status is not ok, when drawn (as crosses at their COR).
+FAIL_STYLE = {"color": "#FF0000", "marker": "x", "ls": "none", "ms": 3}
+L_COLOURS = ("#E41A1C", "#377EB8", "#4DAF4A", "#E7298A", "#004488", "#FB9A99")
+V0_COLOURS = ("#C2A5CF", "#9470B8", "#40004B", "#6E2C8C")
+
+
+def series_style(index: int) -> dict:
+    """Line style number ``index`` of SERIES_STYLES (cycling)."""
+    return dict(SERIES_STYLES[index % len(SERIES_STYLES)])
+
+
 #: Axis labels of the collision duration in the paper's two normalisations, in one style.
 T_COL_LABELS = {
     "2pi": r"collision duration $\omega t_\mathrm{col} / 2\pi$",

@@ -12,8 +12,6 @@ import json
 import numpy as np
 import pandas as pd
 
-BLACK, ORANGE, BLUE, GREEN, RED = "black", "#E69F00", "#0072B2", "#009E73", "#D55E00"
-
 
 def small_alpha_limit(alpha, beta):
     """omega t_col / 2 pi of a single contact as alpha -> 0: (1/2) sqrt(beta (1 + alpha)/alpha).
@@ -52,7 +50,7 @@ def fig2b(sweep, points, fit, plot):
         if beta > 0:
             ax1.plot(a, small_alpha_limit(a, beta), color=colour, lw=0.6, ls=(0, (2, 2)))
         if beta == 0:
-            ax2.step(c["alpha"], c["n_collisions"], where="post", color=BLACK, lw=0.8,
+            ax2.step(c["alpha"], c["n_collisions"], where="post", color="black", lw=0.8,
                      label=r"exact, $\beta = 0$")  # fmt: skip
     ax1.plot([], [], color="0.3", lw=0.6, ls=(0, (2, 2)),
              label=r"$\frac{1}{2}\sqrt{\beta(1+\alpha)/\alpha}$ ($\alpha \to 0$)")  # fmt: skip
@@ -65,22 +63,21 @@ def fig2b(sweep, points, fit, plot):
     sel = (points["alpha_unity"] >= plot["alpha_min"]) & (
         points["alpha_unity"] <= plot["alpha_max"]
     )
-    ax2.plot(points["alpha_unity"][sel], points["n"][sel], "o", ms=2.5, mfc="none", color=BLUE,
+    role = plotting.ROLE_STYLES
+    ax2.plot(points["alpha_unity"][sel], points["n"][sel], **role["exact"],
              label=r"unity points $\alpha^\#_n$")  # fmt: skip
-    ax2.plot(a, 1 + a**p, color=GREEN, lw=0.9, label=rf"Eq. 19, $p = {p:.4f}$ (fit)")
-    ax2.plot(a, 1 + a**0.8, color=ORANGE, lw=0.9, ls="--", label=r"Eq. 19, $p = 0.8$ (paper)",
-             zorder=3)  # fmt: skip
+    ax2.plot(a, 1 + a**p, **role["fit"], label=rf"Eq. 19, $p = {p:.4f}$ (fit)")
+    ax2.plot(a, 1 + a**0.8, **role["paper"], label=r"Eq. 19, $p = 0.8$ (paper)", zorder=3)
     plotting.log_axis(ax2, "y")
     ax2.set_ylabel("number of contacts $n$")
     ax2.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="x-small")
     c_fit = fit["fits"]["minima_c_n1"]["params"]["c"]
     sel = (points["alpha_star"] >= plot["alpha_min"]) & (points["alpha_star"] <= plot["alpha_max"])
-    ax3.plot(points["alpha_star"][sel], points["e_star"][sel], "o", ms=2.5, mfc="none",
-             color=BLUE, label=r"minima $(\alpha^*_n, e^*_n)$")  # fmt: skip
-    ax3.plot(a, (a - 0.4) / (1 + a), color=ORANGE, lw=0.9, ls="--",
+    ax3.plot(points["alpha_star"][sel], points["e_star"][sel], **role["exact"],
+             label=r"minima $(\alpha^*_n, e^*_n)$")  # fmt: skip
+    ax3.plot(a, (a - 0.4) / (1 + a), **role["paper"],
              label=r"$(\alpha^* - 0.4)/(1 + \alpha^*)$ (paper)")  # fmt: skip
-    ax3.plot(a, (a - c_fit) / (1 + a), color=GREEN, lw=0.9,
-             label=rf"$c = {c_fit:.3f}$ (fit)")  # fmt: skip
+    ax3.plot(a, (a - c_fit) / (1 + a), **role["fit"], label=rf"$c = {c_fit:.3f}$ (fit)")
     ax3.set_ylim(0, 1.02)
     ax3.set_ylabel(r"minimum COR $e^*$")
     ax3.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="x-small")
@@ -102,16 +99,19 @@ def fig2c(residuals, fit):
     q = fit["fits"]["eq22_gap_n1"]["params"]["q"]
     qs = fit["fits"]["eq22_gap_scaled_n2"]["params"]
     nn = np.linspace(1, n.max(), 400)
-    ax1.plot(n, gap, "o", ms=2.5, mfc="none", color=BLACK, label="exact")
-    ax1.plot(nn, nn**q, color=GREEN, lw=0.9, label=rf"$n^{{{q:.4f}}}$ (fit)")
-    ax1.plot(nn, nn**0.21, color=ORANGE, ls="--", lw=0.9, label=r"$n^{0.21}$ (paper)", zorder=3)
-    ax1.plot(nn, qs["A"] * nn ** qs["q"], color=BLUE, lw=0.9, ls=":",
+    role = plotting.ROLE_STYLES
+    ax1.plot(n, gap, **role["exact"], label="exact")
+    ax1.plot(nn, nn**q, **role["fit"], label=rf"$n^{{{q:.4f}}}$ (fit)")
+    ax1.plot(nn, nn**0.21, **role["paper"], label=r"$n^{0.21}$ (paper)", zorder=3)
+    ax1.plot(nn, qs["A"] * nn ** qs["q"], **role["fit_alt"],
              label=rf"${qs['A']:.3f}\,n^{{{qs['q']:.4f}}}$ (fit, $n \geq 2$)")  # fmt: skip
     ax1.set_ylabel(r"$\alpha^*_n - \alpha^\#_n$")
     ax1.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="x-small")
     ax2.axhline(0, color="0.6", lw=0.5)
-    ax2.plot(n, n**0.21 - gap, "o-", ms=2, lw=0.6, color=ORANGE, label="paper law - exact")
-    ax2.plot(n, n**q - gap, "s-", ms=2, lw=0.6, color=GREEN, label="fitted law - exact")
+    ax2.plot(n, n**0.21 - gap, marker="o", ms=2, mfc="white", lw=0.6, color=role["paper"]["color"],
+             ls=role["paper"]["ls"], label="paper law - exact")  # fmt: skip
+    ax2.plot(n, n**q - gap, marker="s", ms=2, lw=0.6, color=role["fit"]["color"],
+             label="fitted law - exact")  # fmt: skip
     ax2.set_ylabel("residual")
     ax2.set_xlabel("number of contacts $n$")
     from matplotlib.ticker import FixedLocator, FuncFormatter, NullFormatter
@@ -135,20 +135,23 @@ def fig2d(curves, errors, plot):
     )
     c = curves[(curves["alpha"] >= plot["alpha_min"]) & (curves["alpha"] <= plot["alpha_max"])]
     e = {r.model: r for r in errors.itertuples()}
+    role = plotting.ROLE_STYLES
     styles = [
-        ("paper", ORANGE, "--", "paper, Eqs. 19-22"),
-        ("improved", BLUE, "-", "improved (sqrt cusp)"),
+        ("paper", role["paper"], "paper, Eqs. 19-22"),
+        ("improved", role["fit"], "improved (sqrt cusp)"),
     ]
-    ax1.plot(c["alpha"], c["exact"], color=BLACK, lw=1.4, label="exact", zorder=1)
-    for name, colour, ls, text in styles:
-        ax1.plot(c["alpha"], c[name], color=colour, ls=ls, lw=0.8, label=text, zorder=2)
+    ax1.plot(c["alpha"], c["exact"], **plotting.REFERENCE_STYLE, label="exact", zorder=1)
+    for name, style, text in styles:
+        ax1.plot(c["alpha"], c[name], **{**style, "lw": 0.8}, label=text, zorder=2)
     ax1.set_ylim(0, 1.02)
     ax1.set_ylabel("COR $e$")
     ax1.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="x-small")
-    styles_err = styles + [("improved_universal", GREEN, ":", "improved, one shape for all $n$")]
-    for name, colour, ls, text in styles_err:
+    styles_err = styles + [
+        ("improved_universal", role["fit_alt"], "improved, one shape for all $n$")
+    ]
+    for name, style, text in styles_err:
         err = np.abs(c[name] - c["exact"]).clip(lower=1e-12)
-        ax2.plot(c["alpha"], err, color=colour, ls=ls, lw=0.7,
+        ax2.plot(c["alpha"], err, **{**style, "lw": 0.7},
                  label=f"{text}: max {e[name].max_abs_error:.1e}")  # fmt: skip
     ax2.set_yscale("log")
     ax2.set_ylim(1e-8, 1)

@@ -13,10 +13,6 @@
 
 import numpy as np
 
-GREY = "0.55"
-RED = "#D55E00"
-COLOURS = ["#0072B2", "#E69F00", "#009E73", "#CC79A7", "#56B4E9", "#F0E442", "#000000"]
-
 
 def first_contact_curve(dr: float, eta: float, n: int = 400):
     """(x, F) of loading to xmax and unloading to the dent, units m1 = V0 = k1 = 1; and xp."""
@@ -42,8 +38,10 @@ def draw_a(panel, logger):
 
     fig = plotting.new_figure("single", aspect=0.72)
     ax = fig.add_subplot()
-    ax.plot([0, 1], [0, 1], color=GREY, lw=0.9, ls="--", label=r"linear elastic, $k_1 x$")
-    for colour, eta in zip(COLOURS, sorted(panel["etas"]), strict=False):
+    ax.plot([0, 1], [0, 1], **plotting.REFERENCE_STYLE, label=r"linear elastic, $k_1 x$")
+    for i, eta in enumerate(sorted(panel["etas"])):
+        style = plotting.series_style(i)
+        colour = style["color"]
         x, f, xmax, fmax, xp = first_contact_curve(panel["dr"], eta)
         # loading stores m1*V0**2/2 = 0.5; the loop encloses the dissipated work DR/2
         n_load = int(np.argmax(x)) + 1
@@ -53,7 +51,7 @@ def draw_a(panel, logger):
             "eta %g: xmax %.5f, Fmax %.5f, dent xp %.5f, stored %.5f (0.5), loop %.5f (DR/2 = %g)",
             eta, xmax, fmax, xp, stored, loop, panel["dr"] / 2,
         )  # fmt: skip
-        ax.plot(x, f, color=colour, lw=1.1, label=rf"$\eta = {eta:g}$")
+        ax.plot(x, f, **style, lw=1.1, label=rf"$\eta = {eta:g}$")
         ax.plot([xp], [0.0], "o", ms=3, color=colour, mfc="white", clip_on=False, zorder=4)
         ax.annotate(
             "", xy=(0.5 * (xmax + xp), 0.5 * fmax), xytext=(0.5 * (xmax + xp) + 0.06 * (xmax - xp),
@@ -85,7 +83,7 @@ def draw_sweep(name, sweep, panel, logger):
 
     fig = plotting.new_figure("single", aspect=0.72)
     ax = fig.add_subplot()
-    colours = iter(COLOURS)
+    styles = (plotting.series_style(i) for i in range(len(sweep)))
     n_bad_total = 0
     for _, group in sweep.groupby("curve", sort=True):
         group = group.sort_values("alpha")
@@ -96,14 +94,8 @@ def draw_sweep(name, sweep, panel, logger):
         if ok.empty:
             raise ValueError(f"fig4{name}: no rows with status ok for {label}")
         linear = first["contact"] == "linear"
-        ax.plot(
-            ok["alpha"],
-            ok["cor"],
-            color=GREY if linear else next(colours),
-            lw=0.8 if linear else 1.0,
-            zorder=2 if linear else 3,
-            label=label,
-        )
+        style = plotting.REFERENCE_STYLE if linear else {**next(styles), "lw": 1.0}
+        ax.plot(ok["alpha"], ok["cor"], **style, zorder=2 if linear else 3, label=label)
         if len(bad):
             n_bad_total += len(bad)
             logger.warning(
@@ -112,18 +104,18 @@ def draw_sweep(name, sweep, panel, logger):
                 len(bad),
                 bad["status"].value_counts().to_dict(),
             )
-            ax.plot(bad["alpha"], bad["cor"].clip(0, 1.02), "x", color=RED, ms=3, zorder=5)
+            ax.plot(bad["alpha"], bad["cor"].clip(0, 1.02), **plotting.FAIL_STYLE, zorder=5)
         logger.info("%s: %d rows ok, COR min %.5f", label, len(ok), ok["cor"].min())
     if n_bad_total:
-        ax.plot([], [], "x", color=RED, ms=3, label=f"status not ok ({n_bad_total})")
+        ax.plot([], [], **plotting.FAIL_STYLE, label=f"status not ok ({n_bad_total})")
     a = np.geomspace(sweep["alpha"].min(), sweep["alpha"].max(), 400)
     if name in ("c", "d"):
         ax.plot(
             a,
             np.sqrt(1.0 - panel["dr"] / (1.0 + a)),
             color="black",
-            ls=(0, (4, 2)),
-            lw=0.9,
+            ls=(0, (9, 3)),
+            lw=0.7,
             zorder=4,
             label=r"Eq. (23) bound $e_{p\max}$",
         )

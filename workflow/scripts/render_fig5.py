@@ -15,11 +15,6 @@ import numpy as np
 import pandas as pd
 
 GREY = "0.55"
-RED = "#D55E00"
-#: Bar lengths and impact speeds are neither beta, xi nor alpha: sets of their own (Tol's
-#: "vibrant" and sequential purples), kept apart from restitution.plotting's three sets.
-L_COLOURS = ["#EE7733", "#0077BB", "#EE3377", "#009988", "#33BBEE", "#CC3311"]
-V0_COLOURS = ["#C2A5CF", "#9970AB", "#40004B", "#762A83"]
 
 
 def scissor_law(spring: dict, L: float):  # noqa: N803
@@ -92,8 +87,8 @@ def draw_corners(ax, theta_deg: float, label: str) -> None:
         y = sign * (h - 0.2)
         for side in (-1, 1):
             ax.add_patch(Rectangle((side * 0.11 - 0.055, y - 0.045), 0.11, 0.09,
-                                   color="#999999", lw=0))  # fmt: skip
-        ax.plot([0, 0], [y - 0.06, y + 0.06], color="#D55E00", lw=0.9)
+                                   color="0.6", lw=0))  # fmt: skip
+        ax.plot([0, 0], [y - 0.06, y + 0.06], color="black", lw=1.3)
     ax.annotate("", xy=(0, h - 0.02), xytext=(0, h + 0.3),
                 arrowprops=dict(arrowstyle="-|>", lw=0.6, color="black"))  # fmt: skip
     ax.annotate("", xy=(0, -h + 0.02), xytext=(0, -h - 0.3),
@@ -130,7 +125,7 @@ def draw_a(spring, panel, logger):
     zoom.plot(xe, fe, color="black", lw=0.7, ls=(0, (3, 2)), zorder=5,
               label="Eq. 24 alone (no cap, no corners)")  # fmt: skip
     locks = []
-    for colour, L in zip(L_COLOURS, sorted(panel["Ls"]), strict=False):  # noqa: N806
+    for colour, L in zip(plotting.L_COLOURS, sorted(panel["Ls"]), strict=False):  # noqa: N806
         sp = scissor_law(spring, L)
         f = np.array([laws.structure_force(sp, xi) for xi in x])
         slope = np.array([laws.structure_slope(sp, xi) for xi in x])
@@ -212,11 +207,13 @@ def draw_b(sweep, spring, panel, logger):
             label, colour = "linear spring", GREY
         elif kind == "L":
             label = rf"$L = {first['L']:g}$"
-            colour = L_COLOURS[sorted(panel["Ls"]).index(first["L"]) % len(L_COLOURS)]
+            colour = plotting.L_COLOURS[
+                sorted(panel["Ls"]).index(first["L"]) % len(plotting.L_COLOURS)
+            ]
         else:
             label = rf"$v_0 = {first['v0']:g}$"
             v0s = sorted(panel["velocity"]["v0s"])
-            colour = V0_COLOURS[v0s.index(first["v0"]) % len(V0_COLOURS)]
+            colour = plotting.V0_COLOURS[v0s.index(first["v0"]) % len(plotting.V0_COLOURS)]
         ok = group[group["status"] == "ok"]
         bad = group[group["status"] != "ok"]
         if ok.empty:
@@ -227,12 +224,12 @@ def draw_b(sweep, spring, panel, logger):
             n_bad_total += len(bad)
             logger.warning("%s: %d rows not ok, drawn as crosses: %s", label, len(bad),
                            bad["status"].value_counts().to_dict())  # fmt: skip
-            ax.plot(bad["alpha"], bad["cor"].clip(0, 1.02), "x", color=RED, ms=3, zorder=5)
+            ax.plot(bad["alpha"], bad["cor"].clip(0, 1.02), **plotting.FAIL_STYLE, zorder=5)
         i = ok["cor"].idxmin()
         logger.info("%s: %d rows ok, COR min %.5f at alpha %.5g", label, len(ok),
                     ok.loc[i, "cor"], ok.loc[i, "alpha"])  # fmt: skip
     if n_bad_total:
-        axes[0].plot([], [], "x", color=RED, ms=3, label=f"status not ok ({n_bad_total})")
+        axes[0].plot([], [], **plotting.FAIL_STYLE, label=f"status not ok ({n_bad_total})")
     for ax in axes:
         plotting.log_axis(ax, "x")
         ax.set_xlim(sweep["alpha"].min(), sweep["alpha"].max())

@@ -1,5 +1,5 @@
 """Render Fig. 6(b): COR of the chain of N masses against x = (N-1)*alpha on a log axis, one
-curve per N, with the first-contact branch e1 = (1 - x)/(1 + x) (Appendix) as a thin grey line.
+curve per N, with the first-contact branch e1 = (1 - x)/(1 + x) (Appendix) as a light grey band.
 
 Only rows with status "ok" are drawn (others are counted in the log). The first minima of each
 curve are written to the log.
@@ -7,9 +7,6 @@ curve are written to the log.
 
 import numpy as np
 import pandas as pd
-
-COLOURS = {2: "#000000", 3: "#E69F00", 5: "#56B4E9", 10: "#D55E00"}
-SPARE = ["#009E73", "#CC79A7", "#0072B2", "#F0E442"]
 
 
 def cusp_minima(curve: pd.DataFrame, count: int = 3) -> list[tuple[float, float]]:
@@ -26,18 +23,16 @@ def draw(sweep: pd.DataFrame, n_masses, logger):
 
     fig = plotting.new_figure("onehalf", aspect=0.58)
     ax = fig.add_subplot()
-    spare = iter(SPARE * (1 + len(n_masses)))
     x_lo, x_hi = sweep["x"].min(), sweep["x"].max()
     branch = np.geomspace(x_lo, min(x_hi, 0.95), 200)
     ax.plot(
         branch,
         (1 - branch) / (1 + branch),
-        color="0.6",
-        lw=2.2,
+        **plotting.REFERENCE_STYLE,
         zorder=1,
         label=r"$(1-x)/(1+x)$",
     )
-    for n in sorted(n_masses):
+    for i, n in enumerate(sorted(n_masses)):
         rows = sweep["n_masses"] == n
         curve = sweep[rows & (sweep["status"] == "ok")].sort_values("x")
         dropped = int((rows & (sweep["status"] != "ok")).sum())
@@ -48,8 +43,8 @@ def draw(sweep: pd.DataFrame, n_masses, logger):
         ax.plot(
             curve["x"],
             curve["cor"],
-            color=COLOURS.get(n) or next(spare),
-            lw=1.1 if n == 2 else 0.8,
+            **plotting.series_style(i),
+            lw=1.1 if n == 2 else 0.9,
             zorder=3 if n == 2 else 2,
             label=rf"$N = {n}$",
         )

@@ -40,9 +40,12 @@ def mark_not_ok(ax, bad: pd.DataFrame, logger) -> None:
         )
     if bad.empty:
         return
-    ax.plot(bad["alpha"], np.full(len(bad), 0.03), "x", color="red", ms=4, mew=0.8, zorder=5,
-            clip_on=False, transform=ax.get_xaxis_transform(),
-            label=f"status not ok ({len(bad)} rows)")  # fmt: skip
+    from restitution import plotting
+
+    cross = {**plotting.FAIL_STYLE, "ms": 4, "mew": 0.8}
+    label = f"status not ok ({len(bad)} rows)"
+    ax.plot(bad["alpha"], np.full(len(bad), 0.03), **cross, zorder=5, clip_on=False,
+            transform=ax.get_xaxis_transform(), label=label)  # fmt: skip
 
 
 def draw(sweep: pd.DataFrame, panel: str, fig7: dict, logger):
