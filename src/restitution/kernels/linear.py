@@ -60,7 +60,9 @@ has FLAG_STICKING set.
 Energies (fractions of the initial kinetic energy Mtot/2) are evaluated at the final separation:
 translational cor^2, vibrational (relative kinetic + structural springs), dissipated = integral
 of c (v2 - v1)^2 by 32-point Gauss-Legendre on sub-intervals of length <= 12/max|lambda|
-(error ~1e-31, round-off). Their sum is checked (STATUS_ENERGY if off by more than 1e-9).
+(error ~1e-31, round-off); a permanent contact's, to infinite time, in closed form (pairwise
+exponential integrals). Their sum is checked, for permanent contacts too (STATUS_ENERGY if off by
+more than 1e-9, or NaN).
 """
 
 import math

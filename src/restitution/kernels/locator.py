@@ -501,6 +501,33 @@ def _diss_modal(T, g, lam, c):
 
 
 @njit(cache=True)
+def _diss_modal_inf(g, lam, c):
+    """Integral of c (Re sum g_k e^{lam_k t})^2 over [0, inf), in closed form.
+
+    With x_k = g_k e^{lam_k t}, (Re sum x)^2 = 1/2 sum_pq Re(x_p x_q + x_p conj(x_q)), whose
+    integrals are g_p g_q / -(lam_p + lam_q) and g_p conj(g_q) / -(lam_p + conj(lam_q)). For a
+    permanent contact, whose decay can be 1e10 times slower than its fastest mode, so that
+    quadrature to "infinity" would need ~1e11 sub-intervals. Returns inf if a term present does
+    not decay (the motion never comes to rest: the caller's energy check then fails).
+    """
+    if c == 0.0:
+        return 0.0
+    acc = 0.0
+    for p in range(g.size):
+        if g[p] == 0.0:
+            continue
+        for q in range(g.size):
+            if g[q] == 0.0:
+                continue
+            a = lam[p] + lam[q]
+            b = lam[p] + lam[q].conjugate()
+            if a.real >= 0.0 or b.real >= 0.0:
+                return math.inf
+            acc += (g[p] * g[q] / -a).real + (g[p] * g[q].conjugate() / -b).real
+    return 0.5 * c * acc
+
+
+@njit(cache=True)
 def _diss_scalar(T, xi, r0, rd0, c):
     """Integral of c r'^2 over [0, T] by Gauss-Legendre (round-off exact)."""
     if c == 0.0 or T <= 0.0:
