@@ -206,16 +206,39 @@ def validate_frame(frame: pd.DataFrame, keep=()) -> pd.DataFrame:
     return pd.DataFrame(scene_table(frame, keep).plan, index=frame.index)
 
 
-def _status_names(codes: np.ndarray) -> np.ndarray:
+class _Labels:
+    """A string result column kept as integer codes into a short list of names until the end: a
+    table has few distinct statuses and methods, and 20,000 Python strings per column cost
+    milliseconds to build, mask and factorise."""
+
+    def __init__(self, codes: np.ndarray, names: list):
+        self.codes, self.names = codes, list(names)
+        self._index = {name: i for i, name in enumerate(self.names)}
+
+    def code(self, name: str) -> int:
+        if name not in self._index:
+            self._index[name] = len(self.names)
+            self.names.append(name)
+        return self._index[name]
+
+    def set(self, rows, name: str) -> None:
+        self.codes[rows] = self.code(name)
+
+    def column(self):
+        """The pandas string column."""
+        names = np.asarray(self.names, dtype=object)
+        return pd.array(names, dtype="str").take(self.codes)
+
+
+def _status_codes(status: np.ndarray, labels: _Labels) -> np.ndarray:
+    """Label codes of kernel status codes (NaN or unknown: not_run)."""
     from .result import STATUS, status_name
 
-    names = np.array([status_name(c) for c in range(max(STATUS) + 1)], dtype=object)
-    out = np.full(len(codes), "not_run", dtype=object)
-    finite = np.isfinite(codes)
-    known = finite & (codes >= 0) & (codes < len(names))
-    out[known] = names[codes[known].astype(np.int64)]
-    odd = finite & ~known
-    out[odd] = [status_name(c) for c in codes[odd]]
+    table = np.array([labels.code(status_name(c)) for c in range(max(STATUS) + 1)])
+    finite = np.isfinite(status)
+    known = finite & (status >= 0) & (status < len(table))
+    out = np.full(len(status), labels.code("not_run"), dtype=np.int64)
+    out[known] = table[status[known].astype(np.int64)]
     return out
 
 
@@ -268,7 +291,10 @@ def _solve_exact_paper(plan: pd.DataFrame, idx: np.ndarray, max_events: int, bar
                         alpha[s[j]], beta[s[j]], xi[s[j]], nm[s[j]], max_events, no_hist
                     ),
                 )
-            out[sel, : done.shape[1]] = done
+            if len(sel) == len(idx) and done.shape[1] == L.N_OUT:
+                out = done  # one block of every row, in order: no copy
+            else:
+                out[sel, : done.shape[1]] = done
             if err:
                 errors.update({int(sel[j]): msg for j, msg in err.items()})
             bar.update(len(sel))
@@ -332,9 +358,9 @@ def solve_many(
     table = scene_table(frame, keep)
     plan = table.plan
     n = len(frame)
-    names = plan["method"]
     # Exact rows in parallel batches, numerical rows one by one.
-    exact = np.isin(names, ("impulsive", "piecewise"))
+    method = _Labels(table.method_codes.copy(), table.method_names)
+    exact = np.isin(method.codes, [method.code("impulsive"), method.code("piecewise")])
     cols = {
         "cor": np.full(n, np.nan),
         "n_collisions": np.zeros(n, dtype=np.int64),
@@ -342,8 +368,8 @@ def solve_many(
         "e_translational": np.full(n, np.nan),
         "e_vibrational": np.full(n, np.nan),
         "e_dissipated": np.full(n, np.nan),
-        "method": names.astype(object).copy(),
-        "status": np.full(n, "not_run", dtype=object),
+        "method": method,
+        "status": _Labels(np.zeros(n, dtype=np.int64), ["not_run"]),
         "error_estimate": np.full(n, np.nan),
     }
     block = _block(n, progress)
@@ -372,7 +398,10 @@ def solve_many(
         for i in np.flatnonzero(~exact):
             r = _solve_row(table, int(i), max_events)
             for c in RESULT_COLUMNS:
-                cols[c][i] = getattr(r, c)
+                if isinstance(cols[c], _Labels):
+                    cols[c].set(i, getattr(r, c))
+                else:
+                    cols[c][i] = getattr(r, c)
             bar.update(1)
     # One DataFrame construction (column-by-column insertion is slow on large tables).
     data = {c: frame[c] for c in frame.columns}
@@ -386,9 +415,8 @@ def solve_many(
         if "dashpots" in data:
             data["dashpots"] = [ch.dashpots.tolist() for ch in table.chains]
     data.update(cols)
-    for c in ("method", "status"):  # few distinct names: build the string column from codes
-        codes, names = pd.factorize(cols[c])
-        data[c] = pd.array(np.asarray(names, dtype=object), dtype="str").take(codes)
+    for c in ("method", "status"):
+        data[c] = cols[c].column()
     if table.chains is not None:
         data[T_COL] = cols["omega_t_col"] / plan["omega"]
     return pd.DataFrame(data, index=frame.index)
@@ -405,17 +433,18 @@ def _fill(cols: dict, idx: np.ndarray, out: np.ndarray, errors: dict) -> None:
     cols["e_vibrational"][idx] = out[:, L.OUT_EVIB]
     cols["e_dissipated"][idx] = out[:, L.OUT_EDISS]
     cols["error_estimate"][idx] = out[:, L.OUT_ERR]
-    status = _status_names(out[:, L.OUT_STATUS])
+    status = cols["status"]
+    status.codes[idx] = _status_codes(out[:, L.OUT_STATUS], status)
     for j, msg in errors.items():
-        status[j] = msg
-    cols["status"][idx] = status
+        status.set(idx[j], msg)
     # the method as methods.label names it, from the kernel's flags
+    method = cols["method"]
     flags = np.nan_to_num(out[:, L.OUT_FLAGS], nan=0.0).astype(np.int64)
-    limit = idx[(flags & M.FLAG_RIGID_LIMIT) != 0]
-    cols["method"][limit] = "impulsive+rigid-limit"
+    method.set(idx[(flags & M.FLAG_RIGID_LIMIT) != 0], "impulsive+rigid-limit")
     stick = idx[(flags & M.FLAG_STICKING) != 0]
-    if len(stick):
-        cols["method"][stick] = [m + "+sticking" for m in cols["method"][stick]]
+    for code in np.unique(method.codes[stick]):
+        rows = stick[method.codes[stick] == code]
+        method.set(rows, method.names[code] + "+sticking")
 
 
 def _solve_row(table, i: int, max_events: int) -> Result:

@@ -110,8 +110,8 @@ def parse_law(name: str, cell, where: str):
 
 class SceneTable:
     """A checked scene table: ``plan`` (a dict of arrays alpha, beta, xi, n_masses, method,
-    paper, omega, one entry per row), the Chains of a general table (``chains``; None for the
-    paper's form)."""
+    paper, omega, one entry per row), the method of every row also as ``method_codes`` into
+    ``method_names``, the Chains of a general table (``chains``; None for the paper's form)."""
 
     def __init__(self, frame: pd.DataFrame, keep=()):
         check_columns(frame, keep)
@@ -138,6 +138,8 @@ class SceneTable:
                     check_column(name, values[given], frame.index[given])
                 self.settings_cols[name] = (values, given)
         method = self._methods()
+        self.method_codes = np.zeros(len(frame), dtype=np.int64)
+        self.method_names = []
         if has_paper:
             self.chains = None
             self._legacy = {}
@@ -200,6 +202,7 @@ class SceneTable:
                 except SceneError as e:
                     raise SceneError(f"{e} ({_row(frame, i)})") from None
                 chosen[lin[groups == g]] = name
+                self._method_code(lin[groups == g], name)
         for i in np.flatnonzero(legacy):
             law = {c: frame[c].iat[i] for c in law_cols if not _is_missing(frame[c].iat[i])}
             try:
@@ -207,6 +210,7 @@ class SceneTable:
                 chosen[i] = M.choose(ch, method[i]).name
             except SceneError as e:
                 raise SceneError(f"{e} ({_row(frame, i)})") from None
+            self._method_code(i, chosen[i])
             self._legacy[i] = ch
         plan["method"] = chosen
         plan["paper"] = ~legacy
@@ -270,10 +274,18 @@ class SceneTable:
                 chosen.append(M.choose(c, method[i]).name)
             except SceneError as e:
                 raise SceneError(f"{e} ({_row(frame, i)})") from None
+            self._method_code(i, chosen[-1])
         plan["method"] = np.array(chosen, dtype=object)
         plan["paper"] = np.array([s is not None for s in summary], dtype=bool)
         plan["omega"] = np.array([c.omega for c in ch], dtype=float)
         return plan
+
+    def _method_code(self, rows, name: str) -> None:
+        """Record the method of ``rows`` also as a code into ``method_names`` (the result table
+        builds its method column from codes: no per-row strings)."""
+        if name not in self.method_names:
+            self.method_names.append(name)
+        self.method_codes[rows] = self.method_names.index(name)
 
     def _check_settings(self) -> None:
         if not self.settings_cols:
