@@ -171,8 +171,11 @@ def _solve_paper(alpha, beta, xi, n_masses, method, history, max_events):
         out = rigid2(a, x, max_events, hist)
     else:
         announce(solve_linear)
-        with blas.one_thread(n):
+        if n < blas.SMALL_N:  # (no context manager: this path is timed per call)
             out = solve_linear(a, b, x, n, max_events, hist)
+        else:
+            with blas.one_thread():
+                out = solve_linear(a, b, x, n, max_events, hist)
     hist = hist if history else None
     return Result.from_row(_PaperScene(a, b, x, n), out, name, hist, passive=True)
 
