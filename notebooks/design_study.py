@@ -56,7 +56,7 @@ BETA = float(os.environ.get("NB_OPT_BETA", "0"))
 POPSIZE = int(os.environ.get("NB_OPT_POPSIZE", "10"))
 MAXITER = int(os.environ.get("NB_OPT_MAXITER", "60"))
 TOL = float(os.environ.get("NB_ROBUST_TOL", "0.01"))
-print(f"N = {N}, bounds {BOUNDS}, beta = {BETA}; general chains: {design.general_api_available()}")
+print(f"N = {N}, bounds {BOUNDS}, beta = {BETA}")
 
 # %% [markdown]
 # ## 1. Optimise your chain
@@ -88,7 +88,7 @@ for f in factors:
     m = best.masses.copy()
     m[j] *= f
     masses, springs, kc = design.scaled_chain(m, best.springs, BETA)
-    r = design._solve_chain(masses, springs, kc)
+    r = design.solve_scaled(masses, springs, kc)
     rows.append((f, r.cor, r.n_collisions))
 cut = pd.DataFrame(rows, columns=["factor", "cor", "n_collisions"])
 fig, ax = plt.subplots(figsize=(5, 3.2))

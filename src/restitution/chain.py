@@ -28,15 +28,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-
-class SceneError(ValueError):
-    """A scene parameter is outside its allowed range."""
-
-
-# The largest chain accepted: the range declared for the paper's n_masses. Every scene also has a
-# work budget counted in operations inside the kernels, which ends a sequence that would run too
-# long with an honest status (never a silent result).
-MAX_MASSES = 512
+from ._base import MAX_MASSES, SceneError
 
 
 @dataclass(frozen=True)
@@ -326,7 +318,7 @@ class Chain:
         _check_ratios(m, k, c, kc)
         if contact is not None or links is not None:
             # The laws' own parameter checks (restitution.laws), before any work.
-            from .nonlinear import pack_chain
+            from .laws import pack_chain
 
             pack_chain(m, k, c, self.contact_law, self.link_laws, v0)
 

@@ -179,13 +179,13 @@ class Grazing:
 
 def grazing(masses, springs, k_contact, n: int, kind: str, max_events: int = 10_000) -> Grazing:
     """Grazing condition G of contact ``n`` of a chain (scaled units, see module docstring)."""
-    from .design import _solve_chain  # the one place that calls the solver
+    from .scaled import solve_scaled  # the one place that calls the solver
 
     if kind not in KINDS:
         raise ValueError(f"kind={kind!r}: must be one of {KINDS}")
     if kind == "split" and math.isinf(k_contact):
         raise ValueError("kind='split' needs a finite contact stiffness (beta > 0)")
-    res = _solve_chain(masses, springs, k_contact, history=True, max_events=max_events)
+    res = solve_scaled(masses, springs, k_contact, history=True, max_events=max_events)
     hist = res.history
     if res.n_collisions < n or not res.success:
         return Grazing(math.nan, math.nan, res.n_collisions, res.cor)

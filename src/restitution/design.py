@@ -29,7 +29,6 @@ for the solver, so beta = k_12/k_contact as in the paper.
 from __future__ import annotations
 
 import functools
-import inspect
 import logging
 import math
 from dataclasses import dataclass, field
@@ -37,85 +36,13 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import brentq, differential_evolution, minimize, root_scalar
 
+from .scaled import solve_scaled, solve_scaled_many
+
 log = logging.getLogger(__name__)
 
 DEFAULT_BOUNDS = (0.01, 100.0)
 MAX_MASSES = 16
 _BAD = 10.0  # objective of a scene the solver could not finish (never a minimum: COR <= 1)
-
-
-# ---------------------------------------------------------------------------------------------
-# The one place that calls the solver.
-# ---------------------------------------------------------------------------------------------
-@functools.lru_cache(maxsize=1)
-def general_api_available() -> bool:
-    """Whether ``restitution.solve`` takes the general chain form ``masses=..., springs=...``."""
-    import restitution
-
-    return "masses" in inspect.signature(restitution.solve).parameters
-
-
-def _paper_form(masses, springs, k_contact):
-    """(alpha, beta, n_masses) if the scaled chain is a paper scene (m = [1, a, .., a], equal
-    springs k = a/(1 + a)), else None."""
-    m, k = masses, springs
-    uniform = m[0] == 1.0 and all(x == m[1] for x in m[1:]) and all(x == k[0] for x in k)
-    if uniform and abs(k[0] - m[1] / (1.0 + m[1])) <= 1e-14 * k[0]:  # omega = 1
-        beta = 0.0 if math.isinf(k_contact) else k[0] / k_contact
-        return m[1], beta, len(m)
-    return None
-
-
-def _solve_chain(masses, springs, k_contact, *, history=False, max_events=100_000):
-    """Solve a chain given in scaled units (m_1 = 1, omega = 1; ``k_contact = inf``: rigid wall).
-
-    The one place that calls the solver for a single chain. Paper scenes (every two-mass chain,
-    the uniform chain of Fig. 6) go through the paper form ``restitution.solve(alpha=..., ...)``,
-    the others through the general form ``restitution.solve(masses=..., springs=...,
-    k_contact=...)``; without the general form (issue 13) they raise ``NotImplementedError``.
-    """
-    import restitution
-
-    m = [float(x) for x in masses]
-    k = [float(x) for x in springs]
-    paper = _paper_form(m, k, k_contact)
-    if paper is not None:
-        alpha, beta, n = paper
-        return restitution.solve(
-            alpha=alpha, beta=beta, n_masses=n, history=history, max_events=max_events
-        )
-    if general_api_available():
-        return restitution.solve(
-            masses=m, springs=k, k_contact=k_contact, history=history, max_events=max_events
-        )
-    raise NotImplementedError(
-        "a chain with unequal masses m_2..m_N or unequal springs needs the general form "
-        "restitution.solve(masses=..., springs=..., k_contact=...) (issue 13)"
-    )
-
-
-def _solve_chains(chains, max_events=100_000):
-    """COR and success of many scaled chains ``[(masses, springs, k_contact), ...]`` in one call
-    to ``restitution.solve_many`` (paper form when every chain is a paper scene)."""
-    import pandas as pd
-
-    import restitution
-
-    forms = [_paper_form([float(x) for x in m], [float(x) for x in k], kc) for m, k, kc in chains]
-    if all(f is not None for f in forms):
-        frame = pd.DataFrame(forms, columns=["alpha", "beta", "n_masses"])
-    elif general_api_available():
-        frame = pd.DataFrame(
-            {
-                "masses": [list(map(float, c[0])) for c in chains],
-                "springs": [list(map(float, c[1])) for c in chains],
-                "k_contact": [float(c[2]) for c in chains],
-            }
-        )
-    else:
-        _solve_chain(*next(c for c, f in zip(chains, forms, strict=True) if f is None))
-    res = restitution.solve_many(frame, max_events=max_events)
-    return res["cor"].to_numpy(), (res["status"] == "ok").to_numpy()
 
 
 def scaled_chain(mass_ratios, spring_ratios, beta: float):
@@ -246,7 +173,7 @@ class _Objective:
     def solve(self, m, k):
         self.calls += 1
         masses, springs, kc = scaled_chain(m / m[0], k, self.beta)
-        return _solve_chain(masses, springs, kc, max_events=self.max_events)
+        return solve_scaled(masses, springs, kc, max_events=self.max_events)
 
     def cor(self, x) -> float:
         m, k = self.fam.chain(x)
@@ -276,7 +203,7 @@ class _Objective:
                 chains.append(scaled_chain(mm / mm[0], k, self.beta))
                 owner.append(s)
         self.calls += len(chains)
-        cor, ok = _solve_chains(chains, self.max_events)
+        cor, ok = solve_scaled_many(chains, self.max_events)
         cor = np.where(ok, cor, _BAD)
         out = np.full(X.shape[1], -np.inf)
         np.maximum.at(out, np.asarray(owner), cor)
@@ -294,13 +221,13 @@ class _Objective:
         # bounded local climb from the worst: near a cusp the worst case may be interior.
         pts = self._box(n)
         self.calls += pts.shape[0]
-        cor, ok = _solve_chains([chain(d) for d in pts], self.max_events)
+        cor, ok = solve_scaled_many([chain(d) for d in pts], self.max_events)
         cor = np.where(ok, cor, _BAD)
         i = int(np.argmax(cor))
 
         def neg(d):
             self.calls += 1
-            r = _solve_chain(*chain(d), max_events=self.max_events)
+            r = solve_scaled(*chain(d), max_events=self.max_events)
             return -(r.cor if r.success else _BAD)
 
         res = minimize(
@@ -327,7 +254,7 @@ def _sobol(dim: int, n: int) -> np.ndarray:
 # Polish on the grazing manifold.
 # ---------------------------------------------------------------------------------------------
 def _grazing_value(fam: Family, beta: float, x, n: int, kind: str) -> float:
-    from .cormap import grazing
+    from .cormap import grazing  # cormap imports nothing of this module
 
     m, k = fam.chain(x)
     masses, springs, kc = scaled_chain(m, k, beta)
@@ -544,7 +471,7 @@ def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, 
     m, k = fam.chain(x)
     r = objective.solve(m, k)
     masses, springs, kc = scaled_chain(m, k, beta)
-    check = _solve_chain(masses, springs, kc, max_events=max_events)
+    check = solve_scaled(masses, springs, kc, max_events=max_events)
     hit = []
     for name, xi, low, up in zip(fam.names, x, lb, ub, strict=True):
         # "near": within 1 % of a bound, where the local polish may stop short of it while the
@@ -687,7 +614,7 @@ __all__ = [
     "Design",
     "best_tapered",
     "best_uniform",
-    "general_api_available",
     "minimize_cor",
     "scaled_chain",
+    "solve_scaled",
 ]

@@ -77,7 +77,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .scene import SceneError
+from ._base import MAX_MASSES, SceneError
 
 # Contact law kinds (contact_params[0]).
 C_RIGID = 0  # beta = 0: impulsive reversal of m1's velocity
@@ -623,3 +623,82 @@ def to_kernel_units(spec, table: dict, m1: float, omega: float, where: str):
         if out.get(key) is not None:
             out[key] = _num(f"{where}.{key}", out[key], "> 0") / (m1**a * omega**b)
     return out
+
+
+# ----------------------------------------------------------------------------------------------
+# A whole chain in kernel units
+# ----------------------------------------------------------------------------------------------
+
+
+def _vector(name, value, n=None, low=0.0, low_open=True):
+    """A checked 1-d float vector: finite, > low (>= low if not low_open), length n if given."""
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise SceneError(f"{name} must be a list of numbers; got {value!r}") from None
+    if a.ndim != 1 or a.size == 0:
+        raise SceneError(f"{name} must be a non-empty list of numbers; got {value!r}")
+    if any(isinstance(v, bool) for v in np.ravel(np.asarray(value, dtype=object))):
+        raise SceneError(f"{name} must be numbers, not booleans; got {value!r}")
+    if n is not None and a.size != n:
+        raise SceneError(f"{name} must have {n} entries (one per link); got {a.size}")
+    rel = ">" if low_open else ">="
+    bad = ~np.isfinite(a) | ((a <= low) if low_open else (a < low))
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise SceneError(f"{name}[{i}] must be a finite number {rel} {low:g}; got {a[i]!r}")
+    return a
+
+
+def pack_chain(masses, springs, dashpots=None, contact="rigid", links=None, v0=1.0):
+    """Check a chain in the user's units and pack it in kernel units; names any bad parameter.
+
+    Returns (m, lk, c, cp, omega, kappa): masses / m1, link laws (structure_params rows),
+    dashpots / (m1 omega), the contact law (pack_contact), omega**2 = k1/m1 + k1/m2 (k1 the
+    first spring) and the plastic law's kappa in kernel units (nan otherwise). Kernel units:
+    m1 = 1, omega = 1, speed unit = the user's (v0 enters as given), length unit = that speed
+    unit / omega; so a stiffness k scales as k/(m1 omega**2), a Hertz constant k_h (force per
+    length**1.5) as k_h/(m1 omega**2.5), a length L as L*omega, a dashpot c as c/(m1 omega).
+    """
+    m = _vector("masses", masses)
+    n = m.size
+    if n < 2 or n > MAX_MASSES:
+        raise SceneError(f"masses must have 2 to {MAX_MASSES} entries; got {n}")
+    k = _vector("springs", springs, n - 1)
+    c = np.zeros(n - 1) if dashpots is None else _vector("dashpots", dashpots, n - 1, 0.0, False)
+    v0 = check_v0(v0)
+    m1 = m[0]
+    w2 = k[0] / m[0] + k[0] / m[1]
+    w = math.sqrt(w2)
+    ku = m1 * w2  # stiffness unit
+    ms, ks, cs = m / m1, k / ku, c / (m1 * w)
+    scaled = np.concatenate([ms, ks])
+    if not (np.all(np.isfinite(scaled)) and np.all(scaled > 0)):
+        raise SceneError(
+            "masses and springs span too many decades: their ratios to m1 and m1*omega**2 "
+            "under- or overflow in float64"
+        )
+    cspec = to_kernel_units(
+        contact if contact is not None else "rigid", CONTACT_LAWS, m1, w, "contact"
+    )
+    ratio = ms[1:].max() / ms.min(), ms.max() / ms[1:].min()
+    if not max(ratio) <= ALPHA_NL_MAX:
+        raise SceneError(
+            f"masses: the ratio of the largest to the smallest mass must be at most "
+            f"{ALPHA_NL_MAX:g} for the nonlinear laws (the numerical methods' handled "
+            f"range); got {max(ratio):.3g}"
+        )
+    cp, kappa = pack_contact(cspec, v0, float(ms.sum()), "contact", float(ks[0]))
+    if links is None:
+        links = ["linear"] * (n - 1)
+    if isinstance(links, (str, dict)) or len(links) != n - 1:
+        raise SceneError(
+            f"links must be a list of {n - 1} link laws (one per spring); got {links!r}"
+        )
+    lk = np.zeros((n - 1, N_SP))
+    for i, spec in enumerate(links):
+        where = f"links[{i}]"
+        s = to_kernel_units(spec, LINK_LAWS, m1, w, where)
+        lk[i] = pack_link(s, ks[i], where)
+    check_frequency_spread(ms, lk, cs, cp, v0)
+    return ms, lk, cs, cp, w, kappa

@@ -34,6 +34,7 @@ from . import blas
 from .chain import Chain, SceneError, check
 from .compiling import announce
 from .kernels import layout as L
+from .result import label
 
 # Bit of out[OUT_FLAGS] set by the chain kernel when it used the sticking limit.
 FLAG_STICKING = L.FLAG_STICKING
@@ -277,20 +278,6 @@ def choose(ch: Chain, method: str = "auto") -> Method:
             return m
         reasons.append(f"{m.name}: {reason}")
     raise SceneError("no method applies to this scene (" + "; ".join(reasons) + ")")
-
-
-def label(name: str, out) -> str:
-    """The method recorded in a result: ``name``, plus ``+sticking`` when the kernel used the
-    sticking limit (bit 0 of OUT_FLAGS), or ``impulsive+rigid-limit`` for a contact solved as
-    its rigid limit."""
-    flags_at = getattr(L, "OUT_FLAGS", None)
-    if flags_at is not None and len(out) > flags_at and math.isfinite(out[flags_at]):
-        f = int(out[flags_at])
-        if f & FLAG_RIGID_LIMIT:
-            name = "impulsive+rigid-limit"
-        if f & FLAG_STICKING:
-            name += "+sticking"
-    return name
 
 
 __all__ = [

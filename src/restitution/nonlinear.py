@@ -26,6 +26,7 @@ import numpy as np
 
 from . import laws
 from .kernels import layout as LY
+from .laws import pack_chain
 from .result import Result
 from .scene import Scene, SceneError
 
@@ -172,12 +173,21 @@ def solve_nonlinear(
     rtol = _pos("rtol", rtol, 1e-14, 1e-2, low_open=False)
     step = _pos("step", step, 0.0, 0.25)
     if method == "auto" and contact == "linear" and structure == "linear" and not integrate_free:
-        from .api import solve
+        # Linear scenes: the exact kernels, as restitution.solve runs them (the COR does not
+        # depend on v0 there). Called here directly, not through the API, which depends on this
+        # module (through restitution.methods).
+        from .chain import Chain
+        from .kernels.linear import solve_linear
+        from .kernels.rigid2 import rigid2
 
-        # linear scenes: the exact kernels (COR does not depend on v0 there)
-        return solve(
-            scene.alpha, scene.beta, scene.xi, 2, history=history, max_events=int(max_events)
-        )
+        hist = np.zeros((int(max_events) if history else 0, LY.N_HIST))
+        if scene.beta == 0.0:
+            out, name = rigid2(scene.alpha, scene.xi, int(max_events), hist), "impulsive"
+        else:
+            out = solve_linear(scene.alpha, scene.beta, scene.xi, 2, int(max_events), hist)
+            name = "piecewise"
+        ch = Chain._paper(scene.alpha, scene.beta, scene.xi, 2)
+        return Result.from_row(ch, out, name, hist if history else None, passive=True)
     chosen = "adaptive" if method == "auto" else method
     if chosen == "verlet" and scene.beta == 0.0:
         raise SceneError("method='verlet' needs beta > 0 (a finite contact spring); got beta=0")
@@ -341,81 +351,6 @@ def solve_nonlinear_many(frame, *, method="adaptive", rtol=1e-9, step=0.01, max_
 # ------------------------------------------------------------------------------------------------
 
 CHAIN_METHODS = ("auto", "adaptive", "verlet")
-N_MASSES_MAX = 512
-
-
-def _vector(name, value, n=None, low=0.0, low_open=True):
-    """A checked 1-d float vector: finite, > low (>= low if not low_open), length n if given."""
-    try:
-        a = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise SceneError(f"{name} must be a list of numbers; got {value!r}") from None
-    if a.ndim != 1 or a.size == 0:
-        raise SceneError(f"{name} must be a non-empty list of numbers; got {value!r}")
-    if any(isinstance(v, bool) for v in np.ravel(np.asarray(value, dtype=object))):
-        raise SceneError(f"{name} must be numbers, not booleans; got {value!r}")
-    if n is not None and a.size != n:
-        raise SceneError(f"{name} must have {n} entries (one per link); got {a.size}")
-    rel = ">" if low_open else ">="
-    bad = ~np.isfinite(a) | ((a <= low) if low_open else (a < low))
-    if bad.any():
-        i = int(np.flatnonzero(bad)[0])
-        raise SceneError(f"{name}[{i}] must be a finite number {rel} {low:g}; got {a[i]!r}")
-    return a
-
-
-def pack_chain(masses, springs, dashpots=None, contact="rigid", links=None, v0=1.0):
-    """Check a chain in the user's units and pack it in kernel units; names any bad parameter.
-
-    Returns (m, lk, c, cp, omega, kappa): masses / m1, link laws (structure_params rows),
-    dashpots / (m1 omega), the contact law (laws.pack_contact), omega**2 = k1/m1 + k1/m2 (k1 the
-    first spring) and the plastic law's kappa in kernel units (nan otherwise). Kernel units:
-    m1 = 1, omega = 1, speed unit = the user's (v0 enters as given), length unit = that speed
-    unit / omega; so a stiffness k scales as k/(m1 omega**2), a Hertz constant k_h (force per
-    length**1.5) as k_h/(m1 omega**2.5), a length L as L*omega, a dashpot c as c/(m1 omega).
-    """
-    m = _vector("masses", masses)
-    n = m.size
-    if n < 2 or n > N_MASSES_MAX:
-        raise SceneError(f"masses must have 2 to {N_MASSES_MAX} entries; got {n}")
-    k = _vector("springs", springs, n - 1)
-    c = np.zeros(n - 1) if dashpots is None else _vector("dashpots", dashpots, n - 1, 0.0, False)
-    v0 = laws.check_v0(v0)
-    m1 = m[0]
-    w2 = k[0] / m[0] + k[0] / m[1]
-    w = math.sqrt(w2)
-    ku = m1 * w2  # stiffness unit
-    ms, ks, cs = m / m1, k / ku, c / (m1 * w)
-    scaled = np.concatenate([ms, ks])
-    if not (np.all(np.isfinite(scaled)) and np.all(scaled > 0)):
-        raise SceneError(
-            "masses and springs span too many decades: their ratios to m1 and m1*omega**2 "
-            "under- or overflow in float64"
-        )
-    cspec = laws.to_kernel_units(
-        contact if contact is not None else "rigid", laws.CONTACT_LAWS, m1, w, "contact"
-    )
-    ratio = ms[1:].max() / ms.min(), ms.max() / ms[1:].min()
-    if not max(ratio) <= laws.ALPHA_NL_MAX:
-        raise SceneError(
-            f"masses: the ratio of the largest to the smallest mass must be at most "
-            f"{laws.ALPHA_NL_MAX:g} for the nonlinear laws (the numerical methods' handled "
-            f"range); got {max(ratio):.3g}"
-        )
-    cp, kappa = laws.pack_contact(cspec, v0, float(ms.sum()), "contact", float(ks[0]))
-    if links is None:
-        links = ["linear"] * (n - 1)
-    if isinstance(links, (str, dict)) or len(links) != n - 1:
-        raise SceneError(
-            f"links must be a list of {n - 1} link laws (one per spring); got {links!r}"
-        )
-    lk = np.zeros((n - 1, laws.N_SP))
-    for i, spec in enumerate(links):
-        where = f"links[{i}]"
-        s = laws.to_kernel_units(spec, laws.LINK_LAWS, m1, w, where)
-        lk[i] = laws.pack_link(s, ks[i], where)
-    laws.check_frequency_spread(ms, lk, cs, cp, v0)
-    return ms, lk, cs, cp, w, kappa
 
 
 def _chain_result(ms, ks, cs, cp, n, out, method, hist, omega):

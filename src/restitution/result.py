@@ -141,8 +141,6 @@ class Result:
                 row[k] = math.nan
         ncol, tcol = row[L.OUT_NCOL], row[L.OUT_TCOL]
         if len(row) > L.OUT_FLAGS and row[L.OUT_FLAGS]:  # NaN or a flag: let the table say
-            from .methods import label
-
             method = label(method, out)
         # Built without the frozen dataclass's per-field __setattr__ (this is on the path of
         # every solve call, where the API's overhead is measured in microseconds).
@@ -166,3 +164,17 @@ class Result:
             scene=scene if hasattr(scene, "to_dict") else None,
         )
         return self
+
+
+def label(name: str, out) -> str:
+    """The method recorded in a result: ``name``, plus ``+sticking`` when the kernel used the
+    sticking limit (bit 0 of OUT_FLAGS), or ``impulsive+rigid-limit`` for a contact solved as
+    its rigid limit."""
+    flags_at = getattr(L, "OUT_FLAGS", None)
+    if flags_at is not None and len(out) > flags_at and math.isfinite(out[flags_at]):
+        f = int(out[flags_at])
+        if f & L.FLAG_RIGID_LIMIT:
+            name = "impulsive+rigid-limit"
+        if f & L.FLAG_STICKING:
+            name += "+sticking"
+    return name

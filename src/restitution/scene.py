@@ -18,13 +18,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from .chain import SceneError, check
-from .methods import METHODS as _TABLE
-from .methods import NAMES as METHODS
-from .methods import check_method
-
-# Kept for callers of the old names; the solver table is restitution.methods.METHODS.
-EXACT_METHODS = tuple(name for name, m in _TABLE.items() if m.exact)
-NUMERICAL_METHODS = tuple(name for name, m in _TABLE.items() if not m.exact)
 
 
 def check_alpha(value) -> float:
@@ -82,14 +75,10 @@ class Scene:
 
 
 __all__ = [
-    "EXACT_METHODS",
-    "METHODS",
-    "NUMERICAL_METHODS",
     "Scene",
     "SceneError",
     "check_alpha",
     "check_beta",
-    "check_method",
     "check_n_masses",
     "check_xi",
 ]

@@ -36,9 +36,7 @@ def recheck(row: dict) -> float:
     from restitution import design
 
     m, k, kc = design.scaled_chain(row["masses"], row["springs"], row["beta"])
-    if design.general_api_available():
-        return restitution.solve(masses=list(m), springs=list(k), k_contact=kc).cor
-    return design._solve_chain(m, k, kc).cor
+    return restitution.solve(masses=list(m), springs=list(k), k_contact=kc).cor
 
 
 def main(params, output_path, family: str, n: int, logger) -> pd.DataFrame:
