@@ -242,6 +242,35 @@ def _setup_contact_events(cp, mem, W, B, strip, how, nm=2):
 
 
 @njit(cache=True, error_model="numpy")
+def _contact_switch(code, y, iv, kind, cp, mem, how, xmax_c):
+    """The law's switch at an event of a contact phase, the same for two masses and for chains:
+    y[0] = u1, y[iv] = v1. At the deepest point the loading branch turns (the plastic law
+    records its largest force and its dent); a reload past xmax (plastic) or a rise again
+    (elastic) returns to loading; else m1 separates at the dent. Returns (how, xmax_c,
+    separated)."""
+    if mem[M_BRANCH] == 1.0:  # turn at the deepest point
+        y[iv] = 0.0
+        x = -y[0]
+        xmax_c = max(xmax_c, x)
+        mem[M_BRANCH] = 0.0
+        if kind == C_PLASTIC and x >= mem[M_XMAX]:
+            mem[M_XMAX] = x
+            mem[M_FMAX] = cp[2] * x ** cp[3]
+            mem[M_XP] = dent(cp, mem)
+        return AFTER_TURN, xmax_c, False
+    if code == 1:  # reload past xmax (plastic) / rising again (elastic)
+        if kind == C_PLASTIC:
+            y[0] = -mem[M_XMAX]
+        else:
+            y[iv] = 0.0
+        mem[M_BRANCH] = 1.0
+        return AFTER_RISE, xmax_c, False
+    y[0] = -mem[M_XP]  # separation
+    mem[M_PHASE] = 0.0
+    return how, xmax_c, True
+
+
+@njit(cache=True, error_model="numpy")
 def _energies(y, sp, alpha, v0, out, acct):
     m = 1.0 + alpha
     e0 = 0.5 * m * v0 * v0
@@ -370,27 +399,8 @@ def _adaptive(y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, work, 
             )
             if code == EV_FAIL or code == EV_STOP:
                 return _fail(work), ncol, tcol, err_acc[0]
-            rising = mem[M_BRANCH] == 1.0
-            if rising:  # turn at the deepest point
-                how = AFTER_TURN
-                y[2] = 0.0
-                x = -y[0]
-                xmax_c = max(xmax_c, x)
-                mem[M_BRANCH] = 0.0
-                if kind == C_PLASTIC and x >= mem[M_XMAX]:
-                    mem[M_XMAX] = x
-                    mem[M_FMAX] = cp[2] * x ** cp[3]
-                    mem[M_XP] = dent(cp, mem)
-            elif code == 1:  # reload past xmax (plastic) / rising again (linear)
-                how = AFTER_RISE
-                if kind == C_PLASTIC:
-                    y[0] = -mem[M_XMAX]
-                else:
-                    y[2] = 0.0
-                mem[M_BRANCH] = 1.0
-            else:  # separation
-                y[0] = -mem[M_XP]
-                mem[M_PHASE] = 0.0
+            how, xmax_c, separated = _contact_switch(code, y, 2, kind, cp, mem, how, xmax_c)
+            if separated:
                 tcol = t
                 ysep[:] = y
                 n = ncol - 1
@@ -747,26 +757,8 @@ def _adaptive_chain(y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0
             )  # fmt: skip
             if code == EV_FAIL or code == EV_STOP:
                 return _fail(work), ncol, tcol, err_acc[0]
-            if mem[M_BRANCH] == 1.0:  # turn at the deepest point
-                how = AFTER_TURN
-                y[n] = 0.0
-                x = -y[0]
-                xmax_c = max(xmax_c, x)
-                mem[M_BRANCH] = 0.0
-                if kind == C_PLASTIC and x >= mem[M_XMAX]:
-                    mem[M_XMAX] = x
-                    mem[M_FMAX] = cp[2] * x ** cp[3]
-                    mem[M_XP] = dent(cp, mem)
-            elif code == 1:  # reload past xmax (plastic) / rising again (elastic)
-                how = AFTER_RISE
-                if kind == C_PLASTIC:
-                    y[0] = -mem[M_XMAX]
-                else:
-                    y[n] = 0.0
-                mem[M_BRANCH] = 1.0
-            else:  # separation
-                y[0] = -mem[M_XP]
-                mem[M_PHASE] = 0.0
+            how, xmax_c, separated = _contact_switch(code, y, n, kind, cp, mem, how, xmax_c)
+            if separated:
                 tcol = t
                 ysep[:] = y
                 k = ncol - 1
