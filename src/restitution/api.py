@@ -228,8 +228,11 @@ class _Labels:
         self.codes[rows] = self.code(name)
 
     def column(self):
-        """The pandas string column."""
+        """The pandas string column (from an object array on small tables, where building
+        the Arrow array costs more than the strings)."""
         names = np.asarray(self.names, dtype=object)
+        if len(self.codes) <= 2000:
+            return names[self.codes]
         return pd.array(names, dtype="str").take(self.codes)
 
 
@@ -407,7 +410,7 @@ def solve_many(
                     cols[c][i] = getattr(r, c)
             bar.update(1)
     # One DataFrame construction (column-by-column insertion is slow on large tables).
-    data = {c: frame[c] for c in frame.columns}
+    data = dict(frame.items())
     if table.chains is None:
         for name in ("beta", "xi", "n_masses"):
             data[name] = plan[name]
