@@ -270,21 +270,24 @@ def _guarded(batch, args, sel, single):
 def _solve_exact_paper(plan: pd.DataFrame, idx: np.ndarray, max_events: int, bar, block=_BLOCK):
     """Kernel rows of paper-form rows, in parallel blocks (the progress bar moves per block)."""
     rigid2, rigid2_batch, solve_linear, solve_linear_batch = _kernels()
-    alpha = plan["alpha"].astype(np.float64, copy=False)[idx]
-    beta = plan["beta"].astype(np.float64, copy=False)[idx]
-    xi = plan["xi"].astype(np.float64, copy=False)[idx]
-    nm = plan["n_masses"].astype(np.int64, copy=False)[idx]
-    out = np.full((len(idx), L.N_OUT), np.nan)
+    every = len(idx) == len(plan["alpha"])  # all rows, in order (idx is sorted): no copies
+    pick = (lambda a: a) if every else (lambda a: a[idx])
+    alpha = pick(plan["alpha"].astype(np.float64, copy=False))
+    beta = pick(plan["beta"].astype(np.float64, copy=False))
+    xi = pick(plan["xi"].astype(np.float64, copy=False))
+    nm = pick(plan["n_masses"].astype(np.int64, copy=False))
+    out = None  # allocated unless one block covers every row
     errors = {}
     no_hist = np.zeros((0, L.N_HIST))
     fast = (beta == 0.0) & (nm == 2)  # the closed-form two-mass rigid-wall kernel
     for group, is_fast in ((np.flatnonzero(fast), True), (np.flatnonzero(~fast), False)):
         for start in range(0, len(group), block):
             sel = group[start : start + block]
+            whole = len(sel) == len(idx)
             if is_fast:
                 done, err = _guarded(
                     rigid2_batch,
-                    (alpha[sel], xi[sel], max_events),
+                    (alpha, xi, max_events) if whole else (alpha[sel], xi[sel], max_events),
                     sel,
                     lambda j, s=sel: rigid2(alpha[s[j]], xi[s[j]], max_events, no_hist),
                 )
@@ -297,14 +300,16 @@ def _solve_exact_paper(plan: pd.DataFrame, idx: np.ndarray, max_events: int, bar
                         alpha[s[j]], beta[s[j]], xi[s[j]], nm[s[j]], max_events, no_hist
                     ),
                 )
-            if len(sel) == len(idx) and done.shape[1] == L.N_OUT:
+            if whole and done.shape[1] == L.N_OUT:
                 out = done  # one block of every row, in order: no copy
             else:
+                if out is None:
+                    out = np.full((len(idx), L.N_OUT), np.nan)
                 out[sel, : done.shape[1]] = done
             if err:
                 errors.update({int(sel[j]): msg for j, msg in err.items()})
             bar.update(len(sel))
-    return out, errors
+    return (np.full((0, L.N_OUT), np.nan) if out is None else out), errors
 
 
 def _solve_exact_general(chains: list, idx: np.ndarray, max_events: int, bar, block=_BLOCK):
