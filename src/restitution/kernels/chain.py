@@ -288,7 +288,9 @@ def _safe_model(m, k, c, kg, cg, drop_rigid):
 
 @njit(cache=True)
 def _diss_cost(T, lam, c):
-    """Operations of one _diss_links call (sub-intervals x nodes x terms x dashpots)."""
+    """Operations charged for one _diss_links call: the nominal count of its Gauss-Legendre
+    form (sub-intervals x nodes x terms x dashpots). Kept as it was when the closed form
+    replaced the quadrature, so that work budgets, and with them statuses, do not move."""
     lmax = 0.0
     for q in range(lam.size):
         lmax = max(lmax, abs(lam[q]))
