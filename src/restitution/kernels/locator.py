@@ -1,5 +1,6 @@
 """Event toolkit shared by the exact kernels: the scalar damped oscillator, exponential-sum gaps
-with derivative bounds, the rigorous event locator, and Gauss-Legendre dissipation integrals.
+with derivative bounds, the rigorous event locator, and dissipation integrals in closed form
+(Gauss-Legendre where the closed form's terms would cancel).
 
 A gap in any phase of a linear chain is f(t) = c0 + c1 t + Re sum_k b_k (e^{lambda_k t} - 1),
 Re lambda <= 0 (KIND_MODAL), or for the free flight of two masses the scalar oscillator
