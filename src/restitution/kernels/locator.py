@@ -184,6 +184,34 @@ def _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res):
 
 
 @njit(cache=True)
+def _eval_f(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res):
+    """res[0], res[1] = f, f' at phase time t: _eval_gap's first two entries by the same
+    arithmetic (bit for bit), without the derivative bounds the root polish does not use."""
+    if kind == KIND_SCALAR:
+        r, rd = _osc(xi, r0, rd0, t)
+        if t * (1.0 + 2.0 * xi) < 0.5:
+            v1 = b[0].real if b.size > 0 else c1 - mu * rd0
+            d1, d2 = _small_d(xi, t)
+            res[0] = c0 + v1 * t - mu * (rd0 * d1 + r0 * d2)
+            res[1] = v1 - mu * (rd - rd0)
+        else:
+            res[0] = c0 + c1 * t - mu * (r - r0)
+            res[1] = c1 - mu * rd
+        return
+    f1 = c1
+    w0 = 0.0
+    osc = 0.0
+    for k in range(b.size):
+        w0 += b[k].real
+        lk = lam[k]
+        e = b[k] * cmath.exp(lk * t)
+        osc += e.real
+        f1 += (lk * e).real
+    res[0] = c0 + c1 * t + (osc - w0)
+    res[1] = f1
+
+
+@njit(cache=True)
 def _cubic(a0, a1, a2, a3, s):
     return a0 + s * (a1 + s * (0.5 * a2 - s * a3 / 6.0))
 
@@ -255,7 +283,7 @@ def _refine(kind, lo, hi, c0, c1, b, lam, xi, mu, r0, rd0, res, at_lo=False):
     least past its last crossing): safeguarded Newton to machine precision. ``at_lo``: res
     already holds the gap at lo (the locator's last step end), so it is not evaluated again."""
     if not at_lo:
-        _eval_gap(kind, lo, c0, c1, b, lam, xi, mu, r0, rd0, res)
+        _eval_f(kind, lo, c0, c1, b, lam, xi, mu, r0, rd0, res)
     if res[0] <= 0.0:
         return lo
     x = lo
@@ -284,7 +312,7 @@ def _refine(kind, lo, hi, c0, c1, b, lam, xi, mu, r0, rd0, res, at_lo=False):
         if not (lo < xn < hi):
             xn = 0.5 * (lo + hi)
         x = xn
-        _eval_gap(kind, x, c0, c1, b, lam, xi, mu, r0, rd0, res)
+        _eval_f(kind, x, c0, c1, b, lam, xi, mu, r0, rd0, res)
     return best
 
 
