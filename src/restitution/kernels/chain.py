@@ -23,7 +23,10 @@ condition number is checked: above COND_MAX the scene is flagged STATUS_ILL_COND
 
 Events are located rigorously by restitution.kernels.locator (no sampling of sign changes, a
 touch within round-off is not a contact, every sequence ends by proof that no further contact
-can come). Dissipation is integrated per dashpot by Gauss-Legendre (round-off exact).
+can come). Dissipation is integrated per dashpot in closed form (a sum over pairs of modes of
+(e^{(lam_p + lam_q) T} - 1) / (lam_p + lam_q) terms, restitution.kernels.locator._diss_modal),
+from the modal amplitudes alone: it never uses the propagated state, so the energy account is an
+independent check. Where those terms would cancel, Gauss-Legendre (round-off exact) is used.
 
 Chatter and sticking
 --------------------
@@ -109,11 +112,12 @@ from restitution.kernels.locator import (
     LOC_PERMANENT,
     MAX_STEPS,
     TOL_ULPS,
-    _diss_modal,
     _diss_modal_inf,
+    _diss_pairs,
     _diss_scalar,
     _locate,
     _modal_state,
+    _pair_integrals,
     _scalar_advance,
     _scalar_state,
     _xmax,
@@ -285,7 +289,9 @@ def _safe_model(m, k, c, kg, cg, drop_rigid):
 
 @njit(cache=True)
 def _diss_cost(T, lam, c):
-    """Operations of one _diss_links call (sub-intervals x nodes x terms x dashpots)."""
+    """Operations charged for one _diss_links call: the nominal count of its Gauss-Legendre
+    form (sub-intervals x nodes x terms x dashpots). Kept as it was when the closed form
+    replaced the quadrature, so that work budgets, and with them statuses, do not move."""
     lmax = 0.0
     for q in range(lam.size):
         lmax = max(lmax, abs(lam[q]))
@@ -318,21 +324,28 @@ def _vib_energy(m, k, u, v):
 def _diss_links(T, z, lam, U, c, off):
     """Dashpot work over [0, T] of a modal phase, integrated per dashpot: sum over links i with
     c_i > 0 of c_i (v_{i+1} - v_i)^2. U's rows are masses off..n-1 (masses below are at rest).
-    T = inf: to infinite time in closed form (a permanent contact)."""
+    T = inf: to infinite time (a permanent contact), in closed form."""
     acc = 0.0
     if T <= 0.0:
         return acc
     K = z.size
     g = np.empty(K, np.complex128)
+    J1 = np.empty((0, 0), np.complex128)
+    J2 = np.empty((0, 0), np.complex128)
     for i in range(c.size):
         if c[i] == 0.0:
             continue
+        if J1.shape[0] == 0 and T < math.inf:  # the pair integrals depend on the phase only
+            J1, J2 = _pair_integrals(T, lam)
         ra = i - off
         rb = i + 1 - off
         for q in range(K):
             ua = U[ra, q] if ra >= 0 else 0.0
             g[q] = (U[rb, q] - ua) * lam[q] * z[q]
-        acc += _diss_modal_inf(g, lam, c[i]) if T == math.inf else _diss_modal(T, g, lam, c[i])
+        if T == math.inf:
+            acc += _diss_modal_inf(g, lam, c[i])
+        else:
+            acc += _diss_pairs(T, g, lam, c[i], J1, J2)
     return acc
 
 

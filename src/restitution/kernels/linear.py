@@ -59,10 +59,10 @@ has FLAG_STICKING set.
 
 Energies (fractions of the initial kinetic energy Mtot/2) are evaluated at the final separation:
 translational cor^2, vibrational (relative kinetic + structural springs), dissipated = integral
-of c (v2 - v1)^2 by 32-point Gauss-Legendre on sub-intervals of length <= 12/max|lambda|
-(error ~1e-31, round-off); a permanent contact's, to infinite time, in closed form (pairwise
-exponential integrals). Their sum is checked, for permanent contacts too (STATUS_ENERGY if off by
-more than 1e-9, or NaN).
+of c (v2 - v1)^2 per phase in closed form from the modal amplitudes (a sum over pairs of modes;
+32-point Gauss-Legendre, round-off exact, where that sum would cancel), never from the propagated
+state; a permanent contact's to infinite time, in closed form. Their sum is checked, for
+permanent contacts too (STATUS_ENERGY if off by more than 1e-9, or NaN).
 """
 
 import math

@@ -1,5 +1,6 @@
 """Event toolkit shared by the exact kernels: the scalar damped oscillator, exponential-sum gaps
-with derivative bounds, the rigorous event locator, and Gauss-Legendre dissipation integrals.
+with derivative bounds, the rigorous event locator, and dissipation integrals in closed form
+(Gauss-Legendre where the closed form's terms would cancel).
 
 A gap in any phase of a linear chain is f(t) = c0 + c1 t + Re sum_k b_k (e^{lambda_k t} - 1),
 Re lambda <= 0 (KIND_MODAL), or for the free flight of two masses the scalar oscillator
@@ -36,6 +37,11 @@ KIND_SCALAR = 1
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(32)
 GL_H = 12.0
 ANCHOR = 32  # exponentials advanced by recurrence are re-anchored this often (no error growth)
+# A closed-form dissipation integral whose terms sum (in magnitude) to more than this multiple of
+# the result would lose more than ~1e-12 of it to cancellation (measured: <= 2e-13 up to 1e3,
+# 2e-12 up to 1e4, against Gauss-Legendre, over the phases of 20 damped N = 8 chains): there
+# Gauss-Legendre is used instead. (64 sent a third of those phases to the quadrature.)
+CANCEL_MAX = 1e3
 
 # ----------------------------------------------------------------------------------------------
 # The scalar damped oscillator r'' + 2 xi r' + r = 0 (free phase of two masses)
@@ -180,6 +186,34 @@ def _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res):
 
 
 @njit(cache=True)
+def _eval_f(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res):
+    """res[0], res[1] = f, f' at phase time t: _eval_gap's first two entries by the same
+    arithmetic (bit for bit), without the derivative bounds the root polish does not use."""
+    if kind == KIND_SCALAR:
+        r, rd = _osc(xi, r0, rd0, t)
+        if t * (1.0 + 2.0 * xi) < 0.5:
+            v1 = b[0].real if b.size > 0 else c1 - mu * rd0
+            d1, d2 = _small_d(xi, t)
+            res[0] = c0 + v1 * t - mu * (rd0 * d1 + r0 * d2)
+            res[1] = v1 - mu * (rd - rd0)
+        else:
+            res[0] = c0 + c1 * t - mu * (r - r0)
+            res[1] = c1 - mu * rd
+        return
+    f1 = c1
+    w0 = 0.0
+    osc = 0.0
+    for k in range(b.size):
+        w0 += b[k].real
+        lk = lam[k]
+        e = b[k] * cmath.exp(lk * t)
+        osc += e.real
+        f1 += (lk * e).real
+    res[0] = c0 + c1 * t + (osc - w0)
+    res[1] = f1
+
+
+@njit(cache=True)
 def _cubic(a0, a1, a2, a3, s):
     return a0 + s * (a1 + s * (0.5 * a2 - s * a3 / 6.0))
 
@@ -246,17 +280,18 @@ def _mono_root(a0, a1, a2, a3, lo, hi):
 
 
 @njit(cache=True)
-def _refine(kind, lo, hi, c0, c1, b, lam, xi, mu, r0, rd0, res):
+def _refine(kind, lo, hi, c0, c1, b, lam, xi, mu, r0, rd0, res, at_lo=False):
     """Root of the gap on [lo, hi], f(lo) > 0 > f(hi) (f strictly decreasing on [lo, hi], or at
-    least past its last crossing): safeguarded Newton to machine precision."""
-    _eval_gap(kind, lo, c0, c1, b, lam, xi, mu, r0, rd0, res)
+    least past its last crossing): safeguarded Newton to machine precision. ``at_lo``: res
+    already holds the gap at lo (the locator's last step end), so it is not evaluated again."""
+    if not at_lo:
+        _eval_f(kind, lo, c0, c1, b, lam, xi, mu, r0, rd0, res)
     if res[0] <= 0.0:
         return lo
     x = lo
     best = lo
     bestf = res[0]
     for _ in range(200):
-        _eval_gap(kind, x, c0, c1, b, lam, xi, mu, r0, rd0, res)
         f = res[0]
         if abs(f) < bestf:
             best = x
@@ -270,11 +305,16 @@ def _refine(kind, lo, hi, c0, c1, b, lam, xi, mu, r0, rd0, res):
         if hi - lo <= 2.0 * EPS * max(abs(hi), 1.0):
             break
         xn = x - f / res[1] if res[1] < 0.0 else 0.5 * (lo + hi)
+        if res[1] < 0.0 and abs(xn - x) <= 2.0 * EPS * abs(x):
+            # Newton has converged (maybe one-sided): its step is below round-off at x. Tested
+            # before the bracket, since a step that rounds to x = lo leaves the bracket and
+            # would start a bisection of the whole (stale) bracket: ~40 more evaluations for
+            # every event of a damped contact, and the same root.
+            break
         if not (lo < xn < hi):
             xn = 0.5 * (lo + hi)
-        elif abs(xn - x) <= 2.0 * EPS * abs(x):  # Newton has converged (maybe one-sided)
-            break
         x = xn
+        _eval_f(kind, x, c0, c1, b, lam, xi, mu, r0, rd0, res)
     return best
 
 
@@ -318,7 +358,8 @@ def _locate(kind, c0, c1, b, lam, xi, mu, r0, rd0, check_permanent, info, max_st
     tol0 = TOL_ULPS * EPS * res[7] + 1e-300
     t_pos = -1.0  # last step end with f > 0 (none yet)
     for it in range(max_steps):
-        _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res)
+        if it > 0:  # (res holds the gap at t = 0 already)
+            _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res)
         f = res[0]
         f1 = res[1]
         f2 = res[2]
@@ -353,7 +394,7 @@ def _locate(kind, c0, c1, b, lam, xi, mu, r0, rd0, check_permanent, info, max_st
                 dip = -math.inf
             if dip < -tol:  # f strictly decreasing on [t, t + reach]
                 hi = t if lo < t else t + reach  # the root is behind t if f(t) <= 0
-                info[0] = _refine(kind, lo, hi, c0, c1, b, lam, xi, mu, r0, rd0, res)
+                info[0] = _refine(kind, lo, hi, c0, c1, b, lam, xi, mu, r0, rd0, res, lo == t)
                 return LOC_EVENT
         if f > 0.0:
             t_pos = t
@@ -456,9 +497,114 @@ def _scalar_advance(t, xi, r0, rd0, mu, u, v):
     v[1] = v[1] + (1.0 - mu) * drd
 
 
+_RECIP = 1.0 / np.arange(1.0, 22.0)  # 1 / (j + 1): the series multiplies, never divides
+
+
+@njit(cache=True)
+def _phi1_series(x):
+    """(e^x - 1) / x for complex |x| < 1/2 by its Taylor series sum x^j / (j + 1)!, Horner
+    form, with as many terms as |x| needs (the first omitted term, x^(n+1) / (n+2)!, is below
+    1e-19: n = 7 for |x| < 0.02, 10 for |x| < 0.1, 16 up to 1/2): no cancellation near 0."""
+    ax = abs(x.real) + abs(x.imag)  # >= |x|
+    n = 7 if ax < 0.02 else (10 if ax < 0.1 else 16)
+    acc = 1.0 + 0.0j
+    for j in range(n, 0, -1):
+        acc = 1.0 + acc * (x * _RECIP[j])
+    return acc
+
+
+@njit(cache=True)
+def _j_term(x, ex, T):
+    """T (e^x - 1) / x given ex = e^x (x = s T, Re x <= 0): the integral of e^{s t} over [0, T].
+    Below |x| = 1/2 the series (no cancellation in e^x - 1); above it e^x - 1 has an absolute
+    error ~eps |e^x| <= eps, i.e. relative <= 3 eps."""
+    ax2 = x.real * x.real + x.imag * x.imag
+    if ax2 < 0.25:  # |x| < 1/2
+        return T * _phi1_series(x)
+    return ((ex - 1.0) * x.conjugate()) * (T / ax2)  # (a real factor: no complex division)
+
+
 @njit(cache=True)
 def _diss_modal(T, g, lam, c):
-    """Integral of c (Re sum g_k e^{lam_k t})^2 over [0, T] by Gauss-Legendre (round-off exact)."""
+    """Integral of c (Re sum g_k e^{lam_k t})^2 over [0, T], in closed form.
+
+    With (Re S)^2 = Re(S^2 + S conj(S)) / 2 the integral is a sum over pairs (p, q) of
+    c/2 Re[g_p g_q J(lam_p + lam_q) + g_p conj(g_q) J(lam_p + conj(lam_q))],
+    J(s) = (e^{sT} - 1) / s, evaluated stably near s = 0 (undamped conjugate pairs give s = 0
+    exactly: J = T; see _j_term). It uses only g, lam and T, not the state propagation, so the
+    energy account stays an independent check.
+
+    Each term carries a rounding error ~eps |g_p| |g_q| |J|; where the terms cancel (their
+    magnitudes sum to more than CANCEL_MAX times the integral: modes with large opposite
+    amplitudes near a repeated eigenvalue, or a short interval of a small relative velocity) the
+    Gauss-Legendre quadrature _diss_modal_gl, whose error grows only linearly in that
+    cancellation, is used instead.
+    """
+    if c == 0.0 or T <= 0.0:
+        return 0.0
+    J1, J2 = _pair_integrals(T, lam)
+    return _diss_pairs(T, g, lam, c, J1, J2)
+
+
+@njit(cache=True)
+def _pair_integrals(T, lam):
+    """J1[p, q] = J(lam_p + lam_q) and J2[p, q] = J(lam_p + conj(lam_q)) for q >= p (see
+    _diss_modal): they depend on the phase only, so every dashpot of a phase shares them.
+    e^{(lam_p + lam_q) T} is formed as the product e^{lam_p T} e^{lam_q T} (one complex
+    exponential per mode, not per pair)."""
+    nk = lam.size
+    E = np.empty(nk, np.complex128)
+    for k in range(nk):
+        E[k] = cmath.exp(lam[k] * T)
+    J1 = np.empty((nk, nk), np.complex128)
+    J2 = np.empty((nk, nk), np.complex128)
+    for p in range(nk):
+        lp = lam[p]
+        ep = E[p]
+        for q in range(p, nk):
+            lq = lam[q]
+            eq = E[q]
+            J1[p, q] = _j_term((lp + lq) * T, ep * eq, T)
+            J2[p, q] = _j_term((lp + lq.conjugate()) * T, ep * eq.conjugate(), T)
+    return J1, J2
+
+
+@njit(cache=True)
+def _pair_sum(g, J1, J2):
+    """(sum over pairs of Re[g_p g_q J1_pq + g_p conj(g_q) J2_pq], a bound on the sum of the
+    terms' magnitudes); see _diss_modal."""
+    nk = g.size
+    acc = 0.0
+    mag = 0.0
+    for p in range(nk):
+        gp = g[p]
+        if gp == 0.0:
+            continue
+        for q in range(p, nk):
+            gq = g[q]
+            if gq == 0.0:
+                continue
+            w = 1.0 if q == p else 2.0  # (p, q) and (q, p) give the same (real part of) term
+            a1 = gp * gq * J1[p, q]
+            a2 = gp * gq.conjugate() * J2[p, q]
+            acc += w * (a1.real + a2.real)
+            mag += w * (abs(a1.real) + abs(a1.imag) + abs(a2.real) + abs(a2.imag))
+    return acc, mag
+
+
+@njit(cache=True)
+def _diss_pairs(T, g, lam, c, J1, J2):
+    """_diss_modal with the phase's pair integrals given (the GL fallback needs T and lam)."""
+    acc, mag = _pair_sum(g, J1, J2)
+    if not (mag <= CANCEL_MAX * abs(acc)):
+        return _diss_modal_gl(T, g, lam, c)
+    return 0.5 * c * acc
+
+
+@njit(cache=True)
+def _diss_modal_gl(T, g, lam, c):
+    """Integral of c (Re sum g_k e^{lam_k t})^2 over [0, T] by Gauss-Legendre (round-off exact):
+    the fallback of _diss_modal where its pair sum would cancel."""
     if c == 0.0 or T <= 0.0:
         return 0.0
     nk = g.size
@@ -529,7 +675,46 @@ def _diss_modal_inf(g, lam, c):
 
 @njit(cache=True)
 def _diss_scalar(T, xi, r0, rd0, c):
-    """Integral of c r'^2 over [0, T] by Gauss-Legendre (round-off exact)."""
+    """Integral of c r'^2 over [0, T], r'' + 2 xi r' + r = 0, in closed form.
+
+    r' = e^{-xi t} (A C(t) + B S(t)) with A = rd0, B = -(r0 + xi rd0) (see _osc) is written as
+    an exponential sum, Re g e^{lam t} with lam = -xi + i w, g = A - i B / w (xi < 1), or two
+    real terms with lam = -xi -+ sqrt(xi^2 - 1) (xi > 1), and integrated by _pair_sum. Near
+    xi = 1 the amplitudes grow like 1 / |1 - xi^2|^(1/2) and cancel; there (and at xi = 1, no
+    exponential sum) Gauss-Legendre on the closed-form r', _diss_scalar_gl, is used.
+    """
+    if c == 0.0 or T <= 0.0:
+        return 0.0
+    a = rd0
+    bb = -(r0 + xi * rd0)
+    d = 1.0 - xi * xi
+    if d > 0.0:
+        w = math.sqrt(d)
+        g = np.empty(1, np.complex128)
+        lam = np.empty(1, np.complex128)
+        g[0] = complex(a, -bb / w)
+        lam[0] = complex(-xi, w)
+    elif d < 0.0:
+        s = math.sqrt(-d)
+        g = np.empty(2, np.complex128)
+        lam = np.empty(2, np.complex128)
+        g[0] = 0.5 * (a + bb / s)
+        g[1] = 0.5 * (a - bb / s)
+        lam[0] = -1.0 / (xi + s)  # = s - xi without cancellation
+        lam[1] = -(xi + s)
+    else:
+        return _diss_scalar_gl(T, xi, r0, rd0, c)
+    J1, J2 = _pair_integrals(T, lam)
+    acc, mag = _pair_sum(g, J1, J2)
+    if not (mag <= CANCEL_MAX * abs(acc)):
+        return _diss_scalar_gl(T, xi, r0, rd0, c)
+    return 0.5 * c * acc
+
+
+@njit(cache=True)
+def _diss_scalar_gl(T, xi, r0, rd0, c):
+    """Integral of c r'^2 over [0, T] by Gauss-Legendre (round-off exact): the fallback of
+    _diss_scalar."""
     if c == 0.0 or T <= 0.0:
         return 0.0
     lmax = max(1.0, xi + math.sqrt(max(xi * xi - 1.0, 0.0)))
