@@ -405,7 +405,7 @@ def test_permanent_contact_is_proven():
     for u2 in (0.5, -0.5):  # m2 beyond / inside equilibrium, creeping back in the slow mode
         z = P @ np.array([0.0, u2, -1e-3, -s * u2], dtype=complex)
         info = np.zeros(4)
-        codes.append(_locate(0, 0.0, 0.0, -U[0] * z, lam, xi, 0.0, 0.0, 0.0, True, info))
+        codes.append(_locate(0.0, 0.0, -U[0] * z, lam, True, info))
     assert codes == [LOC_PERMANENT, LOC_EVENT]
 
 

@@ -11,15 +11,17 @@ Closed form per phase
 Every phase is linear, homogeneous and time invariant, so every quantity is an exponential sum.
 *Free phase*: the centre of mass moves as X0 + V t exactly; the relative motion is expanded in
 the N - 1 non-rigid modes of (K, M). For N = 2 it is the scalar oscillator
-r'' + 2 xi r' + r = 0 (r = u2 - u1, xi = c_12 / (2 k_12)) of restitution.kernels.locator, whose
-power-series and shallow-flight forms keep xi = 1 and the tiny gaps of dashpot chatter exact.
+r'' + 2 xi r' + r = 0 (r = u2 - u1, xi = c_12 / (2 k_12)), and the next contact is found by the
+rigid-wall kernel's closed-form walk over the critical points of the gap
+(restitution.kernels.rigid2: every two-mass flight starts with m1 leaving the wall).
 *Contact phase*: the full N-DOF system with kc added at m_1 (no rigid mode).
 *Sticking phase* (rigid wall only, see below): m_1 held at the wall, m_2..m_N a chain fixed to
 it through k_12 and c_12.
 Undamped phases use real modes (eigh of M^-1/2 K M^-1/2, mass-normalised Phi). Damped phases use
 the complex eigen-decomposition of the modal state matrix [[0, I], [-Omega^2, -Phi^T C Phi]]
-with the full (non-proportional) damping matrix C = sum_i c_i d_i d_i^T. Its eigenvector
-condition number is checked: above COND_MAX the scene is flagged STATUS_ILL_CONDITIONED.
+with the full (non-proportional) damping matrix C = sum_i c_i d_i d_i^T, one term per conjugate
+pair (see _real_modes). The condition number of that basis (1-norm) is checked: above COND_MAX
+the scene is flagged STATUS_ILL_CONDITIONED.
 
 Events are located rigorously by restitution.kernels.locator (no sampling of sign changes, a
 touch within round-off is not a contact, every sequence ends by proof that no further contact
@@ -104,8 +106,6 @@ from restitution.kernels.layout import (
 )
 from restitution.kernels.locator import (
     EPS,
-    KIND_MODAL,
-    KIND_SCALAR,
     LOC_BUDGET,
     LOC_EVENT,
     LOC_NEVER,
@@ -122,7 +122,7 @@ from restitution.kernels.locator import (
     _scalar_state,
     _xmax,
 )
-from restitution.kernels.rigid2 import rigid2
+from restitution.kernels.rigid2 import _next_contact0, _next_contact_d, rigid2
 
 COND_MAX = 1e8  # eigenvector condition number above which a closed form is not trusted
 ENERGY_TOL = 1e-9
@@ -231,18 +231,121 @@ def _modal_model(m, k, c, kg, cg, drop_rigid):
     for q in range(2 * nm):  # round-off can leave +1e-17 real parts on undamped-looking modes
         if lam[q].real > 0.0:
             lam[q] = 1j * lam[q].imag
-    cond = np.linalg.cond(V)
-    W = np.linalg.inv(V)
+    lamk, Vk, Wk, cond = _real_modes(lam, V)
     phic = phi.astype(np.complex128)
-    U = phic @ np.ascontiguousarray(V[:nm, :])
+    U = phic @ np.ascontiguousarray(Vk[:nm, :])
     PhiTM = np.empty((nm, n), np.complex128)
     for q in range(nm):
         for i in range(n):
             PhiTM[q, i] = phi[i, q] * m[i]
-    P = np.empty((2 * nm, 2 * n), np.complex128)
-    P[:, :n] = np.ascontiguousarray(W[:, :nm]) @ PhiTM
-    P[:, n:] = np.ascontiguousarray(W[:, nm:]) @ PhiTM
-    return lam, U, P, cond
+    P = np.empty((lamk.size, 2 * n), np.complex128)
+    P[:, :n] = np.ascontiguousarray(Wk[:, :nm]) @ PhiTM
+    P[:, n:] = np.ascontiguousarray(Wk[:, nm:]) @ PhiTM
+    return lamk, U, P, cond
+
+
+@njit(cache=True)
+def _cond1(V, W):
+    """Condition number of the eigenvector matrix V in the 1-norm, ||V||_1 ||V^-1||_1, from the
+    inverse W the model needs anyway: within a factor 2n of the 2-norm one (an SVD, which cost
+    more than half the set-up of a damped two-mass contact phase) and as good a trust test."""
+    nv = 0.0
+    nw = 0.0
+    for j in range(V.shape[1]):
+        sv = 0.0
+        sw = 0.0
+        for i in range(V.shape[0]):
+            sv += abs(V[i, j])
+            sw += abs(W[i, j])
+        nv = max(nv, sv)
+        nw = max(nw, sw)
+    return nv * nw
+
+
+@njit(cache=True)
+def _real_modes(lam, V):
+    """Modal basis of a real state matrix from its complex eigen-decomposition (lam, V): one
+    term per conjugate pair.
+
+    The state matrix is real, so an eigenvalue lam with Im > 0 has the partner conj(lam), and
+    the two terms of a real motion are conjugate: their sum is Re(v z e^{lam t}) with one
+    complex amplitude z. The initial state is expanded in the real basis [Re v, Im v] of each
+    pair and the (rotated to real) eigenvectors of the real eigenvalues, y = Re v a + Im v b + ...,
+    by a real inverse; then z = a - i b. This halves the terms every gap evaluation, state and
+    dissipation integral of an underdamped phase sums over, and reconstructs y to eps * cond
+    (doubling one member of each pair of the complex inverse left 5e-10 at a near-critical
+    pair, whose two projectors are large and cancel only to round-off).
+
+    Returns (lam, V, W, cond): K kept eigenvalues, V (2nm, K) and W (K, 2nm) complex with
+    y(t) = Re V (e^{lam t} * (W y0)), and the real basis's condition number (1-norm). If a
+    complex eigenvalue has no partner to well within its imaginary part, or a real one no
+    real eigenvector (near-defective cases), the full complex basis is returned instead.
+    """
+    K = lam.size
+    partner = np.full(K, -1, np.int64)
+    for p in range(K):
+        if lam[p].imag <= 0.0 or partner[p] >= 0:
+            continue
+        tol = 1e-6 * lam[p].imag
+        for q in range(K):
+            if q != p and partner[q] < 0 and lam[q].imag < 0.0:
+                if abs(lam[q] - lam[p].conjugate()) <= tol:
+                    partner[p] = q
+                    partner[q] = p
+                    break
+    ok = True
+    nkeep = 0
+    Vr = np.empty((K, K))
+    col = np.empty(K, np.int64)  # first real-basis column of each kept mode
+    pair = np.empty(K, np.bool_)
+    lamk = np.empty(K, np.complex128)
+    c = 0
+    for p in range(K):
+        if partner[p] >= 0:
+            if lam[p].imag < 0.0:
+                continue
+            for i in range(K):
+                Vr[i, c] = V[i, p].real
+                Vr[i, c + 1] = V[i, p].imag
+            lamk[nkeep] = lam[p]
+            pair[nkeep] = True
+            col[nkeep] = c
+            c += 2
+        else:
+            if abs(lam[p].imag) > 1e-12 * abs(lam[p]):
+                ok = False
+                break
+            big = 0
+            for i in range(K):
+                if abs(V[i, p]) > abs(V[big, p]):
+                    big = i
+            ph = V[big, p].conjugate() / abs(V[big, p])
+            for i in range(K):
+                w = V[i, p] * ph
+                if abs(w.imag) > 1e-8:  # (unit eigenvectors): not real, a repeated eigenvalue
+                    ok = False
+                Vr[i, c] = w.real
+            lamk[nkeep] = lam[p].real
+            pair[nkeep] = False
+            col[nkeep] = c
+            c += 1
+        nkeep += 1
+    if not ok:
+        W = np.linalg.inv(V)
+        return lam, V, W, _cond1(V, W)
+    Wr = np.linalg.inv(Vr)
+    Vk = np.empty((K, nkeep), np.complex128)
+    Wk = np.empty((nkeep, K), np.complex128)
+    for j in range(nkeep):
+        c = col[j]
+        for i in range(K):
+            if pair[j]:
+                Vk[i, j] = complex(Vr[i, c], Vr[i, c + 1])
+                Wk[j, i] = complex(Wr[c, i], -Wr[c + 1, i])
+            else:
+                Vk[i, j] = Vr[i, c]
+                Wk[j, i] = Wr[c, i]
+    return lamk[:nkeep].copy(), Vk, Wk, _cond1(Vr, Wr)
 
 
 @njit(cache=True)
@@ -385,6 +488,8 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
     mt = _total(m)
     mu = m[1] / (m[0] + m[1])
     xi = c[0] / (2.0 * k[0])  # of the scalar two-mass oscillator (omega = 1)
+    q2 = (1.0 - xi) * (1.0 + xi)  # its 1 - xi^2 and frequency, as restitution.kernels.rigid2
+    w2 = math.sqrt(abs(q2))
     status = STATUS_OK
     flags = 0
     cond = 1.0
@@ -456,15 +561,10 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
             for q in range(z.size):
                 bgap[q] = -UC[0, q] * z[q]
             code = _locate(
-                KIND_MODAL,
                 0.0,
                 0.0,
                 bgap,
                 lamC,
-                xi,
-                mu,
-                0.0,
-                0.0,
                 True,
                 info,
                 _steps_left(work_max - work, z.size),
@@ -482,9 +582,7 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
                 if ncol - 1 < nh:
                     hist[ncol - 1, H_TEND] = math.inf
                     hist[ncol - 1, H_VOUT] = 0.0
-                    hist[ncol - 1, H_XMAX] = _xmax(
-                        KIND_MODAL, info[2], 80.0 / slow, 0.0, 0.0, bgap, lamC, xi, mu, 0.0, 0.0
-                    )
+                    hist[ncol - 1, H_XMAX] = _xmax(info[2], 80.0 / slow, 0.0, 0.0, bgap, lamC)
                     hist[ncol - 1, H_IMPULSE] = -p_in
                 break
             te = info[0]
@@ -505,9 +603,7 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
                     p_out += m[i] * v[i]
                 hist[ncol - 1, H_TEND] = t
                 hist[ncol - 1, H_VOUT] = v[0]
-                hist[ncol - 1, H_XMAX] = _xmax(
-                    KIND_MODAL, info[2], te, 0.0, 0.0, bgap, lamC, xi, mu, 0.0, 0.0
-                )
+                hist[ncol - 1, H_XMAX] = _xmax(info[2], te, 0.0, 0.0, bgap, lamC)
                 hist[ncol - 1, H_IMPULSE] = p_out - p_in
             in_contact = False
             continue
@@ -522,24 +618,22 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
         if n == 2:
             r0 = u[1] - u[0]
             rd0 = v[1] - v[0]
-            v1b = np.empty(1, np.complex128)  # m1's own velocity, for _eval_gap
-            v1b[0] = v[0]
-            code = _locate(
-                KIND_SCALAR,
-                u[0],
-                V,
-                v1b,
-                lamF,
-                xi,
-                mu,
-                r0,
-                rd0,
-                False,
-                info,
-                _steps_left(work_max - work, 1),
-            )
-            work += info[3] + 1.0
-            z = np.zeros(0, np.complex128)
+            # Every free flight of two masses starts with m1 exactly at the wall, leaving it:
+            # the rigid-wall kernel's closed-form walk over the critical points of the gap
+            # finds the next contact (or proves there is none) in a few closed-form steps.
+            if xi == 0.0:
+                s_next, found = _next_contact0(V, mu, r0, rd0)
+            else:
+                s_next, found = _next_contact_d(V, mu, xi, q2, w2, r0, rd0)
+            work += 2.0
+            if not found:
+                code = LOC_BUDGET
+            elif s_next < 0.0:
+                code = LOC_NEVER
+            else:
+                code = LOC_EVENT
+                info[0] = s_next
+            z = y[:0].astype(np.complex128)
         else:
             r0 = 0.0
             rd0 = 0.0
@@ -551,15 +645,10 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
             for q in range(z.size):
                 bgap[q] = UF[0, q] * z[q]
             code = _locate(
-                KIND_MODAL,
                 u[0],
                 V,
                 bgap,
                 lamF,
-                xi,
-                mu,
-                0.0,
-                0.0,
                 False,
                 info,
                 _steps_left(work_max - work, z.size),
@@ -634,15 +723,10 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
             for q in range(zs.size):
                 bs[q] = -(k[0] + c[0] * lamS[q]) * US[0, q] * zs[q]
             code = _locate(
-                KIND_MODAL,
                 -force,
                 0.0,
                 bs,
                 lamS,
-                xi,
-                mu,
-                0.0,
-                0.0,
                 True,
                 info,
                 _steps_left(work_max - work, zs.size),

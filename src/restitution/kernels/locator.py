@@ -3,13 +3,17 @@ with derivative bounds, the rigorous event locator, and dissipation integrals in
 (Gauss-Legendre where the closed form's terms would cancel).
 
 A gap in any phase of a linear chain is f(t) = c0 + c1 t + Re sum_k b_k (e^{lambda_k t} - 1),
-Re lambda <= 0 (KIND_MODAL), or for the free flight of two masses the scalar oscillator
-r'' + 2 xi r' + r = 0 seen from m1 (KIND_SCALAR). For s >= t and m >= 2,
+Re lambda <= 0 (the free flight of two masses, the scalar oscillator below, is walked in closed
+form by restitution.kernels.rigid2 instead). For s >= t and m >= 2,
 |f^(m)(s)| <= B_m(t) = sum_k |b_k| |lambda_k|^m e^{Re lambda_k t}. The locator steps by the
 largest h for which the cubic lower bound f + f' h + f'' h^2/2 - B3 h^3/6 stays above the
 touching band -tol, so no step can cross a point where f < -tol, and it certifies a crossing
 with the quadratic upper bound f + f' h + B2 h^2/2 (f strictly decreasing up to the root, then
-safeguarded Newton). See restitution.kernels.chain for the model that uses it.
+safeguarded Newton). Where the rates present differ by more than SPLIT_RATIO (a contact spring
+much stiffer than the chain), it also steps on the slow part g of f, with the fast modes bounded
+by their amplitude A (f >= g - A), and takes the longer of the two safe steps: a long contact
+ringing at the contact frequency is crossed in a few steps, not ten per ringing period. See
+restitution.kernels.chain for the model that uses it.
 """
 
 import cmath
@@ -21,6 +25,7 @@ from numba import njit
 EPS = 2.220446049250313e-16
 TOL_ULPS = 64.0  # touching band, in ulps of the gap's scale
 MAX_STEPS = 400_000  # conservative steps per phase
+SPLIT_RATIO = 8.0  # rates this far apart: the locator also steps on the slow part (_split)
 
 # Locator outcomes.
 LOC_EVENT = 0
@@ -28,9 +33,6 @@ LOC_NEVER = 1
 LOC_BUDGET = 2
 LOC_PERMANENT = 3
 
-# Phase kinds.
-KIND_MODAL = 0
-KIND_SCALAR = 1
 
 # Gauss-Legendre on [-1, 1]. With 32 nodes on sub-intervals of length GL_H/max|lambda| the
 # quadrature error for products of exponentials is ~1e-31 (relative): exact to round-off.
@@ -77,33 +79,6 @@ def _cs(xi, t):
 
 
 @njit(cache=True)
-def _small_d(xi, t):
-    """(h(t) - t, c(t) - 1) by Taylor series, both O(t^2) and to full relative precision, where
-    h, c solve r'' + 2 xi r' + r = 0 with (h, h') = (0, 1) and (c, c') = (1, 0) at t = 0, so that
-    r(t) - r0 - rd0 t = rd0 (h - t) + r0 (c - 1). Meant for t (1 + 2 xi) < 1/2 (no cancellation
-    in the alternating series there)."""
-    # Taylor coefficients a_k of y: a_{k+2} = -(2 xi (k+1) a_{k+1} + a_k) / ((k+1)(k+2)).
-    h0, h1 = 0.0, 1.0
-    c0, c1 = 1.0, 0.0
-    d1 = 0.0
-    d2 = 0.0
-    tp = t
-    for k in range(80):
-        h2 = -(2.0 * xi * (k + 1.0) * h1 + h0) / ((k + 1.0) * (k + 2.0))
-        c2 = -(2.0 * xi * (k + 1.0) * c1 + c0) / ((k + 1.0) * (k + 2.0))
-        tp *= t
-        th = h2 * tp
-        tc = c2 * tp
-        d1 += th
-        d2 += tc
-        if k >= 2 and abs(th) <= 1e-18 * abs(d1) and abs(tc) <= 1e-18 * abs(d2):
-            break
-        h0, h1 = h1, h2
-        c0, c1 = c1, c2
-    return d1, d2
-
-
-@njit(cache=True)
 def _osc(xi, r0, rd0, t):
     ce, se = _cs(xi, t)
     return r0 * ce + (rd0 + xi * r0) * se, rd0 * ce - (r0 + xi * rd0) * se
@@ -115,41 +90,16 @@ def _osc(xi, r0, rd0, t):
 
 
 @njit(cache=True)
-def _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res):
+def _eval_gap(t, c0, c1, b, lam, res, split=math.inf):
     """res = f, f', f'', f''', B0, B2, B3, scale, X at phase time t: B_m bounds |f^(m)| on
     [t, inf) (m = 0: the oscillating part f - X only).
 
-    KIND_SCALAR: c1 = V, (r0, rd0) the relative motion, b = [v1(0)] (m1's own velocity at the
-    phase start, as stored) or empty (then v1(0) = V - mu rd0 is used).
+    With a finite ``split`` (res then has 14 entries): also the slow part g (f without
+    the modes with |lambda| > split), g', g'', its B3, and A = sum over the fast modes of
+    |b_k| e^{Re lambda_k t}, which bounds |f - g| on [t, inf).
     """
     f = c0 + c1 * t
     f1 = c1
-    if kind == KIND_SCALAR:
-        r, rd = _osc(xi, r0, rd0, t)
-        r2 = -2.0 * xi * rd - r
-        r3 = -2.0 * xi * r2 - rd
-        r4 = -2.0 * xi * r3 - r2
-        if t * (1.0 + 2.0 * xi) < 0.5:
-            # Shallow chatter flights: f = c0 + v1 t - mu (rd0 (h - t) + r0 (c - 1)), v1 = m1's
-            # own velocity. The direct form below loses eps mu |r0| to cancellation in r - r0,
-            # far more than a gap ~ v1 t ~ 1e-8 allows; and V - mu rd0 carries the rounding of
-            # V and mu (~eps |V|, the same at every bounce) into a v1 ~ 1e-5. Rigid-wall dashpot
-            # chatter (1725 contacts) lost ~1e-9 in the COR and ~1e-5 in the time to these.
-            v1 = b[0].real if b.size > 0 else c1 - mu * rd0
-            d1, d2 = _small_d(xi, t)
-            res[0] = c0 + v1 * t - mu * (rd0 * d1 + r0 * d2)
-            res[1] = v1 - mu * (rd - rd0)
-        else:
-            res[0] = f - mu * (r - r0)  # c0 = u1(0): no cancellation against X0 = u1(0) + mu r0
-            res[1] = f1 - mu * rd
-        res[2] = -mu * r2
-        res[3] = -mu * r3
-        res[4] = mu * math.sqrt(r * r + rd * rd)
-        res[5] = mu * math.sqrt(r2 * r2 + r3 * r3)
-        res[6] = mu * math.sqrt(r3 * r3 + r4 * r4)
-        res[7] = abs(c0) + abs(c1 * t) + mu * abs(r0) + res[4]
-        res[8] = c0 + mu * r0 + c1 * t
-        return
     f2 = 0.0
     f3 = 0.0
     b0 = 0.0
@@ -159,6 +109,11 @@ def _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res):
     # u1 at a phase start is only good to eps * |state|, which may exceed the band of f's terms.
     w0 = 0.0
     osc = 0.0
+    gosc = 0.0
+    g1 = c1
+    g2 = 0.0
+    g3b = 0.0
+    afast = 0.0
     for k in range(b.size):
         w0 += b[k].real
         lk = lam[k]
@@ -174,6 +129,19 @@ def _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res):
         b0 += a
         b2 += a * al * al
         b3 += a * al * al * al
+        if al > split:
+            afast += a
+        else:
+            gosc += e.real
+            g1 += le.real
+            g2 += l2e.real
+            g3b += a * al * al * al
+    if split < math.inf:
+        res[9] = f + (gosc - w0)
+        res[10] = g1
+        res[11] = g2
+        res[12] = g3b
+        res[13] = afast
     res[0] = f + (osc - w0)
     res[1] = f1
     res[2] = f2
@@ -186,20 +154,9 @@ def _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res):
 
 
 @njit(cache=True)
-def _eval_f(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res):
+def _eval_f(t, c0, c1, b, lam, res):
     """res[0], res[1] = f, f' at phase time t: _eval_gap's first two entries by the same
     arithmetic (bit for bit), without the derivative bounds the root polish does not use."""
-    if kind == KIND_SCALAR:
-        r, rd = _osc(xi, r0, rd0, t)
-        if t * (1.0 + 2.0 * xi) < 0.5:
-            v1 = b[0].real if b.size > 0 else c1 - mu * rd0
-            d1, d2 = _small_d(xi, t)
-            res[0] = c0 + v1 * t - mu * (rd0 * d1 + r0 * d2)
-            res[1] = v1 - mu * (rd - rd0)
-        else:
-            res[0] = c0 + c1 * t - mu * (r - r0)
-            res[1] = c1 - mu * rd
-        return
     f1 = c1
     w0 = 0.0
     osc = 0.0
@@ -280,12 +237,12 @@ def _mono_root(a0, a1, a2, a3, lo, hi):
 
 
 @njit(cache=True)
-def _refine(kind, lo, hi, c0, c1, b, lam, xi, mu, r0, rd0, res, at_lo=False):
+def _refine(lo, hi, c0, c1, b, lam, res, at_lo=False):
     """Root of the gap on [lo, hi], f(lo) > 0 > f(hi) (f strictly decreasing on [lo, hi], or at
     least past its last crossing): safeguarded Newton to machine precision. ``at_lo``: res
     already holds the gap at lo (the locator's last step end), so it is not evaluated again."""
     if not at_lo:
-        _eval_f(kind, lo, c0, c1, b, lam, xi, mu, r0, rd0, res)
+        _eval_f(lo, c0, c1, b, lam, res)
     if res[0] <= 0.0:
         return lo
     x = lo
@@ -314,7 +271,7 @@ def _refine(kind, lo, hi, c0, c1, b, lam, xi, mu, r0, rd0, res, at_lo=False):
         if not (lo < xn < hi):
             xn = 0.5 * (lo + hi)
         x = xn
-        _eval_f(kind, x, c0, c1, b, lam, xi, mu, r0, rd0, res)
+        _eval_f(x, c0, c1, b, lam, res)
     return best
 
 
@@ -342,16 +299,34 @@ def _never_ends(t, b, lam, tol):
 
 
 @njit(cache=True)
-def _locate(kind, c0, c1, b, lam, xi, mu, r0, rd0, check_permanent, info, max_steps=MAX_STEPS):
+def _split(b, lam):
+    """|lambda| above which _locate bounds a mode by its amplitude alone (inf: no split): the
+    geometric mean of the slowest and fastest rates present, where they differ by more than
+    SPLIT_RATIO."""
+    lo = math.inf
+    hi = 0.0
+    for k in range(b.size):
+        if b[k] != 0.0:
+            al = abs(lam[k])
+            lo = min(lo, al)
+            hi = max(hi, al)
+    if not (hi > SPLIT_RATIO * lo):
+        return math.inf
+    return math.sqrt(lo * hi)
+
+
+@njit(cache=True)
+def _locate(c0, c1, b, lam, check_permanent, info, max_steps=MAX_STEPS):
     """First time the gap goes below the touching band; see the module docstring.
 
     Returns a LOC_* code; info = [event time, max gap, time of max gap, steps].
     """
-    res = np.empty(9)
+    res = np.empty(14)
     t = 0.0
     fmax = -math.inf
     tmax = 0.0
-    _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res)
+    split = _split(b, lam)
+    _eval_gap(t, c0, c1, b, lam, res, split)
     # The phase's data carry absolute errors ~eps * (their size at the phase start), so the band
     # never shrinks below that even when the motion decays (else exponentially small lobes of a
     # damped approach, e.g. V = 0, would count as contacts).
@@ -359,7 +334,7 @@ def _locate(kind, c0, c1, b, lam, xi, mu, r0, rd0, check_permanent, info, max_st
     t_pos = -1.0  # last step end with f > 0 (none yet)
     for it in range(max_steps):
         if it > 0:  # (res holds the gap at t = 0 already)
-            _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res)
+            _eval_gap(t, c0, c1, b, lam, res, split)
         f = res[0]
         f1 = res[1]
         f2 = res[2]
@@ -383,7 +358,7 @@ def _locate(kind, c0, c1, b, lam, xi, mu, r0, rd0, check_permanent, info, max_st
         # contacts by tol/|f'| ~ 1e-9 at approach speeds ~1e-5 (COR off by 2e-9 over 1725 contacts).
         lo = t if (f > 0.0 or t_pos < 0.0) else t_pos
         if f < -tol:  # only by round-off at a step end: the crossing is in [lo, t]
-            info[0] = _refine(kind, lo, t, c0, c1, b, lam, xi, mu, r0, rd0, res) if lo < t else t
+            info[0] = _refine(lo, t, c0, c1, b, lam, res) if lo < t else t
             return LOC_EVENT
         if f1 < 0.0:
             if b2 > 0.0:
@@ -394,11 +369,20 @@ def _locate(kind, c0, c1, b, lam, xi, mu, r0, rd0, check_permanent, info, max_st
                 dip = -math.inf
             if dip < -tol:  # f strictly decreasing on [t, t + reach]
                 hi = t if lo < t else t + reach  # the root is behind t if f(t) <= 0
-                info[0] = _refine(kind, lo, hi, c0, c1, b, lam, xi, mu, r0, rd0, res, lo == t)
+                info[0] = _refine(lo, hi, c0, c1, b, lam, res, lo == t)
                 return LOC_EVENT
         if f > 0.0:
             t_pos = t
         h = _safe_step(f + tol, f1, f2, b3)
+        if split < math.inf:
+            # Two time scales (a contact spring much stiffer than the chain): the fast modes
+            # ring inside the slow motion, and bound the cubic's step to a fraction of their
+            # period. f >= g - A on [t, inf) (g: the slow part, A: the fast amplitude now), so
+            # a step that keeps g - A above the band is as safe and, deep in a long contact,
+            # spans many fast periods.
+            gap = res[9] - res[13] + tol
+            if gap > 0.0:
+                h = max(h, _safe_step(gap, res[10], res[11], res[12]))
         if h == math.inf:
             return LOC_NEVER
         if h <= 4.0 * EPS * max(t, 1.0):
@@ -409,7 +393,7 @@ def _locate(kind, c0, c1, b, lam, xi, mu, r0, rd0, check_permanent, info, max_st
 
 
 @njit(cache=True)
-def _xmax(kind, t0, tend, c0, c1, b, lam, xi, mu, r0, rd0):
+def _xmax(t0, tend, c0, c1, b, lam):
     """Largest gap on [0, tend] (history only).
 
     A long damped contact rings with many local maxima, so a Newton climb from the locator's best
@@ -419,19 +403,19 @@ def _xmax(kind, t0, tend, c0, c1, b, lam, xi, mu, r0, rd0):
     wins; two maxima inside one scan step would need content faster than the fastest mode.
     """
     res = np.empty(9)
-    _eval_gap(kind, t0, c0, c1, b, lam, xi, mu, r0, rd0, res)
+    _eval_gap(t0, c0, c1, b, lam, res)
     best = res[0]
     rate = 0.0
     for k in range(lam.size):
         rate = max(rate, abs(lam[k].imag), abs(lam[k].real))
     n = 1 if rate == 0.0 else min(max(int(math.ceil(tend * rate * 8.0 / math.pi)), 1), 4_000_000)
     h = tend / n
-    _eval_gap(kind, 0.0, c0, c1, b, lam, xi, mu, r0, rd0, res)
+    _eval_gap(0.0, c0, c1, b, lam, res)
     best = max(best, res[0])
     slope = res[1]
     for i in range(1, n + 1):
         t = tend if i == n else i * h
-        _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res)
+        _eval_gap(t, c0, c1, b, lam, res)
         best = max(best, res[0])
         if slope > 0.0 and res[1] <= 0.0:
             lo, hi = t - h, t
@@ -439,14 +423,14 @@ def _xmax(kind, t0, tend, c0, c1, b, lam, xi, mu, r0, rd0):
                 mid = 0.5 * (lo + hi)
                 if mid <= lo or mid >= hi:
                     break
-                _eval_gap(kind, mid, c0, c1, b, lam, xi, mu, r0, rd0, res)
+                _eval_gap(mid, c0, c1, b, lam, res)
                 if res[1] > 0.0:
                     lo = mid
                 else:
                     hi = mid
-            _eval_gap(kind, 0.5 * (lo + hi), c0, c1, b, lam, xi, mu, r0, rd0, res)
+            _eval_gap(0.5 * (lo + hi), c0, c1, b, lam, res)
             best = max(best, res[0])
-            _eval_gap(kind, t, c0, c1, b, lam, xi, mu, r0, rd0, res)
+            _eval_gap(t, c0, c1, b, lam, res)
         slope = res[1]
     return best
 
@@ -580,6 +564,7 @@ def _pair_sum(g, J1, J2):
         gp = g[p]
         if gp == 0.0:
             continue
+        agp = abs(gp)
         for q in range(p, nk):
             gq = g[q]
             if gq == 0.0:
@@ -588,7 +573,10 @@ def _pair_sum(g, J1, J2):
             a1 = gp * gq * J1[p, q]
             a2 = gp * gq.conjugate() * J2[p, q]
             acc += w * (a1.real + a2.real)
-            mag += w * (abs(a1.real) + abs(a1.imag) + abs(a2.real) + abs(a2.imag))
+            # The rounding of a term is ~eps |g_p| |g_q| |J|, not eps |term|: the real part of
+            # a product can cancel inside it (a near-critical mode pair kept once, with weight
+            # 2, cancels there instead of against its dropped conjugate).
+            mag += w * agp * abs(gq) * (abs(J1[p, q]) + abs(J2[p, q]))
     return acc, mag
 
 

@@ -1,0 +1,117 @@
+"""The damped modal basis (one term per conjugate pair) and the locator's two-scale step, against
+scipy.linalg.expm of the phase's first-order system (no eigenvectors, no modal form)."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.linalg import expm
+
+from restitution.kernels.chain import PH_CONTACT, _modal_model, _modal_state, _run
+from restitution.kernels.layout import N_HIST
+from restitution.kernels.linear import _paper_chain
+from restitution.kernels.locator import _locate
+from test_chain_kernel import chain_mats
+
+
+def _system(m, k, c, kg):
+    """First-order system matrix of the chain with a ground spring kg on mass 0."""
+    n = len(m)
+    K, C = chain_mats(m, k, c)
+    K[0, 0] += kg
+    Mi = np.diag(1.0 / np.asarray(m))
+    return np.block([[np.zeros((n, n)), np.eye(n)], [-Mi @ K, -Mi @ C]])
+
+
+A = np.array
+CASES = {
+    # a near-critical pair (Im/|lam| = 0.01, large cancelling projectors) next to light modes:
+    # doubling one member of the complex inverse's pair left 5e-10 here
+    "near-critical": (*_paper_chain(100.0, 0.0, 1.0, 5)[:3], 0.0),
+    "underdamped contact": (*_paper_chain(20.0, 1e-3, 0.3, 2)[:3], 0.0),
+    "overdamped (real modes)": (A([1.0, 2.0, 0.5]), A([1.0, 0.5]), A([9.0, 6.0]), 3.0),
+    "mixed general": (A([1.0, 0.3, 2.0, 0.7]), A([0.4, 1.3, 0.8]), A([0.0, 0.9, 0.05]), 40.0),
+}
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_halved_basis_reproduces_the_motion(name):
+    m, k, c, kg = CASES[name]
+    if name == "underdamped contact":
+        kg = k[0] / 1e-3
+    n = len(m)
+    free = kg == 0.0  # a free phase: the rigid mode is dropped, states relative to the centre
+    lam, U, P, cond = _modal_model(m, k, c, kg, 0.0, free)
+    assert cond < 1e6
+    # one term per conjugate pair: at most 2n terms, n when every mode is underdamped
+    n_pairs = int(np.sum(lam.imag > 0))
+    assert lam.size == 2 * (n - free) - n_pairs
+    assert np.all(np.abs(lam[lam.imag <= 0].imag) == 0.0)  # the rest are real
+    rng = np.random.default_rng(3)
+    S = _system(m, k, c, kg)
+    for _ in range(3):
+        y0 = rng.normal(size=2 * n)
+        if free:
+            y0[:n] -= m @ y0[:n] / m.sum()
+            y0[n:] -= m @ y0[n:] / m.sum()
+        z = P @ y0.astype(complex)
+        scale = np.abs(y0).max()
+        for t in (0.0, 1e-3, 0.7, 5.0):
+            u = np.empty(n)
+            v = np.empty(n)
+            _modal_state(t, z, lam, U, 0.0, 0.0, u, v)
+            ref = expm(S * t) @ y0
+            err = max(np.abs(u - ref[:n]).max(), np.abs(v - ref[n:]).max())
+            assert err <= 1e-13 * scale * max(cond, 1.0), (name, t, err)
+
+
+@pytest.mark.parametrize("cg", [0.5, 2.0 * math.sqrt(2.0), 3.0, 30.0])
+def test_ground_dashpot_model_reproduces_the_motion(cg):
+    # The sticking phase's model (a dashpot from mass 0 to the ground), from light damping
+    # through overdamped modes (real eigenvalues) to a very stiff dashpot.
+    m = np.array([1.0, 1.0])
+    k = np.array([1.0])
+    c = np.array([0.0])
+    lam, U, P, cond = _modal_model(m, k, c, 1.0, cg, False)
+    S = _system(m, k, c, 1.0)
+    S[2, 2] -= cg  # the ground dashpot on mass 0
+    y0 = np.array([0.3, -0.2, 1.0, 0.5])
+    z = P @ y0.astype(complex)
+    for t in (0.0, 0.5, 3.0):
+        u = np.empty(2)
+        v = np.empty(2)
+        _modal_state(t, z, lam, U, 0.0, 0.0, u, v)
+        ref = expm(S * t) @ y0
+        assert np.abs(np.r_[u, v] - ref).max() <= 1e-12 * max(cond, 1.0)
+
+
+def test_long_ringing_contact_located_in_few_steps():
+    """The last contact of alpha = 200, beta = 1e-3, xi = 0.3 lasts ~180 periods of the fast
+    (contact-spring) mode. The two-scale step crosses it in a few steps; the end found is the
+    first time m1 leaves the wall, checked on a grid of 1/32 fast period by expm."""
+    m, k, c, kc = _paper_chain(200.0, 1e-3, 0.3, 2)
+    rec = np.zeros((200, 7))
+    out, nrec = _run(m, k, c, kc, 1000, np.zeros((0, N_HIST)), rec, 2e7)
+    last = max(i for i in range(nrec) if rec[i, 1] == PH_CONTACT)
+    y0 = rec[last, 3:]
+    lam, U, P, _ = _modal_model(m, k, c, kc, 0.0, False)
+    info = np.zeros(4)
+    b = -U[0] * (P @ y0.astype(complex))
+    code = _locate(0.0, 0.0, b, lam, True, info)
+    te = info[0]
+    fast = np.abs(lam).max()
+    assert code == 0 and te > 100 * 2 * math.pi / fast  # a long contact...
+    assert info[3] <= 20  # ...in few steps (the single-scale step needed ~10 per fast period)
+    S = _system(m, k, c, kc)
+    h = 2 * math.pi / fast / 32
+    E = expm(S * h)
+    y = y0.copy()
+    t = 0.0
+    worst = -math.inf
+    while t + h < te:
+        y = E @ y
+        t += h
+        worst = max(worst, y[0])  # u1 > 0 would be a separation before te
+    assert worst < 0.0
+    yend = expm(S * te) @ y0
+    assert abs(yend[0]) <= 1e-12 and yend[2] > 0.0  # at the wall, leaving it
