@@ -349,6 +349,19 @@ def _real_modes(lam, V):
 
 
 @njit(cache=True)
+def _project(P, y):
+    """Modal amplitudes z = P @ y of a real state y (a plain loop: for the small matrices of a
+    phase a BLAS call costs more than the product)."""
+    z = np.empty(P.shape[0], np.complex128)
+    for q in range(P.shape[0]):
+        acc = 0.0j
+        for j in range(y.size):
+            acc += P[q, j] * y[j]
+        z[q] = acc
+    return z
+
+
+@njit(cache=True)
 def _total(m):
     """Total mass, compensated (Neumaier) so that it is rounded once; a uniform tail
     m_2 = ... = m_N gives m_1 + (N - 1) m_2 exactly as rounded before (dashpot chatter is so
@@ -429,7 +442,7 @@ def _diss_links(T, z, lam, U, c, off):
     c_i > 0 of c_i (v_{i+1} - v_i)^2. U's rows are masses off..n-1 (masses below are at rest).
     T = inf: to infinite time (a permanent contact), in closed form."""
     acc = 0.0
-    if T <= 0.0:
+    if T <= 0.0 or not _any_positive(c):
         return acc
     K = z.size
     g = np.empty(K, np.complex128)
@@ -450,6 +463,14 @@ def _diss_links(T, z, lam, U, c, off):
         else:
             acc += _diss_pairs(T, g, lam, c[i], J1, J2)
     return acc
+
+
+@njit(cache=True)
+def _any_positive(c):
+    for i in range(c.size):
+        if c[i] > 0.0:
+            return True
+    return False
 
 
 @njit(cache=True)
@@ -556,7 +577,7 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
                 y[i] = u[i]
                 y[n + i] = v[i]
                 p_in += m[i] * v[i]
-            z = PC @ y.astype(np.complex128)
+            z = _project(PC, y)
             bgap = np.empty(z.size, np.complex128)
             for q in range(z.size):
                 bgap[q] = -UC[0, q] * z[q]
@@ -640,7 +661,7 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
             for i in range(n):
                 y[i] = u[i] - X0
                 y[n + i] = v[i] - V
-            z = PF @ y.astype(np.complex128)
+            z = _project(PF, y)
             bgap = np.empty(z.size, np.complex128)
             for q in range(z.size):
                 bgap[q] = UF[0, q] * z[q]
@@ -717,7 +738,7 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
             for i in range(n - 1):
                 ys[i] = u[i + 1]
                 ys[n - 1 + i] = v[i + 1]
-            zs = PS @ ys.astype(np.complex128)
+            zs = _project(PS, ys)
             # f = -F (>= 0 while compressive) = -(k12 u2 + c12 v2): lift-off when f < 0.
             bs = np.empty(zs.size, np.complex128)
             for q in range(zs.size):
@@ -1006,14 +1027,14 @@ def _sample(m, k, c, kc, times, max_events):
             for i in range(n):
                 y[i] = u0[i]
                 y[n + i] = v0[i]
-            z = PC @ y.astype(np.complex128)
+            z = _project(PC, y)
             _modal_state(tau, z, lamC, UC, 0.0, 0.0, u, v)
             F[j] = kc * max(-u[0], 0.0)
         elif kind == PH_STICK:
             for i in range(n - 1):
                 ys[i] = u0[i + 1]
                 ys[n - 1 + i] = v0[i + 1]
-            zs = PS @ ys.astype(np.complex128)
+            zs = _project(PS, ys)
             _modal_state(tau, zs, lamS, US, 0.0, 0.0, us, vs)
             u[0] = 0.0
             v[0] = 0.0
@@ -1034,7 +1055,7 @@ def _sample(m, k, c, kc, times, max_events):
                 for i in range(n):
                     y[i] = u0[i] - X0
                     y[n + i] = v0[i] - V
-                z = PF @ y.astype(np.complex128)
+                z = _project(PF, y)
                 _modal_state(tau, z, lamF, UF, X0, V, u, v)
         U[j, :] = u
         Vv[j, :] = v

@@ -444,19 +444,18 @@ def _xmax(t0, tend, c0, c1, b, lam):
 def _modal_state(t, z, lam, U, X0, V, u, v):
     """u, v at phase time t from modal coefficients z (plus centre-of-mass motion X0 + V t)."""
     n = U.shape[0]
-    ez = np.empty(z.size, np.complex128)
-    lz = np.empty(z.size, np.complex128)
-    for k in range(z.size):
-        ez[k] = z[k] * cmath.exp(lam[k] * t)
-        lz[k] = lam[k] * ez[k]
     for i in range(n):
-        su = 0.0
-        sv = 0.0
-        for k in range(z.size):
-            su += (U[i, k] * ez[k]).real
-            sv += (U[i, k] * lz[k]).real
-        u[i] = X0 + V * t + su
-        v[i] = V + sv
+        u[i] = 0.0
+        v[i] = 0.0
+    for k in range(z.size):  # (each u[i], v[i] still sums over k in order: no allocation)
+        ez = z[k] * cmath.exp(lam[k] * t)
+        lz = lam[k] * ez
+        for i in range(n):
+            u[i] += (U[i, k] * ez).real
+            v[i] += (U[i, k] * lz).real
+    for i in range(n):
+        u[i] = X0 + V * t + u[i]
+        v[i] = V + v[i]
 
 
 @njit(cache=True)
@@ -677,11 +676,23 @@ def _diss_scalar(T, xi, r0, rd0, c):
     bb = -(r0 + xi * rd0)
     d = 1.0 - xi * xi
     if d > 0.0:
+        # one term: _pair_sum's single pair (p = q = 0) written out (no arrays: this runs once
+        # per free flight of every damped two-mass scene)
         w = math.sqrt(d)
-        g = np.empty(1, np.complex128)
-        lam = np.empty(1, np.complex128)
-        g[0] = complex(a, -bb / w)
-        lam[0] = complex(-xi, w)
+        g0 = complex(a, -bb / w)
+        lam0 = complex(-xi, w)
+        if g0 == 0.0:
+            return 0.0
+        e0 = cmath.exp(lam0 * T)
+        j1 = _j_term((lam0 + lam0) * T, e0 * e0, T)
+        j2 = _j_term((lam0 + lam0.conjugate()) * T, e0 * e0.conjugate(), T)
+        a1 = g0 * g0 * j1
+        a2 = g0 * g0.conjugate() * j2
+        acc = a1.real + a2.real
+        mag = abs(g0) * abs(g0) * (abs(j1) + abs(j2))
+        if not (mag <= CANCEL_MAX * abs(acc)):
+            return _diss_scalar_gl(T, xi, r0, rd0, c)
+        return 0.5 * c * acc
     elif d < 0.0:
         s = math.sqrt(-d)
         g = np.empty(2, np.complex128)
