@@ -73,6 +73,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from restitution.kernels.lapack import eig_real
 from restitution.kernels.layout import (
     FLAG_RIGID_LIMIT,
     FLAG_STICKING,
@@ -221,17 +222,13 @@ def _modal_model(m, k, c, kg, cg, drop_rigid):
         for q in range(nm):
             for p in range(nm):
                 D[q, p] += cg * phi[0, q] * phi[0, p]
-    S = np.zeros((2 * nm, 2 * nm), np.complex128)
+    S = np.zeros((2 * nm, 2 * nm))
     for q in range(nm):
         S[q, nm + q] = 1.0
         S[nm + q, q] = -om[q] * om[q]
         for p in range(nm):
             S[nm + q, nm + p] = -D[q, p]
-    lam, V = np.linalg.eig(S)
-    for q in range(2 * nm):  # round-off can leave +1e-17 real parts on undamped-looking modes
-        if lam[q].real > 0.0:
-            lam[q] = 1j * lam[q].imag
-    lamk, Vk, Wk, cond = _real_modes(lam, V)
+    lamk, Vk, Wk, cond = _real_modes(S)
     phic = phi.astype(np.complex128)
     U = phic @ np.ascontiguousarray(Vk[:nm, :])
     PhiTM = np.empty((nm, n), np.complex128)
@@ -263,89 +260,53 @@ def _cond1(V, W):
 
 
 @njit(cache=True)
-def _real_modes(lam, V):
-    """Modal basis of a real state matrix from its complex eigen-decomposition (lam, V): one
-    term per conjugate pair.
+def _real_modes(S):
+    """Modal basis of the real state matrix S, one term per conjugate pair of eigenvalues.
 
-    The state matrix is real, so an eigenvalue lam with Im > 0 has the partner conj(lam), and
-    the two terms of a real motion are conjugate: their sum is Re(v z e^{lam t}) with one
-    complex amplitude z. The initial state is expanded in the real basis [Re v, Im v] of each
-    pair and the (rotated to real) eigenvectors of the real eigenvalues, y = Re v a + Im v b + ...,
-    by a real inverse; then z = a - i b. This halves the terms every gap evaluation, state and
+    An eigenvalue lam with Im > 0 has the partner conj(lam), and the two terms of a real motion
+    are conjugate: their sum is Re(v z e^{lam t}) with one complex amplitude z. The initial state
+    is expanded in LAPACK's real eigenbasis (dgeev, restitution.kernels.lapack: [Re v, Im v] for
+    each pair, the real eigenvector of each real eigenvalue), y = Re v a + Im v b + ..., by a
+    real inverse; then z = a - i b. This halves the terms every gap evaluation, state and
     dissipation integral of an underdamped phase sums over, and reconstructs y to eps * cond
-    (doubling one member of each pair of the complex inverse left 5e-10 at a near-critical
+    (doubling one member of each pair of a complex inverse instead left 5e-10 at a near-critical
     pair, whose two projectors are large and cancel only to round-off).
 
-    Returns (lam, V, W, cond): K kept eigenvalues, V (2nm, K) and W (K, 2nm) complex with
-    y(t) = Re V (e^{lam t} * (W y0)), and the real basis's condition number (1-norm). If a
-    complex eigenvalue has no partner to well within its imaginary part, or a real one no
-    real eigenvector (near-defective cases), the full complex basis is returned instead.
+    Returns (lam, V, W, cond): the K kept eigenvalues, V (2nm, K) and W (K, 2nm) complex with
+    y(t) = Re V (e^{lam t} * (W y0)), and the real basis's condition number (1-norm). Raises
+    LinAlgError if LAPACK fails (_safe_model turns that into STATUS_ILL_CONDITIONED).
     """
-    K = lam.size
-    partner = np.full(K, -1, np.int64)
-    for p in range(K):
-        if lam[p].imag <= 0.0 or partner[p] >= 0:
-            continue
-        tol = 1e-6 * lam[p].imag
-        for q in range(K):
-            if q != p and partner[q] < 0 and lam[q].imag < 0.0:
-                if abs(lam[q] - lam[p].conjugate()) <= tol:
-                    partner[p] = q
-                    partner[q] = p
-                    break
-    ok = True
-    nkeep = 0
+    wr, wi, vr, info = eig_real(S)
+    if info != 0:
+        raise np.linalg.LinAlgError("dgeev did not converge")
+    K = wr.size
     Vr = np.empty((K, K))
-    col = np.empty(K, np.int64)  # first real-basis column of each kept mode
-    pair = np.empty(K, np.bool_)
-    lamk = np.empty(K, np.complex128)
-    c = 0
-    for p in range(K):
-        if partner[p] >= 0:
-            if lam[p].imag < 0.0:
-                continue
-            for i in range(K):
-                Vr[i, c] = V[i, p].real
-                Vr[i, c + 1] = V[i, p].imag
-            lamk[nkeep] = lam[p]
-            pair[nkeep] = True
-            col[nkeep] = c
-            c += 2
-        else:
-            if abs(lam[p].imag) > 1e-12 * abs(lam[p]):
-                ok = False
-                break
-            big = 0
-            for i in range(K):
-                if abs(V[i, p]) > abs(V[big, p]):
-                    big = i
-            ph = V[big, p].conjugate() / abs(V[big, p])
-            for i in range(K):
-                w = V[i, p] * ph
-                if abs(w.imag) > 1e-8:  # (unit eigenvectors): not real, a repeated eigenvalue
-                    ok = False
-                Vr[i, c] = w.real
-            lamk[nkeep] = lam[p].real
-            pair[nkeep] = False
-            col[nkeep] = c
-            c += 1
-        nkeep += 1
-    if not ok:
-        W = np.linalg.inv(V)
-        return lam, V, W, _cond1(V, W)
+    for j in range(K):
+        for i in range(K):
+            Vr[i, j] = vr[j, i]
+    nkeep = 0
+    for j in range(K):
+        if wi[j] >= 0.0:
+            nkeep += 1
     Wr = np.linalg.inv(Vr)
+    lam = np.empty(nkeep, np.complex128)
     Vk = np.empty((K, nkeep), np.complex128)
     Wk = np.empty((nkeep, K), np.complex128)
-    for j in range(nkeep):
-        c = col[j]
+    k = 0
+    for j in range(K):
+        if wi[j] < 0.0:  # the second member of a pair
+            continue
+        # round-off can leave +1e-17 real parts on undamped-looking modes
+        lam[k] = complex(min(wr[j], 0.0), wi[j])
         for i in range(K):
-            if pair[j]:
-                Vk[i, j] = complex(Vr[i, c], Vr[i, c + 1])
-                Wk[j, i] = complex(Wr[c, i], -Wr[c + 1, i])
+            if wi[j] > 0.0:
+                Vk[i, k] = complex(Vr[i, j], Vr[i, j + 1])
+                Wk[k, i] = complex(Wr[j, i], -Wr[j + 1, i])
             else:
-                Vk[i, j] = Vr[i, c]
-                Wk[j, i] = Wr[c, i]
-    return lamk[:nkeep].copy(), Vk, Wk, _cond1(Vr, Wr)
+                Vk[i, k] = Vr[i, j]
+                Wk[k, i] = Wr[j, i]
+        k += 1
+    return lam, Vk, Wk, _cond1(Vr, Wr)
 
 
 @njit(cache=True)

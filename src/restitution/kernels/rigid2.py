@@ -318,6 +318,21 @@ def _newton_d(lo, hi, which, V, mu, xi, q, w, r0, w0):
 
 
 @njit(cache=True)
+def _newton_concave(x, V, mu, xi, q, w, r0, w0):
+    """Root of g left of x where g is concave and decreasing on [root, x] and g(x) < 0: Newton
+    steps from x decrease monotonically onto the root (each tangent lies above g)."""
+    for _ in range(_MAX_NEWTON):
+        g, gp, _, _ = _gapd(x, V, mu, xi, q, w, r0, w0)
+        if g >= 0.0 or gp >= 0.0:  # at the root (to round-off)
+            return x, True
+        xn = x - g / gp
+        if not (xn < x) or x - xn <= 2.0 * _EPS * abs(x):
+            return xn, True
+        x = xn
+    return x, False
+
+
+@njit(cache=True)
 def _next_zero(a, d, s_after, xi, q, w):
     """First zero > s_after of y = a E C + (d + xi a) E S (y(0) = a, y'(0) = d); inf if none."""
     bb = d + xi * a
@@ -408,6 +423,13 @@ def _next_contact_d(V, mu, xi, q, w, r0, w0):
             hi = _expand(sa, 0, 1.0, V, mu, xi, q, w, r0, w0, 0.5 * mu * r0)
             return _newton_d(top, hi, 0, V, mu, xi, q, w, r0, w0)
         if gpa >= 0.0 and gpb < 0.0:  # a maximum of g inside [sa, sb]
+            if sb < math.inf:
+                g, _, _, rs = _gapd(sb, V, mu, xi, q, w, r0, w0)
+                if g < -_tol(V, mu, r0, w0, rs, sb):
+                    # g is concave on [sa, sb] and crosses zero after its maximum: Newton from
+                    # sb converges to the crossing from the right, never past it, so the
+                    # maximum itself is not needed.
+                    return _newton_concave(sb, V, mu, xi, q, w, r0, w0)
             hi = sb if sb < math.inf else _expand(sa, 1, 1.0, V, mu, xi, q, w, r0, w0, 0.0)
             if hi == math.inf:
                 return 0.0, False
