@@ -141,3 +141,31 @@ def test_lapack_real_eigen_decomposition():
                 step = 2
             assert np.abs(a @ v - lam[j] * v).max() < 1e-12 * n
             j += step
+
+
+@pytest.mark.parametrize("T", [1e-3, 0.4, 7.0])
+def test_dashpot_work_of_all_dashpots_at_once_matches_quadrature(T):
+    """_diss_phase (one pair sum over the dashpot matrices) against scipy quad of
+    sum_i c_i (v_{i+1} - v_i)^2 along the expm-propagated motion: a chain with three dashpots,
+    contact phase (kg > 0)."""
+    from scipy.integrate import quad
+
+    from restitution.kernels.chain import _diss_matrices, _diss_phase
+
+    m = np.array([1.0, 0.4, 2.5, 0.8])
+    k = np.array([0.5, 1.7, 0.9])
+    c = np.array([0.05, 0.6, 0.2])
+    kg = 30.0
+    lam, U, P, _ = _modal_model(m, k, c, kg, 0.0, False)
+    A1, A2, B = _diss_matrices(U, lam, c, 0)
+    y0 = np.array([0.0, -0.1, 0.2, 0.05, -1.0, -0.7, -1.2, -0.9])
+    z = P @ y0.astype(complex)
+    got = _diss_phase(T, z, lam, A1, A2, B, U, c, 0)
+    S = _system(m, k, c, kg)
+
+    def power(t):
+        v = (expm(S * t) @ y0)[4:]
+        return float(np.sum(c * np.diff(v) ** 2))
+
+    ref = quad(power, 0.0, T, epsabs=0.0, epsrel=1e-12, limit=400)[0]
+    assert got == pytest.approx(ref, rel=1e-10)
