@@ -21,7 +21,10 @@ Prints, one thread, best of several repeats in one process after JIT warm-up:
    contact count for contact count: for each general scene, a uniform chain (alpha from a fine
    sweep 0.2..50, same beta, xi = 0.3 when damped) with the same number of contacts (the
    nearest count when none has it). Both families then have (nearly) the same contacts per
-   scene, and the ratio of their times per contact compares like with like;
+   scene, and the ratio of their times per contact compares like with like. Each line also
+   gives the locator steps per contact of both families (every phase replayed through the
+   locator) and their median rate spread max|lambda| / min|lambda|: the cost per contact follows
+   the steps, and the steps the spread;
 3. the chatter grid alpha 5..200, xi 0.05..3 (rigid wall, dashpot on link 1), N = 2, 3, 5:
    statuses, how many needed the sticking limit, and the slowest scene;
 4. with --big, the N = 128, alpha = 10, xi = 1 chatter scene (status and time).
@@ -35,7 +38,16 @@ import numba
 import numpy as np
 from numba import njit
 
-from restitution.kernels.chain import _safe_model, solve_chain, solve_chain_batch
+from restitution.kernels.chain import (
+    PH_CONTACT,
+    PH_FREE,
+    WORK_MAX,
+    _normalise,
+    _run,
+    _safe_model,
+    solve_chain,
+    solve_chain_batch,
+)
 from restitution.kernels.layout import (
     FLAG_STICKING,
     N_HIST,
@@ -45,6 +57,7 @@ from restitution.kernels.layout import (
     OUT_STATUS,
 )
 from restitution.kernels.linear import _paper_chain
+from restitution.kernels.locator import _locate
 
 NOHIST = np.zeros((0, N_HIST))
 
@@ -124,6 +137,43 @@ def matched_uniform(general_scenes, n, beta, xi):
     return chosen
 
 
+def locator_steps(scenes):
+    """(locator steps per contact, median rate spread) of a family: every free and contact phase
+    of every scene replayed through the kernel's locator from the phase starts the kernel
+    recorded (the work a contact costs besides the fixed per-phase part; sticking phases, rare
+    here, are not counted), and max/min |lambda| of the free and contact phase models."""
+    steps = 0.0
+    contacts = 0.0
+    spreads = []
+    info = np.zeros(4)
+    for scene in scenes:
+        m, k, c, kc = _normalise(*scene)
+        n = m.size
+        rec = np.zeros((100_000, 3 + 2 * n))
+        out, nrec = _run(m, k, c, kc, 100_000, NOHIST, rec, WORK_MAX)
+        contacts += out[OUT_NCOL]
+        lamF, UF, PF, _ = _safe_model(m, k, c, 0.0, 0.0, True)
+        rates = [np.abs(lamF)]
+        if kc != math.inf:
+            lamC, UC, PC, _ = _safe_model(m, k, c, kc, 0.0, False)
+            rates.append(np.abs(lamC))
+        rates = np.concatenate(rates)
+        spreads.append(rates.max() / rates.min())
+        for i in range(min(nrec, rec.shape[0])):
+            u, v = rec[i, 3 : 3 + n], rec[i, 3 + n :]
+            if rec[i, 1] == PH_FREE:
+                X0, V = m @ u / m.sum(), m @ v / m.sum()
+                z = PF @ np.concatenate([u - X0, v - V]).astype(complex)
+                _locate(u[0], V, UF[0] * z, lamF, False, info)
+            elif rec[i, 1] == PH_CONTACT:
+                z = PC @ np.concatenate([u, v]).astype(complex)
+                _locate(0.0, 0.0, -UC[0] * z, lamC, True, info)
+            else:
+                continue
+            steps += info[3] + 1
+    return steps / contacts, float(np.median(spreads))
+
+
 def paper(alpha, beta, xi, n):
     return _paper_chain(alpha, beta, xi, n)
 
@@ -180,12 +230,16 @@ def main():
             g_us, g_nc, g_bad = per_contact(gen, repeat)
             u_set = setup_us(uni, repeat)
             g_set = setup_us(gen, repeat)
+            u_st, u_spread = locator_steps(uni)
+            g_st, g_spread = locator_steps(gen)
             print(
                 f"   N = {n}, beta = {beta:g}{' damped' if damped else ''}: "
                 f"uniform {u_us:.2f} us ({u_set:.0f} us, {u_nc} contacts), "
                 f"general {g_us:.2f} us ({g_set:.0f} us, {g_nc} contacts), "
                 f"ratio {g_us / u_us:.2f}"
                 + (f"  [not ok: {u_bad} + {g_bad}]" if u_bad + g_bad else "")
+                + f"\n      locator steps per contact: uniform {u_st:.2f}, general {g_st:.2f} "
+                f"(ratio {g_st / u_st:.2f}); median rate spread {u_spread:.1f} / {g_spread:.1f}"
             )
 
     print("3. chatter grid (rigid wall, dashpot on link 1), one scene at a time")
