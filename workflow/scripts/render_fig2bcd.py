@@ -182,6 +182,7 @@ def caption_data(panel, inp, fit) -> dict:
     if panel == "c":
         qs = fits["eq22_gap_scaled_n2"]["params"]
         return {
+            "n_plotted": int(read_table(inp.residuals)["n"].max()),
             "q_fit": f"{fits['eq22_gap_n1']['params']['q']:.4f}",
             "A_fit": f"{qs['A']:.3f}",
             "q2_fit": f"{qs['q']:.4f}",
@@ -189,10 +190,13 @@ def caption_data(panel, inp, fit) -> dict:
     errors = read_table(inp.errors).set_index("model")
     paper = float(errors.loc["paper", "max_abs_error"])
     improved = float(errors.loc["improved", "max_abs_error"])
+    universal = float(errors.loc["improved_universal", "max_abs_error"])
     return {
         "paper_max": f"{paper:.2f}",
         "improved_max": f"{improved:.1e}",
         "ratio": f"{paper / improved:.0f}",
+        "universal_max": f"{universal:.1e}",
+        "universal_ratio": f"{paper / universal:.0f}",
     }
 
 

@@ -183,6 +183,21 @@ def caption_data(sweep: pd.DataFrame, panel: str, fig7: dict) -> dict:
             slope = np.polyfit(np.log(c.loc[sel, "alpha"]), np.log(c.loc[sel, "omega_t_col"]), 1)
             slopes.append(float(slope[0]))
         mean = float(np.mean(slopes))
+        # Where omega t_col falls between its jumps (grid steps at the same contact count).
+        single, jumps, falls_small, falls_large = [], [], [], []
+        for c in by_xi.values():
+            a = c["alpha"].to_numpy()
+            t = c["omega_t_col"].to_numpy()
+            n = c["n_collisions"].to_numpy()
+            j = int(np.argmax(n > 1))
+            single.append(float(t[:j].min()) if j > 0 else float("nan"))
+            jumps.append(float(a[j]))
+            same = n[1:] == n[:-1]
+            fall = t[1:] < t[:-1]
+            small = same & (a[1:] >= 1.0) & (a[1:] < 10.0)
+            large = same & (a[1:] >= lo)
+            falls_small.append(f"{100 * fall[small].mean():.0f}%" if small.any() else "-")
+            falls_large.append(f"{100 * fall[large].mean():.0f}%" if large.any() else "-")
         first = min(float(c["omega_t_col"].iloc[0]) for c in by_xi.values())
         last = [float(c["omega_t_col"].iloc[-1]) for c in by_xi.values()]
         data.update(
@@ -199,6 +214,10 @@ def caption_data(sweep: pd.DataFrame, panel: str, fig7: dict) -> dict:
                     else "neither one half nor one"
                 )
             ),
+            t_single=", ".join(_fmt(v, 2) for v in single),
+            first_jumps=", ".join(_fmt(v) for v in jumps),
+            falls_small=", ".join(falls_small),
+            falls_large=", ".join(falls_large),
             t_first=_fmt(first, 2),
             t_last=", ".join(_fmt(v) for v in last),
         )
