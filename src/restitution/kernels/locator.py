@@ -124,8 +124,8 @@ def _eval_gap(t, c0, c1, b, lam, res, split=math.inf):
         f1 += le.real
         f2 += l2e.real
         f3 += (lk * l2e).real
-        a = abs(e)
-        al = abs(lk)
+        a = math.sqrt(e.real * e.real + e.imag * e.imag)  # |e| (hypot is 5x slower)
+        al = math.sqrt(lk.real * lk.real + lk.imag * lk.imag)
         b0 += a
         b2 += a * al * al
         b3 += a * al * al * al
@@ -199,7 +199,17 @@ def _safe_step(a0, a1, a2, a3):
             lo = cr2
     # p decreases on [lo, inf) from p(lo) > 0.
     plo = _cubic(a0, a1, a2, a3, lo)
-    h = max((6.0 * plo / a3) ** (1.0 / 3.0), 1e-300)
+    h = (6.0 * plo / a3) ** (1.0 / 3.0)
+    d2 = a2 - a3 * lo
+    if d2 <= 0.0:
+        # Concave from lo on and p'(lo) <= 0: every term of p(lo + d) - p(lo) is <= 0, so the
+        # root is within each term's own reach; the nearest starts Newton close to it.
+        d1 = a1 + lo * (a2 - 0.5 * a3 * lo)
+        if d2 < 0.0:
+            h = min(h, math.sqrt(2.0 * plo / -d2))
+        if d1 < 0.0:
+            h = min(h, plo / -d1)
+    h = max(h, 1e-300)
     hi = lo + h
     for _ in range(200):
         if _cubic(a0, a1, a2, a3, hi) <= 0.0:
@@ -213,26 +223,52 @@ def _safe_step(a0, a1, a2, a3):
 @njit(cache=True)
 def _mono_root(a0, a1, a2, a3, lo, hi):
     """Root of the cubic, decreasing on [lo, hi] with p(lo) > 0 >= p(hi); returns a point below
-    it (p > 0 there)."""
-    x = lo
+    it (p > 0 there).
+
+    p is convex left of its inflection a2/a3 and concave right of it, so Newton started on the
+    side where the tangent stays on one side of p converges monotonically (from lo where convex,
+    from hi where concave) in a few steps; a start at a critical point (p' = 0 at lo) would
+    instead fall back to bisection for tens of steps.
+    """
+    infl = a2 / a3
+    if lo < infl < hi:
+        if _cubic(a0, a1, a2, a3, infl) > 0.0:
+            lo = infl
+        else:
+            hi = infl
+    x = lo if hi <= infl else hi
     for _ in range(100):
         p = _cubic(a0, a1, a2, a3, x)
         if p > 0.0:
             lo = x
         else:
             hi = x
-        if hi - lo <= 1e-14 * hi:
-            break
         dp = a1 + x * (a2 - 0.5 * a3 * x)
-        xn = x - p / dp if dp < 0.0 else 0.5 * (lo + hi)
-        if not (lo < xn < hi):
-            xn = 0.5 * (lo + hi)
-        elif abs(xn - x) <= 1e-15 * xn:  # Newton has converged (maybe one-sided)
-            xs = min(x, xn) * (1.0 - 4e-15)
-            if xs > lo and _cubic(a0, a1, a2, a3, xs) > 0.0:
-                return xs
+        if not dp < 0.0:
+            break
+        xn = x - p / dp
+        if not (lo <= xn <= hi):
+            break
+        if abs(xn - x) <= 1e-9 * xn:  # converged (quadratically: xn is at round-off)
+            back = 4e-15
+            for _ in range(4):
+                xs = xn - back * xn
+                if xs <= lo:
+                    break
+                if _cubic(a0, a1, a2, a3, xs) > 0.0:
+                    return xs
+                back *= 8.0
             break
         x = xn
+    # Bisection (Newton stalled, e.g. on a near-double root).
+    for _ in range(100):
+        if hi - lo <= 1e-14 * hi:
+            break
+        x = 0.5 * (lo + hi)
+        if _cubic(a0, a1, a2, a3, x) > 0.0:
+            lo = x
+        else:
+            hi = x
     return lo
 
 
@@ -367,6 +403,17 @@ def _locate(c0, c1, b, lam, check_permanent, info, max_steps=MAX_STEPS):
             else:
                 reach = 2.0 * (f + tol) / -f1
                 dip = -math.inf
+            if dip >= -tol and b3 > 0.0:
+                # The cubic upper bound f + f' s + f'' s^2/2 + B3 s^3/6 (f'' from the Taylor
+                # remainder with |f'''| <= B3) is tighter where the curvature is known: its slope
+                # f' + f'' s + B3 s^2/2 (an upper bound of f'(t + s), convex in s) stays < 0 up
+                # to its root s1, so f decreases strictly on [t, t + s1); a dip below the band
+                # there certifies the crossing one step earlier.
+                s1 = (-f2 + math.sqrt(f2 * f2 - 2.0 * b3 * f1)) / b3
+                dip3 = f + s1 * (f1 + s1 * (0.5 * f2 + s1 * b3 / 6.0))
+                if dip3 < -tol:
+                    reach = s1
+                    dip = dip3
             if dip < -tol:  # f strictly decreasing on [t, t + reach]
                 hi = t if lo < t else t + reach  # the root is behind t if f(t) <= 0
                 info[0] = _refine(lo, hi, c0, c1, b, lam, res, lo == t)
