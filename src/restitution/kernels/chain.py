@@ -113,6 +113,7 @@ from restitution.kernels.locator import (
     LOC_NEVER,
     LOC_PERMANENT,
     MAX_STEPS,
+    N_RES,
     TOL_ULPS,
     _diss_modal_inf,
     _diss_pairs,
@@ -311,10 +312,11 @@ def _real_modes(S):
 
 
 @njit(cache=True)
-def _project(P, y):
-    """Modal amplitudes z = P @ y of a real state y (a plain loop: for the small matrices of a
-    phase a BLAS call costs more than the product)."""
-    z = np.empty(P.shape[0], np.complex128)
+def _project(P, y, buf):
+    """Modal amplitudes z = P @ y of a real state y, written into buf[:rows of P] and returned
+    (a plain loop into a buffer the caller keeps: for the small matrices of a phase a BLAS call,
+    or even an allocation, costs more than the product)."""
+    z = buf[: P.shape[0]]
     for q in range(P.shape[0]):
         acc = 0.0j
         for j in range(y.size):
@@ -570,6 +572,11 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
     y = np.empty(2 * n)
     ys = np.empty(2 * n - 2)
     info = np.zeros(4)
+    # Scratch for every phase (modal amplitudes, gap coefficients, the locator's evaluations):
+    # one allocation per scene instead of three or four per contact.
+    zbuf = np.empty(2 * n, np.complex128)
+    bbuf = np.empty(2 * n, np.complex128)
+    res = np.empty(N_RES)
     t = 0.0
     t_last = 0.0
     ncol = 1
@@ -608,8 +615,8 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
                 y[i] = u[i]
                 y[n + i] = v[i]
                 p_in += m[i] * v[i]
-            z = _project(PC, y)
-            bgap = np.empty(z.size, np.complex128)
+            z = _project(PC, y, zbuf)
+            bgap = bbuf[: z.size]
             for q in range(z.size):
                 bgap[q] = -UC[0, q] * z[q]
             code = _locate(
@@ -620,6 +627,7 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
                 True,
                 info,
                 _steps_left(work_max - work, z.size),
+                res,
             )
             work += (info[3] + 1.0) * z.size
             if code == LOC_BUDGET:
@@ -685,15 +693,15 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
             else:
                 code = LOC_EVENT
                 info[0] = s_next
-            z = y[:0].astype(np.complex128)
+            z = zbuf[:0]
         else:
             r0 = 0.0
             rd0 = 0.0
             for i in range(n):
                 y[i] = u[i] - X0
                 y[n + i] = v[i] - V
-            z = _project(PF, y)
-            bgap = np.empty(z.size, np.complex128)
+            z = _project(PF, y, zbuf)
+            bgap = bbuf[: z.size]
             for q in range(z.size):
                 bgap[q] = UF[0, q] * z[q]
             code = _locate(
@@ -704,6 +712,7 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
                 False,
                 info,
                 _steps_left(work_max - work, z.size),
+                res,
             )
             work += (info[3] + 1.0) * z.size
         if code == LOC_NEVER:
@@ -770,9 +779,9 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
             for i in range(n - 1):
                 ys[i] = u[i + 1]
                 ys[n - 1 + i] = v[i + 1]
-            zs = _project(PS, ys)
+            zs = _project(PS, ys, zbuf)
             # f = -F (>= 0 while compressive) = -(k12 u2 + c12 v2): lift-off when f < 0.
-            bs = np.empty(zs.size, np.complex128)
+            bs = bbuf[: zs.size]
             for q in range(zs.size):
                 bs[q] = -(k[0] + c[0] * lamS[q]) * US[0, q] * zs[q]
             code = _locate(
@@ -783,6 +792,7 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
                 True,
                 info,
                 _steps_left(work_max - work, zs.size),
+                res,
             )
             work += (info[3] + 1.0) * zs.size
             if code == LOC_BUDGET:
@@ -1042,6 +1052,7 @@ def _sample(m, k, c, kc, times, max_events):
     vs = np.empty(n - 1)
     y = np.empty(2 * n)
     ys = np.empty(2 * n - 2)
+    zbuf = np.empty(2 * n, np.complex128)
     for j in range(times.size):
         tj = times[j]
         if tj < 0.0:
@@ -1059,14 +1070,14 @@ def _sample(m, k, c, kc, times, max_events):
             for i in range(n):
                 y[i] = u0[i]
                 y[n + i] = v0[i]
-            z = _project(PC, y)
+            z = _project(PC, y, zbuf)
             _modal_state(tau, z, lamC, UC, 0.0, 0.0, u, v)
             F[j] = kc * max(-u[0], 0.0)
         elif kind == PH_STICK:
             for i in range(n - 1):
                 ys[i] = u0[i + 1]
                 ys[n - 1 + i] = v0[i + 1]
-            zs = _project(PS, ys)
+            zs = _project(PS, ys, zbuf)
             _modal_state(tau, zs, lamS, US, 0.0, 0.0, us, vs)
             u[0] = 0.0
             v[0] = 0.0
@@ -1087,7 +1098,7 @@ def _sample(m, k, c, kc, times, max_events):
                 for i in range(n):
                     y[i] = u0[i] - X0
                     y[n + i] = v0[i] - V
-                z = _project(PF, y)
+                z = _project(PF, y, zbuf)
                 _modal_state(tau, z, lamF, UF, X0, V, u, v)
         U[j, :] = u
         Vv[j, :] = v

@@ -26,6 +26,7 @@ EPS = 2.220446049250313e-16
 TOL_ULPS = 64.0  # touching band, in ulps of the gap's scale
 MAX_STEPS = 400_000  # conservative steps per phase
 SPLIT_RATIO = 8.0  # rates this far apart: the locator also steps on the slow part (_split)
+N_RES = 14  # entries of _eval_gap's result (with the two-scale split)
 
 # Locator outcomes.
 LOC_EVENT = 0
@@ -117,7 +118,7 @@ def _eval_gap(t, c0, c1, b, lam, res, split=math.inf):
     for k in range(b.size):
         w0 += b[k].real
         lk = lam[k]
-        e = b[k] * cmath.exp(lk * t)
+        e = b[k] * cmath.exp(lk * t) if t != 0.0 else b[k]  # (every phase starts at t = 0)
         le = lk * e
         l2e = lk * le
         osc += e.real
@@ -185,6 +186,15 @@ def _safe_step(a0, a1, a2, a3):
         if a1 < 0.0:
             return a0 / -a1
         return math.inf
+    if a1 > 0.0:
+        # Leaving the band edge (every phase starts so): p = a0 + s q(s) with q = a1 + a2 s/2 -
+        # a3 s^2/6 concave and q(0) > 0, so p > a0 up to q's root sq, in closed form. The root of
+        # p lies beyond it by ~a0 / |p'(sq)| = a0 / (sq sqrt(D)): where that is below 1e-13 sq,
+        # sq is the step (no iteration).
+        rd = math.sqrt(0.25 * a2 * a2 + a3 * a1 / 1.5)
+        sq = 3.0 * (0.5 * a2 + rd) / a3 if a2 >= 0.0 else 2.0 * a1 / (rd - 0.5 * a2)
+        if a0 <= 1e-13 * sq * sq * rd:
+            return sq
     lo = 0.0
     disc = a2 * a2 + 2.0 * a1 * a3
     if disc > 0.0:
@@ -312,25 +322,32 @@ def _refine(lo, hi, c0, c1, b, lam, res, at_lo=False):
 
 
 @njit(cache=True)
-def _never_ends(t, b, lam, tol):
-    """Proof that a damped contact never ends: the slowest real term outweighs all others now,
-    hence forever (all others decay faster)."""
+def _dominant_real(b, lam):
+    """Index of the slowest-decaying term if it is real and decays slower than all others (the
+    only case in which a damped contact can last for ever), else -1."""
     kmax = -1
     lr = -math.inf
     for k in range(b.size):
-        if abs(b[k]) > 0.0 and lam[k].real > lr:
+        if b[k] != 0.0 and lam[k].real > lr:
             lr = lam[k].real
             kmax = k
     if kmax < 0 or abs(lam[kmax].imag) > 1e-12 * abs(lam[kmax]):
-        return False
+        return -1
+    for k in range(b.size):
+        if k != kmax and b[k] != 0.0 and lam[k].real >= lr - 1e-12 * abs(lr):
+            return -1
+    return kmax
+
+
+@njit(cache=True)
+def _never_ends(t, b, lam, tol, kmax):
+    """Proof that a damped contact never ends: the slowest real term (kmax, from
+    _dominant_real) outweighs all others now, hence forever (all others decay faster)."""
     dom = (b[kmax] * cmath.exp(lam[kmax] * t)).real
     rest = 0.0
     for k in range(b.size):
-        if k == kmax or abs(b[k]) == 0.0:
-            continue
-        if lam[k].real >= lr - 1e-12 * abs(lr):
-            return False
-        rest += abs(b[k]) * math.exp(lam[k].real * t)
+        if k != kmax and b[k] != 0.0:
+            rest += abs(b[k]) * math.exp(lam[k].real * t)
     return dom - rest > tol
 
 
@@ -352,16 +369,19 @@ def _split(b, lam):
 
 
 @njit(cache=True)
-def _locate(c0, c1, b, lam, check_permanent, info, max_steps=MAX_STEPS):
+def _locate(c0, c1, b, lam, check_permanent, info, max_steps=MAX_STEPS, res=None):
     """First time the gap goes below the touching band; see the module docstring.
 
-    Returns a LOC_* code; info = [event time, max gap, time of max gap, steps].
+    Returns a LOC_* code; info = [event time, max gap, time of max gap, steps]. ``res``: an
+    optional scratch array of N_RES entries (a kernel passes one for all its phases).
     """
-    res = np.empty(14)
+    if res is None:
+        res = np.empty(N_RES)
     t = 0.0
     fmax = -math.inf
     tmax = 0.0
     split = _split(b, lam)
+    kdom = _dominant_real(b, lam) if check_permanent else -1
     _eval_gap(t, c0, c1, b, lam, res, split)
     # The phase's data carry absolute errors ~eps * (their size at the phase start), so the band
     # never shrinks below that even when the motion decays (else exponentially small lobes of a
@@ -386,7 +406,7 @@ def _locate(c0, c1, b, lam, check_permanent, info, max_steps=MAX_STEPS):
         # f(s) >= X(t) - B0(t) for all s >= t when V >= 0: never below the band again.
         if c1 >= 0.0 and res[8] - res[4] > -0.5 * tol0:
             return LOC_NEVER
-        if check_permanent and _never_ends(t, b, lam, tol + abs(res[8])):
+        if kdom >= 0 and _never_ends(t, b, lam, tol + abs(res[8]), kdom):
             return LOC_PERMANENT
         # A step may end just past the root of f (it only keeps f >= -tol): a near-parabolic
         # shallow flight lands it at f ~ -tol. The root is then in [t_pos, t] (t_pos = the last
