@@ -27,7 +27,8 @@ Prints, one thread, best of several repeats in one process after JIT warm-up:
    scene, and the ratio of their times per contact compares like with like. Each line also
    gives the locator steps per contact of both families (every phase replayed through the
    locator) and their median rate spread max|lambda| / min|lambda|: the cost per contact follows
-   the steps, and the steps the spread;
+   the steps, and the steps the spread (bench_then_now.py compares the same general chains with
+   the uniform chain as the code of the issue's day solved it);
 3. the chatter grid alpha 5..200, xi 0.05..3 (rigid wall, dashpot on link 1), N = 2, 3, 5:
    statuses, how many needed the sticking limit, and the slowest scene;
 4. with --big, the N = 128, alpha = 10, xi = 1 chatter scene (status and time).
