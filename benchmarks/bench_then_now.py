@@ -24,8 +24,8 @@ from pathlib import Path
 
 import numba
 import numpy as np
-
 from bench_chain import general, matched_uniform, pad, paper, per_contact
+
 from restitution.kernels.chain import solve_chain_batch
 from restitution.kernels.layout import OUT_NCOL
 
@@ -102,7 +102,7 @@ def main():
             )
     then = json.loads(run.stdout)
     print(f"us per contact; 'then' = the uniform chain solved by {args.ref}'s kernel")
-    for (n, beta, damped, u_us, g_us, ncol), old in zip(lines, then):
+    for (n, beta, damped, u_us, g_us, ncol), old in zip(lines, then, strict=True):
         same = np.array_equal(np.asarray(old["ncol"]), ncol)
         print(
             f"   N = {n}, beta = {beta:g}{' damped' if damped else ''}: uniform then "
