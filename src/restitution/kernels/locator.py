@@ -9,11 +9,12 @@ form by restitution.kernels.rigid2 instead). For s >= t and m >= 2,
 largest h for which the cubic lower bound f + f' h + f'' h^2/2 - B3 h^3/6 stays above the
 touching band -tol, so no step can cross a point where f < -tol, and it certifies a crossing
 with the quadratic upper bound f + f' h + B2 h^2/2 or the cubic one f + f' h + f'' h^2/2 +
-B3 h^3/6 (f strictly decreasing up to the root, then safeguarded Newton). Where the rates present differ by more than SPLIT_RATIO (a contact spring
-much stiffer than the chain), it also steps on the slow part g of f, with the fast modes bounded
-by their amplitude A (f >= g - A), and takes the longer of the two safe steps: a long contact
-ringing at the contact frequency is crossed in a few steps, not ten per ringing period. See
-restitution.kernels.chain for the model that uses it.
+B3 h^3/6 (f strictly decreasing up to the root, then safeguarded Newton). Where the rates
+present differ by more than SPLIT_RATIO (a contact spring much stiffer than the chain), it also
+steps on the slow part g of f, with the fast modes bounded by their amplitude A (f >= g - A),
+and takes the longer of the two safe steps: a long contact ringing at the contact frequency is
+crossed in a few steps, not ten per ringing period. See restitution.kernels.chain for the model
+that uses it.
 """
 
 import cmath

@@ -248,6 +248,11 @@ def _basis(s, xi, q, w):
     return e1 * (1.0 + 0.5 * z), -e1 * z / (2.0 * w), ecm1
 
 
+# 1 / ((n + 2)(n + 1)) of the Taylor recurrences below: a multiply, not a divide, in the loop's
+# dependency chain (the series runs in every gap evaluation of a short damped flight).
+_INV_N2N1 = 1.0 / ((np.arange(60) + 2.0) * (np.arange(60) + 1.0))
+
+
 @njit(cache=True)
 def _small_d(s, xi):
     """D1 = E S - s and D2 = E C - 1 + xi E S (both O(s^2)) by Taylor series, for small s."""
@@ -256,9 +261,12 @@ def _small_d(s, xi):
     d1 = 0.0
     d2 = 0.0
     sp = s
+    x2 = 2.0 * xi
     for n in range(0, 60):
-        h2 = -(2.0 * xi * (n + 1) * h1 + h0) / ((n + 2.0) * (n + 1.0))
-        c2 = -(2.0 * xi * (n + 1) * c1 + c0) / ((n + 2.0) * (n + 1.0))
+        inv = _INV_N2N1[n]
+        kn = x2 * (n + 1)
+        h2 = -(kn * h1 + h0) * inv
+        c2 = -(kn * c1 + c0) * inv
         sp *= s
         t1 = h2 * sp
         t2 = c2 * sp
@@ -330,6 +338,24 @@ def _newton_concave(x, V, mu, xi, q, w, r0, w0):
             return xn, True
         x = xn
     return x, False
+
+
+@njit(cache=True)
+def _hermite_root(sa, ga, gpa, sb, gb, gpb):
+    """Root in (sa, sb) of the Hermite cubic through (sa, ga, gpa) and (sb, gb, gpb), found by
+    Newton from sb (gb < 0 > gpb): a first guess only, or -1.0."""
+    h = sb - sa
+    a1 = h * gpa
+    a2 = 3.0 * (gb - ga) - h * (2.0 * gpa + gpb)
+    a3 = 2.0 * (ga - gb) + h * (gpa + gpb)
+    x = 1.0
+    for _ in range(8):
+        p = ga + x * (a1 + x * (a2 + x * a3))
+        dp = a1 + x * (2.0 * a2 + 3.0 * x * a3)
+        if not dp < 0.0:
+            return -1.0
+        x -= p / dp
+    return sa + x * h if 0.0 < x < 1.0 else -1.0
 
 
 @njit(cache=True)
@@ -409,13 +435,15 @@ def _next_contact_d(V, mu, xi, q, w, r0, w0):
     ay = r0 + 2.0 * xi * w0  # y = g''/mu = r + 2 xi r', which solves the same equation
     dy = w0 - 2.0 * xi * (r0 + 2.0 * xi * w0)
     sa = 0.0
-    _, gpa, _, _ = _gapd(0.0, V, mu, xi, q, w, r0, w0)
+    ga = 0.0  # g and g' at s = 0, as _gapd gives them there (exactly)
+    gpa = V - mu * w0
     top = 0.0  # start of the current decreasing piece of g (a maximum, or 0)
     for _ in range(_MAX_WALK):
         sb = _next_zero(ay, dy, sa, xi, q, w)
         if sb < math.inf:
-            _, gpb, _, _ = _gapd(sb, V, mu, xi, q, w, r0, w0)
+            gb, gpb, _, rsb = _gapd(sb, V, mu, xi, q, w, r0, w0)
         else:
+            gb, rsb = -math.inf, 0.0  # (unused)
             gpb = V  # r' -> 0
         if sb == math.inf and V == 0.0 and gpa < 0.0:  # g falls for ever towards mu r0
             if mu * r0 >= -_tol(V, mu, r0, w0, 0.0, sa):
@@ -423,13 +451,19 @@ def _next_contact_d(V, mu, xi, q, w, r0, w0):
             hi = _expand(sa, 0, 1.0, V, mu, xi, q, w, r0, w0, 0.5 * mu * r0)
             return _newton_d(top, hi, 0, V, mu, xi, q, w, r0, w0)
         if gpa >= 0.0 and gpb < 0.0:  # a maximum of g inside [sa, sb]
-            if sb < math.inf:
-                g, _, _, rs = _gapd(sb, V, mu, xi, q, w, r0, w0)
-                if g < -_tol(V, mu, r0, w0, rs, sb):
-                    # g is concave on [sa, sb] and crosses zero after its maximum: Newton from
-                    # sb converges to the crossing from the right, never past it, so the
-                    # maximum itself is not needed.
-                    return _newton_concave(sb, V, mu, xi, q, w, r0, w0)
+            if sb < math.inf and gb < -_tol(V, mu, r0, w0, rsb, sb):
+                # g is concave on [sa, sb] and crosses zero after its maximum: Newton from the
+                # right of the crossing converges to it monotonically, never past it, so the
+                # maximum itself is not needed. Its start: one Newton step from the root of
+                # the Hermite cubic of g on [sa, sb] (any Newton step from where g falls lands
+                # right of the crossing, g being concave), else sb itself.
+                x = sb
+                xg = _hermite_root(sa, ga, gpa, sb, gb, gpb)
+                if sa < xg < sb:
+                    g1, gp1, _, _ = _gapd(xg, V, mu, xi, q, w, r0, w0)
+                    if gp1 < 0.0:
+                        x = min(xg - g1 / gp1, sb)
+                return _newton_concave(x, V, mu, xi, q, w, r0, w0)
             hi = sb if sb < math.inf else _expand(sa, 1, 1.0, V, mu, xi, q, w, r0, w0, 0.0)
             if hi == math.inf:
                 return 0.0, False
@@ -457,14 +491,14 @@ def _next_contact_d(V, mu, xi, q, w, r0, w0):
                 if hi == math.inf:
                     return 0.0, False
                 return _newton_d(top, hi, 0, V, mu, xi, q, w, r0, w0)
-            g, _, _, rs = _gapd(sb, V, mu, xi, q, w, r0, w0)
-            if g < -_tol(V, mu, r0, w0, rs, sb):
+            if gb < -_tol(V, mu, r0, w0, rsb, sb):
                 return _newton_d(top, sb, 0, V, mu, xi, q, w, r0, w0)
         if sb == math.inf:  # increasing for ever from a non-negative minimum
             return -1.0, True
         if gpb >= 0.0 and _env_proof(sb, V, mu, xi, q, w, r0, w0):
             return -1.0, True
         sa = sb
+        ga = gb
         gpa = gpb
     return 0.0, False
 
