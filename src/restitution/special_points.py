@@ -37,6 +37,8 @@ import pandas as pd
 from numba import njit, prange
 from scipy.optimize import brentq
 
+from .kernels.parallel import row_blocks
+
 TWO_PI = 2.0 * math.pi
 _NEWTON_ITERS = 100
 
@@ -135,9 +137,12 @@ def _run(alpha, n_max):
 @njit(cache=True, parallel=True)
 def _run_many(alpha, n_max):
     out = np.empty((alpha.size, 5))
-    for i in prange(alpha.size):
-        n, V, r, rp, t = _run(alpha[i], n_max)
-        out[i, 0], out[i, 1], out[i, 2], out[i, 3], out[i, 4] = n, V, r, rp, t
+    nb, size, p = row_blocks(alpha.size)  # rows spread over the threads (kernels.parallel)
+    for j in prange(nb):
+        b = (j * p) % nb
+        for i in range(b * size, min(alpha.size, b * size + size)):
+            n, V, r, rp, t = _run(alpha[i], n_max)
+            out[i, 0], out[i, 1], out[i, 2], out[i, 3], out[i, 4] = n, V, r, rp, t
     return out
 
 

@@ -125,6 +125,7 @@ from restitution.kernels.locator import (
     _scalar_state,
     _xmax,
 )
+from restitution.kernels.parallel import row_blocks
 from restitution.kernels.rigid2 import _next_contact0, _next_contact_d, rigid2
 
 COND_MAX = 1e8  # eigenvector condition number above which a closed form is not trusted
@@ -1004,21 +1005,24 @@ def solve_chain_batch(m, k, c, n, kc, max_events):
     out = np.full((rows, N_OUT), math.nan)
     for i in range(rows):
         out[i, OUT_STATUS] = STATUS_NOT_RUN
-    for i in prange(rows):
-        ni = n[i]
+    nb, size, p = row_blocks(rows)  # rows spread over the threads (kernels.parallel)
+    for j in prange(nb):
+        b = (j * p) % nb
         hist = np.zeros((0, N_HIST))
-        if ni < 2 or ni > m.shape[1]:
-            out[i, :] = _fail(np.empty(N_OUT), STATUS_INVALID)
-            continue
-        out[i, :] = _solve(
-            np.ascontiguousarray(m[i, :ni]),
-            np.ascontiguousarray(k[i, : ni - 1]),
-            np.ascontiguousarray(c[i, : ni - 1]),
-            kc[i],
-            max_events,
-            hist,
-            WORK_MAX,
-        )
+        for i in range(b * size, min(rows, b * size + size)):
+            ni = n[i]
+            if ni < 2 or ni > m.shape[1]:
+                out[i, :] = _fail(np.empty(N_OUT), STATUS_INVALID)
+                continue
+            out[i, :] = _solve(
+                np.ascontiguousarray(m[i, :ni]),
+                np.ascontiguousarray(k[i, : ni - 1]),
+                np.ascontiguousarray(c[i, : ni - 1]),
+                kc[i],
+                max_events,
+                hist,
+                WORK_MAX,
+            )
     return out
 
 

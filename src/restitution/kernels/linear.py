@@ -81,6 +81,7 @@ from restitution.kernels.locator import (  # noqa: F401  (re-exported for tests 
     LOC_PERMANENT,
     _locate,
 )
+from restitution.kernels.parallel import row_blocks
 
 
 @njit(cache=True)
@@ -144,9 +145,12 @@ def solve_linear_batch(alpha, beta, xi, n_masses, max_events):
     result is bit-identical for any thread count."""
     ns = alpha.size
     out = np.empty((ns, N_OUT))
-    for i in prange(ns):
+    nb, size, p = row_blocks(ns)  # rows spread over the threads (kernels.parallel)
+    for j in prange(nb):
+        b = (j * p) % nb
         hist = np.zeros((0, N_HIST))
-        out[i, :] = solve_linear(alpha[i], beta[i], xi[i], int(n_masses[i]), max_events, hist)
+        for i in range(b * size, min(ns, b * size + size)):
+            out[i, :] = solve_linear(alpha[i], beta[i], xi[i], int(n_masses[i]), max_events, hist)
     return out
 
 

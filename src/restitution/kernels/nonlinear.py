@@ -88,6 +88,7 @@ from restitution.kernels.layout import (
     STATUS_OK,
     STATUS_WORK_BUDGET,
 )
+from restitution.kernels.parallel import row_blocks
 from restitution.laws import (
     C_PLASTIC,
     C_RIGID,
@@ -547,24 +548,27 @@ def solve_scene_batch(alpha, v0, xi, cp, sp, method, rtol, step_frac, etol, max_
     out = np.full((n, N_OUT), np.nan)  # rows start unfinished: NaN, STATUS_NOT_RUN
     for i in range(n):
         out[i, OUT_STATUS] = STATUS_NOT_RUN
-    for i in prange(n):
+    nb, size, p = row_blocks(n)  # rows spread over the threads (kernels.parallel)
+    for j in prange(nb):
+        b = (j * p) % nb
         hist = np.zeros((0, 6))
-        acct = np.zeros(N_ACCT)
-        out[i] = solve_scene(
-            alpha[i],
-            v0[i],
-            xi[i],
-            cp[i],
-            sp[i],
-            method,
-            rtol,
-            step_frac,
-            False,
-            etol,
-            max_events,
-            hist,
-            acct,
-        )
+        for i in range(b * size, min(n, b * size + size)):
+            acct = np.zeros(N_ACCT)
+            out[i] = solve_scene(
+                alpha[i],
+                v0[i],
+                xi[i],
+                cp[i],
+                sp[i],
+                method,
+                rtol,
+                step_frac,
+                False,
+                etol,
+                max_events,
+                hist,
+                acct,
+            )
     return out
 
 
@@ -884,15 +888,18 @@ def solve_chain_scene_batch(
     out = np.full((rows, N_OUT), np.nan)
     for i in range(rows):
         out[i, OUT_STATUS] = STATUS_NOT_RUN
-    for i in prange(rows):
-        k = n[i]
-        if k < 2 or k > m.shape[1]:
-            out[i, OUT_STATUS] = STATUS_INVALID
-            continue
+    nb, size, p = row_blocks(rows)  # rows spread over the threads (kernels.parallel)
+    for j in prange(nb):
+        b = (j * p) % nb
         hist = np.zeros((0, 6))
-        acct = np.zeros(N_ACCT)
-        out[i] = solve_chain_scene(
-            m[i, :k], lk[i, : k - 1], c[i, : k - 1], cp[i], v0[i], method, rtol, step_frac,
-            etol, max_events, max_work, hist, acct,
-        )  # fmt: skip
+        for i in range(b * size, min(rows, b * size + size)):
+            k = n[i]
+            if k < 2 or k > m.shape[1]:
+                out[i, OUT_STATUS] = STATUS_INVALID
+                continue
+            acct = np.zeros(N_ACCT)
+            out[i] = solve_chain_scene(
+                m[i, :k], lk[i, : k - 1], c[i, : k - 1], cp[i], v0[i], method, rtol, step_frac,
+                etol, max_events, max_work, hist, acct,
+            )  # fmt: skip
     return out

@@ -85,6 +85,7 @@ from restitution.kernels.layout import (
     STATUS_NONCONVERGED,
     STATUS_OK,
 )
+from restitution.kernels.parallel import row_blocks
 
 _EPS = 2.220446049250313e-16
 _TOUCH = 16.0  # contact if g_min < -_TOUCH * eps * (scale of the terms of g)
@@ -702,6 +703,9 @@ def rigid2_batch(alpha, xi, max_events):
     """
     n = alpha.shape[0]
     out = np.empty((n, N_OUT))
-    for i in prange(n):
-        out[i, :] = rigid2(alpha[i], xi[i], max_events, np.zeros((0, N_HIST)))
+    nb, size, p = row_blocks(n)  # rows spread over the threads (kernels.parallel)
+    for j in prange(nb):
+        b = (j * p) % nb
+        for i in range(b * size, min(n, b * size + size)):
+            out[i, :] = rigid2(alpha[i], xi[i], max_events, np.zeros((0, N_HIST)))
     return out
