@@ -86,6 +86,26 @@ def test_solve_many_matches_solve_and_keeps_input_columns():
         assert res.method == r.method and res.status == r.status
 
 
+@pytest.mark.parametrize("n_masses", [[2, 2, 3], [2.0, 2.0, 3.0]])  # kept / converted column
+def test_solve_many_result_and_input_never_write_into_each_other(n_masses):
+    """The result shares no writable memory with the user's frame: writing into either leaves
+    the other as it was (columns carried through, columns converted, result columns)."""
+    frame = pd.DataFrame(
+        {"alpha": [1.0, 2.0, 3.0], "beta": [0.0, 0.1, 0.0], "xi": [0.0, 0.2, 0.0]}
+    ).assign(n_masses=n_masses)
+    before = frame.copy()
+    out = solve_many(frame)
+    expected = out.copy()
+    out.loc[0, ["alpha", "beta", "xi", "n_masses", "cor"]] = [9.0, 7.0, 5.0, 4, 3.0]
+    out["xi"] *= 2.0
+    pd.testing.assert_frame_equal(frame, before)
+    frame.loc[1, ["alpha", "beta", "xi"]] = [8.0, 0.5, 0.5]
+    frame.loc[2, "n_masses"] = 6
+    assert out.loc[1, "alpha"] == expected.loc[1, "alpha"] == 2.0
+    assert out.loc[1, "beta"] == expected.loc[1, "beta"] == 0.1
+    assert out.loc[2, "n_masses"] == expected.loc[2, "n_masses"] == 3
+
+
 def test_solve_many_validates_every_row_before_work():
     frame = pd.DataFrame({"alpha": [1.0, 2.0, -3.0], "beta": [0.0, 0.0, 0.0]})
     with pytest.raises(SceneError, match=r"alpha must be in \[1e-8, 1e8\]; got -3.0 \(row 2\)"):

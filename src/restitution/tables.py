@@ -153,8 +153,8 @@ class SceneTable:
     # ------------------------------------------------------------------------------------------
     def _methods(self) -> np.ndarray:
         frame = self.frame
-        if "method" not in self.columns:
-            return np.full(len(frame), "auto", dtype=object)
+        if "method" not in self.columns:  # (a read-only view: no 20,000 object cells to fill)
+            return np.broadcast_to(np.array("auto", dtype=object), len(frame))
         values = frame["method"].to_numpy(dtype=object)
         out = np.where(pd.isna(values), "auto", values).astype(object)
         bad = ~pd.Series(out).isin(M.NAMES).to_numpy()
@@ -193,10 +193,14 @@ class SceneTable:
         # Linear rows: one dispatcher call per distinct (rigid wall, N, method), so the solver
         # table decides for every row at the cost of a few calls.
         lin = np.flatnonzero(~legacy)
+        sel = slice(None) if len(lin) == n else lin  # (a slice, not a gather, on the usual table)
         if len(lin):
-            codes = pd.factorize(method[lin])[0] if "method" in self.columns else 0
-            key = (beta[lin] == 0.0) + 2 * nm[lin] + 4096 * codes
-            _, firsts, groups = np.unique(key, return_index=True, return_inverse=True)
+            codes = pd.factorize(method[sel])[0] if "method" in self.columns else 0
+            key = (beta[sel] == 0.0) + 2 * nm[sel] + 4096 * codes
+            if (key == key[0]).all():  # one group (a sweep of one N and wall): no sort
+                firsts, groups = np.zeros(1, dtype=np.int64), np.zeros(len(lin), dtype=np.int64)
+            else:
+                _, firsts, groups = np.unique(key, return_index=True, return_inverse=True)
             for g, j in enumerate(firsts):
                 i = lin[j]
                 try:
@@ -204,8 +208,9 @@ class SceneTable:
                     name = M.choose(ch, method[i]).name
                 except SceneError as e:
                     raise SceneError(f"{e} ({_row(frame, i)})") from None
-                chosen[lin[groups == g]] = name
-                self._method_code(lin[groups == g], name)
+                rows = sel if len(firsts) == 1 else lin[groups == g]
+                chosen[rows] = name
+                self._method_code(rows, name)
         for i in np.flatnonzero(legacy):
             law = {c: frame[c].iat[i] for c in law_cols if not _is_missing(frame[c].iat[i])}
             try:
