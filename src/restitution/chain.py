@@ -345,7 +345,7 @@ class Chain:
         c[0] = 2.0 * xi * k
         for a in (m, ks, c):
             a.setflags(write=False)
-        kc = math.inf if beta == 0.0 else k / beta
+        kc = math.inf if beta == 0.0 else float(k) / float(beta)  # (inf past 1e308, no warning)
         for name, value in (
             ("masses", m),
             ("springs", ks),
