@@ -124,6 +124,31 @@ def test_solve_many_progress_bar_counts_every_row_and_changes_nothing(capsys):
     pd.testing.assert_frame_equal(quiet, shown, check_exact=True)
 
 
+@pytest.mark.parametrize("n", [0, 1, 100, 2500])
+def test_solve_many_column_types_do_not_depend_on_the_table_size(n):
+    out = solve_many(pd.DataFrame({"alpha": np.linspace(0.5, 5.0, n)}))
+    assert out.dtypes.astype(str).to_dict() == {
+        "alpha": "float64", "beta": "float64", "xi": "float64", "n_masses": "int64",
+        "cor": "float64", "n_collisions": "int64", "omega_t_col": "float64",
+        "e_translational": "float64", "e_vibrational": "float64", "e_dissipated": "float64",
+        "method": "str", "status": "str", "error_estimate": "float64",
+    }  # fmt: skip
+
+
+@pytest.mark.parametrize("n", [0, 1, 3])
+def test_general_table_column_types_do_not_depend_on_the_table_size(n):
+    frame = pd.DataFrame(
+        {"masses": [[1.0, 2.0]] * n, "springs": [[1.0]] * n, "dashpots": [[0.1]] * n}
+    )
+    out = solve_many(frame)
+    types = out.dtypes.astype(str).to_dict()
+    assert types["masses"] == types["springs"] == types["dashpots"] == "object"
+    assert types["method"] == types["status"] == "str"
+    assert all(types[c] == "float64" for c in ("cor", "t_col", "omega_t_col", "error_estimate"))
+    assert types["n_collisions"] == "int64"
+    assert all(type(v) is list for v in out["masses"])
+
+
 def test_solve_many_validates_every_row_before_work():
     frame = pd.DataFrame({"alpha": [1.0, 2.0, -3.0], "beta": [0.0, 0.0, 0.0]})
     with pytest.raises(SceneError, match=r"alpha must be in \[1e-8, 1e8\]; got -3.0 \(row 2\)"):

@@ -232,6 +232,8 @@ class _Labels:
         the Arrow array costs more than the strings; one repeated Arrow scalar where every row
         has the same label, 2.5 x faster than a take on 20,000 rows)."""
         names = np.asarray(self.names, dtype=object)
+        if len(self.codes) == 0:  # (pandas infers str from strings: none here)
+            return pd.array([], dtype="str")
         if len(self.codes) <= 2000:
             return names[self.codes]
         if (self.codes == self.codes[0]).all():
@@ -431,11 +433,12 @@ def solve_many(
             if name not in data or data[name].dtype != plan[name].dtype:
                 data[name] = plan[name]  # a default or a converted copy: never the user's memory
     else:
-        # list cells as the checked floats (CSV text and parquet lists alike)
-        data["masses"] = [ch.masses.tolist() for ch in table.chains]
-        data["springs"] = [ch.springs.tolist() for ch in table.chains]
-        if "dashpots" in data:
-            data["dashpots"] = [ch.dashpots.tolist() for ch in table.chains]
+        # list cells as the checked floats (CSV text and parquet lists alike; object columns
+        # also when the table is empty)
+        for name in ("masses", "springs", "dashpots"):
+            if name in data:
+                cells = [getattr(ch, name).tolist() for ch in table.chains]
+                data[name] = pd.Series(cells, index=frame.index, dtype=object)
     data.update(cols)
     for c in ("method", "status"):
         data[c] = cols[c].column()
