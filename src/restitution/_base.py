@@ -2,6 +2,8 @@
 the scene model (restitution.chain) and the laws' packing (restitution.laws), which must not
 import each other, share these without an import cycle."""
 
+import math
+
 
 class SceneError(ValueError):
     """A scene parameter is outside its allowed range."""
@@ -11,3 +13,13 @@ class SceneError(ValueError):
 # work budget counted in operations inside the kernels, which ends a sequence that would run too
 # long with an honest status (never a silent result).
 MAX_MASSES = 512
+
+
+def missing_cell(v) -> bool:
+    """A missing table cell: None or NaN (a law or setting cell then takes its default)."""
+    return v is None or (isinstance(v, float) and math.isnan(v))
+
+
+def missing_list(v) -> bool:
+    """A missing list cell (dashpots): None, NaN or blank text."""
+    return missing_cell(v) or (isinstance(v, str) and v.strip() == "")

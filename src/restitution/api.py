@@ -322,7 +322,7 @@ def _solve_exact_paper(plan: pd.DataFrame, idx: np.ndarray, max_events: int, bar
     return (np.full((0, L.N_OUT), np.nan) if out is None else out), errors
 
 
-def _solve_exact_general(chains: list, idx: np.ndarray, max_events: int, bar, block=_BLOCK):
+def _solve_exact_general(table, idx: np.ndarray, max_events: int, bar, block=_BLOCK):
     """Kernel rows of general linear chains (padded batch of restitution.kernels.chain)."""
     from .kernels.chain import solve_chain, solve_chain_batch
 
@@ -331,21 +331,15 @@ def _solve_exact_general(chains: list, idx: np.ndarray, max_events: int, bar, bl
     no_hist = np.zeros((0, L.N_HIST))
     for start in range(0, len(idx), block):
         sel = np.arange(start, min(start + block, len(idx)))
-        scaled = [chains[idx[j]].scaled() for j in sel]
-        n = np.array([len(s[0]) for s in scaled], dtype=np.int64)
-        nmax = int(n.max())
-        m = np.ones((len(sel), nmax))
-        k = np.ones((len(sel), nmax - 1))
-        c = np.zeros((len(sel), nmax - 1))
-        kc = np.array([s[3] for s in scaled])
-        for j, (mj, kj, cj, _) in enumerate(scaled):
-            m[j, : len(mj)], k[j, : len(kj)], c[j, : len(cj)] = mj, kj, cj
-        done, err = _guarded(
-            solve_chain_batch,
-            (m, k, c, n, kc, max_events),
-            sel,
-            lambda j, s=scaled: solve_chain(*s[j][:3], s[j][3], max_events, no_hist),
-        )
+        m, k, c, n, kc = table.scaled(idx[sel])
+
+        def single(j, m=m, k=k, c=c, n=n, kc=kc):
+            a, b = np.ascontiguousarray, n[j]
+            return solve_chain(
+                a(m[j, :b]), a(k[j, : b - 1]), a(c[j, : b - 1]), kc[j], max_events, no_hist
+            )
+
+        done, err = _guarded(solve_chain_batch, (m, k, c, n, kc, max_events), sel, single)
         out[sel, : done.shape[1]] = done
         if err:
             errors.update({int(sel[j]): msg for j, msg in err.items()})
@@ -401,18 +395,16 @@ def solve_many(
             general = idx[~plan["paper"][idx]]
             out = np.full((len(idx), L.N_OUT), np.nan)
             errors = {}
-            pos = {int(i): j for j, i in enumerate(idx)}
             for part, solver in ((paper, "paper"), (general, "general")):
                 if len(part) == 0:
                     continue
                 if solver == "paper":
                     o, e = _solve_exact_paper(plan, part, max_events, bar, block)
                 else:
-                    o, e = _solve_exact_general(table.chains, part, max_events, bar, block)
-                where = np.array([pos[int(i)] for i in part])
+                    o, e = _solve_exact_general(table, part, max_events, bar, block)
+                where = np.searchsorted(idx, part)  # positions in idx (both sorted)
                 out[where] = o
-                errors.update({int(part[j]): msg for j, msg in e.items()})
-            errors = {pos[i]: msg for i, msg in errors.items()}
+                errors.update({int(where[j]): msg for j, msg in e.items()})
         _fill(cols, idx, out, errors)
         for i in np.flatnonzero(~exact):
             r = _solve_row(table, int(i), max_events)

@@ -223,6 +223,12 @@ def _law(kind: str, spec, allowed, where: str) -> dict:
     return spec
 
 
+def _assign(chain, **fields) -> None:
+    """Set fields of a frozen Chain (while it is being built)."""
+    for name, value in fields.items():
+        object.__setattr__(chain, name, value)
+
+
 @dataclass(frozen=True, eq=False)
 class Chain:
     """One validated scene (see the module docstring for the model and its units).
@@ -303,16 +309,8 @@ class Chain:
             links = tuple(_law("link", s, LINK_LAWS, f"links[{i}]") for i, s in enumerate(links))
             if all(s["law"] == "linear" and len(s) == 1 for s in links):
                 links = None
-        for name, value in (
-            ("masses", m),
-            ("springs", k),
-            ("dashpots", c),
-            ("k_contact", kc),
-            ("v0", v0),
-            ("contact", contact),
-            ("links", links),
-        ):
-            object.__setattr__(self, name, value)
+        _assign(self, masses=m, springs=k, dashpots=c, k_contact=kc, v0=v0)
+        _assign(self, contact=contact, links=links)
         for a in (m, k, c):
             a.setflags(write=False)
         _check_ratios(m, k, c, kc)
@@ -346,17 +344,19 @@ class Chain:
         for a in (m, ks, c):
             a.setflags(write=False)
         kc = math.inf if beta == 0.0 else float(k) / float(beta)  # (inf past 1e308, no warning)
-        for name, value in (
-            ("masses", m),
-            ("springs", ks),
-            ("dashpots", c),
-            ("k_contact", kc),
-            ("v0", 1.0),
-            ("contact", None),
-            ("links", None),
-            ("preset", (alpha, beta, xi)),
-        ):
-            object.__setattr__(self, name, value)
+        _assign(self, masses=m, springs=ks, dashpots=c, k_contact=kc, v0=1.0)
+        _assign(self, contact=None, links=None, preset=(alpha, beta, xi))
+        return self
+
+    @classmethod
+    def _checked(cls, m: np.ndarray, k: np.ndarray, c: np.ndarray, kc: float, v0: float) -> Chain:
+        """A linear chain of float64 arrays already checked (restitution.linear_rows reads whole
+        tables column-wise): no second validation."""
+        self = object.__new__(cls)
+        for a in (m, k, c):
+            a.setflags(write=False)
+        _assign(self, masses=m, springs=k, dashpots=c, k_contact=kc, v0=v0)
+        _assign(self, contact=None, links=None, preset=None)
         return self
 
     # ------------------------------------------------------------------------------------------

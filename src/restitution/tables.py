@@ -25,7 +25,9 @@ from collections.abc import Mapping
 import numpy as np
 import pandas as pd
 
+from . import linear_rows
 from . import methods as M
+from ._base import missing_cell, missing_list
 from .chain import Chain, SceneError, check_column, paper_with_laws
 from .result import RESULT_COLUMNS, T_COL
 
@@ -70,10 +72,6 @@ def check_columns(frame, keep=()) -> None:
         )
 
 
-def _is_missing(v) -> bool:
-    return v is None or (isinstance(v, float) and math.isnan(v))
-
-
 def parse_list(name: str, cell, where: str):
     """A list cell: a sequence, or ';'-separated text (spaces fine)."""
     if isinstance(cell, str):
@@ -86,14 +84,14 @@ def parse_list(name: str, cell, where: str):
             raise SceneError(
                 f"{name} must be ';'-separated numbers, e.g. '1; 0.5; 2'; got {cell!r} ({where})"
             ) from None
-    if _is_missing(cell):
+    if missing_cell(cell):
         raise SceneError(f"{name} is missing ({where})")
     return cell
 
 
 def parse_law(name: str, cell, where: str):
     """A law cell: a mapping (or for links a list of mappings), or its JSON text."""
-    if _is_missing(cell):
+    if missing_cell(cell):
         return None
     if isinstance(cell, str):
         try:
@@ -146,8 +144,7 @@ class SceneTable:
             self._legacy = {}
             self.plan = self._paper_plan(method)
         else:
-            self.chains = self._general_chains()
-            self.plan = self._general_plan(method)
+            self.chains, self.plan = self._general(method)
         self._check_settings()
 
     # ------------------------------------------------------------------------------------------
@@ -212,7 +209,7 @@ class SceneTable:
                 chosen[rows] = name
                 self._method_code(rows, name)
         for i in np.flatnonzero(legacy):
-            law = {c: frame[c].iat[i] for c in law_cols if not _is_missing(frame[c].iat[i])}
+            law = {c: frame[c].iat[i] for c in law_cols if not missing_cell(frame[c].iat[i])}
             try:
                 ch, _ = paper_with_laws(alpha[i], beta[i], xi[i], int(nm[i]), law)
                 chosen[i] = M.choose(ch, method[i]).name
@@ -225,7 +222,23 @@ class SceneTable:
         plan["omega"] = np.ones(n)
         return plan
 
-    def _general_chains(self) -> list:
+    def _general(self, method: np.ndarray) -> tuple[list, dict]:
+        """(chains, plan) of a general table: column-wise where every row is a plainly valid
+        linear chain (restitution.linear_rows), else row by row."""
+        kc, v0 = self._general_columns()
+        self._kc, self._raw = kc, None
+        fast = linear_rows.read(self.frame, self.columns, kc, v0, method)
+        if fast is None:
+            self.chains = self._general_chains(kc, v0)
+            return self.chains, self._general_plan(method)
+        chains, plan, chosen, self._raw = fast
+        for name in dict.fromkeys(chosen):
+            self._method_code(chosen == name, name)
+        plan["method"] = chosen
+        return chains, plan
+
+    def _general_columns(self) -> tuple[np.ndarray, np.ndarray]:
+        """The checked k_contact and v0 columns of a general table (defaults inf and 1)."""
         frame = self.frame
         illegal = [c for c in (*PAPER, "eta", "dr", "structure", "L", "ks_ratio", "theta0",
                                "corner") if c in self.columns]  # fmt: skip
@@ -247,6 +260,11 @@ class SceneTable:
             v0 = check_column("v0", frame["v0"].to_numpy(), frame.index)
         else:
             v0 = np.ones(n)
+        return kc, v0
+
+    def _general_chains(self, kc: np.ndarray, v0: np.ndarray) -> list:
+        frame = self.frame
+        n = len(frame)
         cols = {c: frame[c].to_numpy(dtype=object) for c in GENERAL if c in self.columns}
         chains = []
         for i in range(n):
@@ -255,7 +273,7 @@ class SceneTable:
                 masses = parse_list("masses", cols["masses"][i], where)
                 springs = parse_list("springs", cols["springs"][i], where)
                 dashpots = None
-                if "dashpots" in cols and not _is_missing_list(cols["dashpots"][i]):
+                if "dashpots" in cols and not missing_list(cols["dashpots"][i]):
                     dashpots = parse_list("dashpots", cols["dashpots"][i], where)
                 contact = (
                     parse_law("contact", cols["contact"][i], where) if "contact" in cols else None
@@ -310,6 +328,32 @@ class SceneTable:
                 )
 
     # ------------------------------------------------------------------------------------------
+    def scaled(self, rows: np.ndarray) -> tuple:
+        """(m, k, c, n, kc) of general-table rows in the kernels' units (``Chain.scaled``, bit
+        for bit), padded to the longest chain (m, k with 1, c with 0): the batch kernel's input."""
+        n = self.plan["n_masses"][rows]
+        nmax = int(n.max())
+        if self._raw is not None:  # column-wise: the operations of Chain.scaled on every row
+            m_raw, k_raw, c_raw = self._raw
+            m, k, c = m_raw[rows, :nmax], k_raw[rows, : nmax - 1], c_raw[rows, : nmax - 1]
+            m1 = m[:, 0]
+            w = self.plan["omega"][rows]
+            w2 = w * w
+            scale = (m1 * w2)[:, None]
+            m, k = m / m1[:, None], k / scale
+            m[np.arange(nmax) >= n[:, None]] = 1.0  # the padding as the row-by-row path pads
+            k[np.arange(nmax - 1) >= n[:, None] - 1] = 1.0
+            return m, k, c / (m1 * w)[:, None], n, self._kc[rows] / scale[:, 0]
+        scaled = [self.chains[i].scaled() for i in rows]
+        m, k, c = (
+            np.ones((len(rows), nmax)),
+            np.ones((len(rows), nmax - 1)),
+            np.zeros((len(rows), nmax - 1)),
+        )
+        for j, (mj, kj, cj, _) in enumerate(scaled):
+            m[j, : len(mj)], k[j, : len(kj)], c[j, : len(cj)] = mj, kj, cj
+        return m, k, c, n, np.array([s[3] for s in scaled])
+
     def chain(self, i: int) -> Chain:
         if self.chains is not None:
             return self.chains[i]
@@ -326,10 +370,6 @@ class SceneTable:
             for name, (values, given) in self.settings_cols.items()
             if given[i]
         }
-
-
-def _is_missing_list(cell) -> bool:
-    return _is_missing(cell) or (isinstance(cell, str) and cell.strip() == "")
 
 
 def scene_table(frame, keep=()) -> SceneTable:
