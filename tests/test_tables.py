@@ -1,6 +1,7 @@
 """Strict tables: a malformed scene table never reaches a kernel (same rules for solve_many and
 ``restitution batch``), and table I/O fails with one line and a non-zero exit code."""
 
+import math
 import os
 import signal
 import subprocess
@@ -273,3 +274,40 @@ def test_leftovers_of_a_killed_writer_are_cleaned(tmp_path):
     write_table(pd.DataFrame({"alpha": [1.0]}), tmp_path / "out.parquet")
     assert not stale.exists() and alive.exists() and other.exists()
     assert clean_leftovers(tmp_path / "other.parquet") == [other]
+
+
+@pytest.mark.parametrize(
+    "frame",
+    [
+        pd.DataFrame(
+            {
+                "alpha": [1.0, 2.0, 3.0, 4.0],
+                "beta": [0.01, 0.01, 0.0, 0.1],
+                "contact": [None, "plastic", "linear", None],
+                "eta": [None, 0.5, None, None],
+                "dr": [None, 0.3, None, None],
+                "method": [None, "auto", "impulsive", "adaptive"],
+                "rtol": [None, None, None, 1e-8],
+            }
+        ),
+        pd.DataFrame(
+            {
+                "masses": [[1.0, 2.0, 0.5], [1.0, 3.0], [1.0, 2.0]],
+                "springs": [[1.0, 2.0], [0.5], [1.0]],
+                "dashpots": [[0.0, 0.1], None, None],
+                "k_contact": [math.inf, 20.0, 10.0],
+                "links": [None, None, [{"law": "scissor", "L": 54.0, "ks": 0.01}]],
+            }
+        ),
+    ],
+    ids=["paper", "general"],
+)
+def test_parquet_nulls_read_with_the_pyarrow_backend(tmp_path, frame):
+    """Parquet nulls read with dtype_backend="pyarrow" arrive as pandas' NA (not None or NaN):
+    they are missing cells like any other, and the results equal the default backend's."""
+    path = tmp_path / "scenes.parquet"
+    frame.to_parquet(path)
+    default = solve_many(pd.read_parquet(path))
+    arrow = solve_many(pd.read_parquet(path, dtype_backend="pyarrow"))
+    for c in ("cor", "n_collisions", "method", "status"):
+        assert arrow[c].tolist() == default[c].tolist(), c

@@ -4,6 +4,8 @@ import each other, share these without an import cycle."""
 
 import math
 
+from pandas import NA
+
 
 class SceneError(ValueError):
     """A scene parameter is outside its allowed range."""
@@ -16,8 +18,9 @@ MAX_MASSES = 512
 
 
 def missing_cell(v) -> bool:
-    """A missing table cell: None or NaN (a law or setting cell then takes its default)."""
-    return v is None or (isinstance(v, float) and math.isnan(v))
+    """A missing table cell: None, NaN or pandas' NA (what a parquet null becomes with
+    ``dtype_backend="pyarrow"``); a law or setting cell then takes its default."""
+    return v is None or v is NA or (isinstance(v, float) and math.isnan(v))
 
 
 def missing_list(v) -> bool:

@@ -182,7 +182,8 @@ class SceneTable:
         for c in ("contact", "structure"):
             if c in self.columns:
                 v = frame[c].to_numpy(dtype=object)
-                legacy |= ~(pd.isna(v) | (v == "linear"))
+                given = ~pd.isna(v)  # (NA from a pyarrow-backed column compares as NA: mask first)
+                legacy[given] |= v[given] != "linear"
         if "v0" in self.columns:
             legacy |= ~pd.isna(frame["v0"].to_numpy(dtype=object))
         alpha, beta, xi, nm = plan["alpha"], plan["beta"], plan["xi"], plan["n_masses"]
