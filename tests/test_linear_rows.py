@@ -10,7 +10,7 @@ import pytest
 
 from restitution import linear_rows, solve_many
 from restitution.chain import SceneError
-from restitution.tables import scene_table
+from restitution.tables import GENERAL, scene_table
 
 
 @pytest.fixture
@@ -160,3 +160,8 @@ def test_plain_number_cells_of_any_sequence_type_are_read_column_wise(row_by_row
     pd.testing.assert_frame_equal(
         solve_many(frame), row_by_row(solve_many, frame), check_exact=True
     )
+
+
+def test_every_general_form_column_is_known_to_the_column_wise_reader():
+    """A general-form column the reader does not know would be silently ignored by it."""
+    assert set(GENERAL) == set(linear_rows.READS) | set(linear_rows.LAW_COLUMNS)

@@ -31,6 +31,11 @@ _NUMBER = frozenset(
     | {np.uint64, np.uint32, np.uint16, np.uint8}
 )
 _MARGIN = 1e-9  # log10 units: a ratio this close to its bound goes the row-by-row way
+# The general-form columns (tables.GENERAL) this reader knows: those it reads, and the law
+# columns, accepted only when every cell is missing. A new general-form column must be added
+# here too (tests/test_linear_rows.py checks that the two lists agree).
+READS = ("masses", "springs", "dashpots", "k_contact", "v0")
+LAW_COLUMNS = ("contact", "links")
 
 
 def read(frame, columns, kc: np.ndarray, v0: np.ndarray, method: np.ndarray):
@@ -106,7 +111,7 @@ def _no_laws(frame, columns) -> bool:
     """No law column, or only missing law cells (linear laws everywhere)."""
     return all(
         missing_cell(v)
-        for c in ("contact", "links")
+        for c in LAW_COLUMNS
         if c in columns
         for v in frame[c].to_numpy(dtype=object)
     )
