@@ -71,6 +71,7 @@ def test_same_chains_plan_and_kernel_input_as_row_by_row(row_by_row, kwargs):
             assert np.array_equal(getattr(a, name), getattr(b, name)), name
             assert not getattr(a, name).flags.writeable
         assert (a.k_contact, a.v0, a.contact, a.links) == (b.k_contact, b.v0, b.contact, b.links)
+        assert (type(a.k_contact), type(a.v0)) == (type(b.k_contact), type(b.v0)) == (float, float)
         assert (a.alpha, a.beta, a.xi, a.omega) == (b.alpha, b.beta, b.xi, b.omega)
     rows = np.flatnonzero(~slow.plan["paper"])
     for x, y in zip(fast.scaled(rows), slow.scaled(rows), strict=True):
@@ -165,3 +166,20 @@ def test_plain_number_cells_of_any_sequence_type_are_read_column_wise(row_by_row
 def test_every_general_form_column_is_known_to_the_column_wise_reader():
     """A general-form column the reader does not know would be silently ignored by it."""
     assert set(GENERAL) == set(linear_rows.READS) | set(linear_rows.LAW_COLUMNS)
+
+
+def test_numerical_rows_of_a_column_wise_table_equal_row_by_row(row_by_row):
+    """Rows forced to a numerical method run from the column-wise Chains as from the others."""
+    frame = pd.DataFrame(
+        {
+            "masses": [[1.0, 2.0], [1.0, 0.5, 3.0], [2.0, 1.0]],
+            "springs": [[1.0], [2.0, 0.7], [3.0]],
+            "dashpots": [[0.1], None, [0.0]],
+            "k_contact": [40.0, 25.0, math.inf],
+            "method": ["adaptive", "verlet", "adaptive"],
+        }
+    )
+    assert scene_table(frame)._raw is not None
+    pd.testing.assert_frame_equal(
+        solve_many(frame), row_by_row(solve_many, frame), check_exact=True
+    )

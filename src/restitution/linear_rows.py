@@ -91,9 +91,8 @@ def read(frame, columns, kc: np.ndarray, v0: np.ndarray, method: np.ndarray):
             & ~c[:, 1:].any(axis=1)
         )
         for i in rows:
-            chains[i] = Chain._checked(
-                m_all[i, :size], k_all[i, : size - 1], c_all[i, : size - 1], float(kc[i]), v0[i]
-            )
+            m_i, k_i, c_i = m_all[i, :size], k_all[i, : size - 1], c_all[i, : size - 1]
+            chains[i] = Chain._checked(m_i, k_i, c_i, float(kc[i]), float(v0[i]))
     # One dispatcher call per (rigid wall, N, requested method): the solver table decides.
     chosen = np.empty(n, dtype=object)
     key = {}
