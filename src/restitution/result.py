@@ -31,7 +31,11 @@ MESSAGES = {
     "Raise max_events.",
     "energy_account_open": "The independent energy account does not add up to 1: do not trust "
     "this result.",
-    "ill_conditioned": "An eigenbasis was too ill-conditioned for a trustworthy closed form.",
+    "ill_conditioned": (
+        "Double precision cannot resolve this scene: an eigenbasis too ill-conditioned for a"
+        " closed form, or round-off moves the result by more than 1e-8 (its replica check);"
+        " method='precise' solves it at high precision."
+    ),
     "event_not_converged": "An event root search did not converge.",
     "permanent_contact": "m1 never leaves the wall (proven): the chain comes to rest against it "
     "(cor 0, omega_t_col inf).",

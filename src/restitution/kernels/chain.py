@@ -126,7 +126,9 @@ from restitution.kernels.locator import (
     _xmax,
 )
 from restitution.kernels.parallel import row_blocks
-from restitution.kernels.rigid2 import _next_contact0, _next_contact_d, rigid2
+from restitution.kernels.replica import JITTER, REPLICA_SEED, REPLICAS, combine, finished, weyl
+from restitution.kernels.rigid2 import _V_STICK as V_STICK_2
+from restitution.kernels.rigid2 import _next_contact0, _next_contact_d, _rigid2
 
 COND_MAX = 1e8  # eigenvector condition number above which a closed form is not trusted
 ENERGY_TOL = 1e-9
@@ -528,9 +530,24 @@ def _fail(out, status):
 
 
 @njit(cache=True)
-def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_after=STICK_AFTER):
+def _run(
+    m,
+    k,
+    c,
+    kc,
+    max_events,
+    hist,
+    rec,
+    work_max,
+    v_stick=V_STICK,
+    stick_after=STICK_AFTER,
+    jitter=0.0,
+    seed=0,
+):
     """Solve one scene in normalised units (m[0] = 1, omega = 1); fill ``hist`` and, if rec has
-    rows, record every phase start as [t0, kind (PH_*), duration, u(n), v(n)].
+    rows, record every phase start as [t0, kind (PH_*), duration, u(n), v(n)]. ``jitter`` > 0
+    perturbs the state by that much (relative) at every phase start, along the Weyl sequence
+    from index ``seed`` (the replica check, restitution.kernels.replica).
 
     Returns (out, n_records).
     """
@@ -589,6 +606,7 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
     nh = hist.shape[0]
     in_contact = not rigid
     permanent = False
+    jc = seed  # index into the jitter's Weyl sequence
     if nh > 0:
         hist[0, H_TSTART] = 0.0
         hist[0, H_VIN] = -1.0
@@ -603,6 +621,11 @@ def _run(m, k, c, kc, max_events, hist, rec, work_max, v_stick=V_STICK, stick_af
         if work > work_max:
             status = STATUS_WORK_BUDGET
             break
+        if jitter > 0.0:
+            for i in range(n):
+                u[i] *= 1.0 + jitter * weyl(jc)
+                v[i] *= 1.0 + jitter * weyl(jc + 1)
+                jc += 2
         if nrec < rec.shape[0]:
             rec[nrec, 0] = t
             rec[nrec, 1] = PH_CONTACT if in_contact else PH_FREE
@@ -924,12 +947,68 @@ def _normalise(m, k, c, kc):
 
 
 @njit(cache=True)
-def _solve_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2):
+def _solve_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, jitter, seed):
     if use_rigid2 and ms.size == 2 and kcs == math.inf:
         # Two masses at a rigid wall: the dedicated closed-form kernel (alpha, xi) is faster.
-        return rigid2(ms[1], cs[0] / (2.0 * ks[0]), max_events, hist)
+        xi = cs[0] / (2.0 * ks[0])
+        return _rigid2(ms[1], xi, max_events, hist, V_STICK_2, jitter, seed)
     rec = np.zeros((0, 3 + 2 * ms.size))
-    return _run(ms, ks, cs, kcs, max_events, hist, rec, work_max)[0]
+    return _run(
+        ms, ks, cs, kcs, max_events, hist, rec, work_max, V_STICK, STICK_AFTER, jitter, seed
+    )[0]
+
+
+@njit(cache=True)
+def _replica_scene(m, k, c, kc, seed):
+    """The replica's scene: (m, k, c, kc) perturbed as the eigen-solvers' round-off perturbs the
+    phase matrices, by JITTER * ||A|| in every entry of A = M^-1/2 (K + kc e1 e1^T) M^-1/2
+    (absolute, so a soft link between heavy masses moves by far more than JITTER relative: the
+    backward error of a symmetric or real eigen-decomposition is relative to the matrix's norm,
+    not to each entry); dashpots likewise on the scale sqrt(||A||), zero dashpots stay zero."""
+    n = m.size
+    diag = np.empty(n)
+    for i in range(n):
+        d = 0.0
+        if i > 0:
+            d += k[i - 1]
+        if i < n - 1:
+            d += k[i]
+        if i == 0 and kc < math.inf:
+            d += kc
+        diag[i] = d / m[i]
+    anorm = diag.max()
+    mr = m.copy()
+    for i in range(n):
+        mr[i] *= 1.0 + min(JITTER * anorm / diag[i], 1e-3) * weyl(seed + i)
+    kr = k.copy()
+    cr = c.copy()
+    for i in range(n - 1):
+        s = math.sqrt(m[i] * m[i + 1])
+        kr[i] += JITTER * weyl(seed + n + i) * anorm * s
+        if c[i] > 0.0:
+            cr[i] += JITTER * weyl(seed + 2 * n + i) * (c[i] + math.sqrt(anorm) * s)
+    kcr = kc
+    if kc < math.inf:
+        kcr += JITTER * weyl(seed + 3 * n) * anorm * m[0]
+    return mr, kr, cr, kcr
+
+
+@njit(cache=True)
+def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2):
+    """_solve_units with the replica check (restitution.kernels.replica): a finished row's
+    error estimate covers the round-off its replica reveals, or the row is ill-conditioned."""
+    out = _solve_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, 0.0, 0)
+    if not finished(out[OUT_STATUS]):
+        return out
+    nohist = np.zeros((0, N_HIST))
+    reps = np.empty((REPLICAS, N_OUT))
+    for r in range(REPLICAS):
+        seed = r * REPLICA_SEED
+        mr, kr, cr, kcr = _normalise(*_replica_scene(ms, ks, cs, kcs, seed))
+        reps[r] = _solve_units(
+            mr, kr, cr, kcr, max_events, nohist, work_max, use_rigid2, JITTER, seed
+        )
+    return combine(out, reps)
 
 
 @njit(cache=True)
@@ -939,14 +1018,14 @@ def _solve_stiff(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2):
     beta = ks[0] / kcs
     limit = 0.0 < beta < BETA_RIGID
     if not limit:
-        out = _solve_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2)
+        out = _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2)
         st = out[OUT_STATUS]
         failed = st != STATUS_OK and st != STATUS_PERMANENT_CONTACT
         limit = 0.0 < beta < BETA_FALLBACK and (
             failed or out[OUT_ERR] > RIGID_LIMIT_C * math.sqrt(beta)
         )
     if limit:
-        out = _solve_units(ms, ks, cs, math.inf, max_events, hist, work_max, use_rigid2)
+        out = _checked_units(ms, ks, cs, math.inf, max_events, hist, work_max, use_rigid2)
         out[OUT_ERR] = max(out[OUT_ERR], RIGID_LIMIT_C * math.sqrt(beta))
         out[OUT_FLAGS] = int(out[OUT_FLAGS]) | FLAG_RIGID_LIMIT
     return out

@@ -86,8 +86,10 @@ from restitution.kernels.layout import (
     STATUS_OK,
 )
 from restitution.kernels.parallel import row_blocks
+from restitution.kernels.replica import EPS, JITTER, REPLICA_SEED, REPLICAS, combine, finished, weyl
 
 _EPS = 2.220446049250313e-16
+ROUNDOFF_ULPS = 64.0  # the round-off floor of OUT_ERR, in ulps per contact (as the chain kernel)
 _TOUCH = 16.0  # contact if g_min < -_TOUCH * eps * (scale of the terms of g)
 _ENERGY_TOL = 1e-9
 _MAX_NEWTON = 200
@@ -580,8 +582,10 @@ def _record(hist, n, t0, t1, vin, vout, impulse):
 
 
 @njit(cache=True)
-def _rigid2(alpha, xi, max_events, hist, v_stick):
-    """rigid2 with an explicit sticking threshold (v_stick = 0: never stick, pure chatter)."""
+def _rigid2(alpha, xi, max_events, hist, v_stick, jitter=0.0, seed=0):
+    """rigid2 with an explicit sticking threshold (v_stick = 0: never stick, pure chatter) and
+    no replica check; ``jitter`` > 0 perturbs the state (V, r, r') by that much (relative) at
+    every contact, along the Weyl sequence from ``seed`` (restitution.kernels.replica)."""
     out = np.zeros(N_OUT)
     mu = alpha / (1.0 + alpha)
     q = (1.0 - xi) * (1.0 + xi)  # 1 - xi^2 without cancellation near xi = 1
@@ -596,10 +600,16 @@ def _rigid2(alpha, xi, max_events, hist, v_stick):
     diss = 0.0  # integral of r'^2 (dashpot work / c)
     lost = 0.0  # m1's kinetic energy dropped on entering a sticking phase
     err = 0.0
+    jc = seed  # index into the jitter's Weyl sequence
     while True:
         if n >= max_events:
             status = STATUS_EVENT_BUDGET
             break
+        if jitter > 0.0:
+            V *= 1.0 + jitter * weyl(jc)
+            r0 *= 1.0 + jitter * weyl(jc + 1)
+            rp *= 1.0 + jitter * weyl(jc + 2)
+            jc += 3
         v1 = min(V - mu * rp, 0.0)  # m1's approach speed (<= 0)
         if xi > 0.0 and n >= _STICK_AFTER and -v1 < v_stick and r0 + 2.0 * xi * rp < 0.0:
             # Chatter under a compressive force: its limit is sticking (see module docstring).
@@ -651,7 +661,7 @@ def _rigid2(alpha, xi, max_events, hist, v_stick):
     out[OUT_EVIB] = 0.5 * mu * (rp * rp + r0 * r0) / e_kin0
     out[OUT_EDISS] = (2.0 * xi * mu * diss + lost) / e_kin0
     out[OUT_NEVENTS] = n
-    out[OUT_ERR] = err
+    out[OUT_ERR] = max(err, ROUNDOFF_ULPS * EPS * max(n, 1))  # round-off floor per contact
     out[OUT_FLAGS] = FLAG_STICKING if lost > 0.0 else 0
     total = out[OUT_ETRANS] + out[OUT_EVIB] + out[OUT_EDISS]
     if status == STATUS_OK and abs(total - 1.0) > _ENERGY_TOL:
@@ -679,8 +689,10 @@ def rigid2(alpha, xi, max_events, hist):
     Returns
     -------
     out : ndarray, shape (N_OUT,)
-        Layout of restitution.kernels.layout. OUT_ERR = 0 (exact up to round-off) unless a
-        sticking phase replaced a chatter; then it is the square of the speed at which chatter
+        Layout of restitution.kernels.layout. OUT_ERR is the round-off bound: ROUNDOFF_ULPS ulps
+        per contact, or what the replica check reveals (restitution.kernels.replica; a scene
+        whose replica moves the COR by more than ILL_TOL is STATUS_ILL_CONDITIONED); where a
+        sticking phase replaced a chatter, at least the square of the speed at which chatter
         was cut, a generous bound on the COR error (observed errors are <= 1e-3 of it).
 
     Examples
@@ -689,7 +701,16 @@ def rigid2(alpha, xi, max_events, hist):
     >>> round(float(out[OUT_COR]), 12), int(out[OUT_NCOL])
     (1.0, 2)
     """
-    return _rigid2(alpha, xi, max_events, hist, _V_STICK)
+    out = _rigid2(alpha, xi, max_events, hist, _V_STICK, 0.0)
+    if not finished(out[OUT_STATUS]):
+        return out
+    reps = np.empty((REPLICAS, N_OUT))
+    for r in range(REPLICAS):
+        seed = r * REPLICA_SEED
+        a = alpha * (1.0 + JITTER * weyl(seed))
+        x = xi * (1.0 + JITTER * weyl(seed + 1))
+        reps[r] = _rigid2(a, x, max_events, np.zeros((0, N_HIST)), _V_STICK, JITTER, seed + 2)
+    return combine(out, reps)
 
 
 @njit(parallel=True, cache=True)

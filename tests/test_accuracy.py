@@ -1,0 +1,132 @@
+"""Error bars that bound: every exact result marked ok is within its ``error_estimate`` of an
+independent 40-digit reference (restitution.precise: mpmath, its own eigen-decompositions and
+root search, nothing shared with the numba kernels), on random chains that include long, chaotic
+contact sequences and mass and spring ratios far from 1.
+
+The suite (``suite_scenes``) is the one docs/accuracy.md plots (benchmarks/accuracy_suite.py).
+"""
+
+import math
+
+import mpmath
+import numpy as np
+import pytest
+
+import restitution as R
+from restitution.precise import solve_precise
+
+
+def random_chain(seed: int, family: str):
+    """A random linear chain: ``uniform`` ratios in 0.3..3, ``long`` (the masses behind m1 5-50
+    times heavier: long sequences), ``wide`` ratios in 1e-2..1e2. A quarter each of rigid /
+    contact spring x undamped / damped."""
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(2, 9))
+    if family == "wide":
+        m = 10 ** rng.uniform(-2, 2, n)
+        k = 10 ** rng.uniform(-2, 2, n - 1)
+    else:
+        m = rng.uniform(0.3, 3, n)
+        k = rng.uniform(0.3, 3, n - 1)
+    m[0] = 1.0
+    if family == "long":
+        m[1:] *= 10 ** rng.uniform(1.0, 2.0)
+    kind = rng.integers(0, 4)
+    c = np.zeros(n - 1)
+    kc = math.inf
+    if kind in (1, 3):
+        kc = k[0] / 10 ** rng.uniform(-3, 0)
+    if kind in (2, 3):
+        c = rng.uniform(0, 0.1, n - 1) * (rng.random(n - 1) < 0.6)
+    return m, k, c, kc
+
+
+def suite_scenes():
+    """(family, seed) of the accuracy suite."""
+    return (
+        [("uniform", s) for s in range(0, 12)]
+        + [("long", s) for s in range(100, 118)]
+        + [("wide", s) for s in range(200, 216)]
+    )
+
+
+def kernel_and_reference(family, seed, dps=30):
+    m, k, c, kc = random_chain(seed, family)
+    r = R.solve(masses=m, springs=k, dashpots=c, k_contact=kc, max_events=2000)
+    ref = solve_precise(m, k, c, kc, dps=dps, max_events=2000)
+    return r, ref
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("family,seed", suite_scenes())
+def test_error_estimate_bounds_the_actual_error(family, seed):
+    r, ref = kernel_and_reference(family, seed)
+    assert ref.status == "ok" and ref.digits > 18, ref
+    if r.status != "ok":
+        # Not a claim: only an honest refusal is allowed (no result that looks finished).
+        assert r.status in ("ill_conditioned", "energy_account_open"), r
+        assert math.isnan(r.cor)
+        return
+    actual = abs(r.cor - ref.cor)
+    assert r.n_collisions == ref.n_collisions, (r, ref)
+    assert actual <= r.error_estimate, (actual, r.error_estimate, r)
+
+
+def test_suite_has_long_sequences_and_few_refusals():
+    """The suite is what it claims: at least a quarter of it >= 30 contacts, and the replica
+    check refuses few of its scenes (a check that refused everything would bound nothing)."""
+    ncol = []
+    refused = 0
+    for family, seed in suite_scenes():
+        m, k, c, kc = random_chain(seed, family)
+        r = R.solve(masses=m, springs=k, dashpots=c, k_contact=kc, max_events=2000)
+        ncol.append(r.n_collisions)
+        refused += r.status != "ok"
+    assert sum(n >= 30 for n in ncol) >= len(ncol) // 4, sorted(ncol)
+    assert refused <= len(ncol) // 8, refused
+
+
+def test_ill_conditioned_scene_is_refused():
+    """A 6-mass rigid-wall chain (ratios 1e-2..1e2) whose contact count changes under
+    perturbations at round-off level: no double-precision run resolves it, and the row says
+    so instead of reporting 13 digits. The reference needs 40 digits and more to agree with
+    itself."""
+    m, k, c, kc = random_chain(329, "wide")
+    r = R.solve(masses=m, springs=k, dashpots=c, k_contact=kc, max_events=2000)
+    assert r.status == "ill_conditioned"
+    assert math.isnan(r.cor) and r.error_estimate > 1e-8
+    # Independent evidence: at 60 digits the reference does not agree with itself at 80 (or,
+    # if it does, one mass moved by one part in 1e15 moves the true COR by more than 1e-8).
+    a = solve_precise(m, k, c, kc, dps=60, max_events=2000)
+    if a.status == "ok":
+        m2 = m.copy()
+        m2[2] *= 1 + 1e-15
+        b = solve_precise(m2, k, c, kc, dps=60, max_events=2000)
+        assert abs(a.cor - b.cor) > 1e-8 or a.n_collisions != b.n_collisions
+    else:
+        assert a.status == "ill_conditioned"
+
+
+def test_precise_single_contact_closed_form():
+    """Two masses, rigid wall, alpha below the first grazing point: one contact, after which m1
+    moves at +1 and m2 at -1, so COR = (1 - alpha)/(1 + alpha) exactly."""
+    for alpha in (0.1, 0.25, 0.5):
+        r = solve_precise([1.0, alpha], [alpha / (1 + alpha)], dps=40)
+        assert r.n_collisions == 1 and r.status == "ok"
+        with mpmath.workdps(60):
+            a = mpmath.mpf(alpha)
+            assert abs(r.cor_mp - (1 - a) / (1 + a)) < mpmath.mpf(10) ** -38
+
+
+def test_precise_agrees_with_exact_kernels_on_paper_scenes():
+    """The paper's two-mass scenes (rigid and linear contact, with and without dashpot): the
+    exact kernels agree with the reference to a few ulps, and the reference with itself to
+    more than 35 digits."""
+    for alpha, beta, xi in [(2.2, 0, 0), (5.0, 0, 0.05), (2.2, 0.1, 0), (5.0, 0.01, 0.2)]:
+        r = R.solve(alpha=alpha, beta=beta, xi=xi)
+        k = alpha / (1 + alpha)
+        kc = math.inf if beta == 0 else k / beta
+        ref = solve_precise([1.0, alpha], [k], [2 * xi * k], kc, dps=40)
+        assert ref.digits > 35
+        assert r.n_collisions == ref.n_collisions
+        assert abs(r.cor - ref.cor) <= min(r.error_estimate, 1e-14)
