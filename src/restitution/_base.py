@@ -88,13 +88,15 @@ RANGES = {
     # Law parameters (restitution.laws; their combinations are checked there).
     "eta": Range(0.0, 10.0, True, "in (0, 10]"),
     "dr": Range(0.0, 1.0, False, "in [0, 1)", high_open=True),
-    "L": Range(0.0, 1e6, True, "in (0, 1e6]"),
+    # L and corner set the corner stroke dc = corner * 2 L cos(theta_lock) and its stiffening
+    # k2/dc: from the smallest floats (5e-324) dc was 0 and k2/dc overflowed.
+    "L": Range(1e-6, 1e6, False, "in [1e-6, 1e6]"),
     # Within 1e-3 of 0 or pi/2 the scissor degenerates: its rest slope ks*cot(theta0)**2 needs
     # ks_ratio below tan(theta0)**2 ~ 1e-6, and next to pi/2 the lock angle meets theta0 (the
     # corner stroke 2 L cos(theta_lock) is 0 in float64 within 3e-8 of pi/2).
     "theta0": Range(1e-3, math.pi / 2 - 1e-3, False, "in [1e-3, pi/2 - 1e-3] (radians)"),
     "ks_ratio": Range(0.0, math.inf, True, "> 0 (and below tan(theta0)**2)"),
-    "corner": Range(0.0, 100.0, True, "in (0, 100]"),
+    "corner": Range(1e-3, 100.0, False, "in [1e-3, 100]"),
 }
 
 
@@ -122,6 +124,6 @@ def _real(value) -> float | None:
     try:
         return float(value)
     except OverflowError:  # an integer beyond float64
-        return math.copysign(math.inf, value)
+        return math.inf if value > 0 else -math.inf
     except (TypeError, ValueError):
         return None

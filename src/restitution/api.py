@@ -74,7 +74,7 @@ def solve(
     k_contact : float
         Contact stiffness (> 0); ``math.inf`` (default) is the rigid wall.
     v0 : float, optional
-        Approach speed in (0, 1e6] (default 1; only nonlinear laws depend on it).
+        Approach speed in [1e-6, 1e6] (default 1; only nonlinear laws depend on it).
     contact, links : mapping, sequence of mapping, optional
         Contact and per-link laws (docs/general-chains.md).
     method : str

@@ -85,6 +85,10 @@ def check(name: str, value):
     containers; a real number of another type, e.g. Decimal, is read as its float)."""
     r = RANGES[name]
     t = type(value)
+    if t is int and r.integer:  # compared exactly (2**62 + 1 would round to 2**62 as a float)
+        if r.low <= value <= r.high:
+            return value
+        raise SceneError(f"{name} must be {r.text}; got {_show(value)}")
     if t is float or t is int:  # fast path: plain Python numbers (NaN fails every comparison)
         try:
             x = float(value)
@@ -203,7 +207,7 @@ class Chain:
     k_contact : float
         Linear contact stiffness > 0; ``math.inf`` (default) is the rigid wall.
     v0 : float
-        Approach speed in (0, 1e6] (only nonlinear laws depend on it).
+        Approach speed in [1e-6, 1e6] (only nonlinear laws depend on it).
     contact : mapping, optional
         Contact law {"law": "rigid" | "linear" | "plastic" | "hertz", ...} (docs/general-chains.md);
         default: rigid for k_contact = inf, else linear with k = k_contact.
@@ -260,7 +264,7 @@ class Chain:
                 contact = None  # the linear laws are described by k_contact alone
         links = self.links
         if links is not None:
-            if isinstance(links, (str, Mapping)) or len(links) != len(m) - 1:
+            if not isinstance(links, (list, tuple, np.ndarray)) or len(links) != len(m) - 1:
                 raise SceneError(
                     f"links must be a list of {len(m) - 1} law mappings (one per link); "
                     f"got {_show(links)}"
@@ -439,6 +443,10 @@ def paper_with_laws(alpha, beta, xi, n_masses, law: dict) -> tuple[Chain, dict]:
             f"n_masses, method, history, max_events, masses, springs, dashpots, k_contact, "
             f"contact, links, {', '.join(NUMERICAL_KEYS)}"
         )
+    for k, v in law.items():  # (a table passes only its given cells)
+        if v is None:
+            allowed = RANGES[k].text if k in RANGES else "a law name"
+            raise SceneError(f"{k} must be {allowed}; got None (leave it out for the default)")
     paper = Chain.paper(alpha, beta, xi, n_masses)
     settings = {k: law[k] for k in ("rtol", "step") if k in law}
     contact = law.get("contact", "linear")

@@ -152,7 +152,7 @@ def solve_nonlinear(
         Scissor bar length (> 0), ks/k2 in (0, tan(theta0)**2), rest half angle in (0, pi/2),
         stroke fraction at which the corner stiffening reaches the cap (laws.py).
     v0 : float
-        Impact speed (the nonlinear laws are velocity dependent), in (0, 1e6].
+        Impact speed (the nonlinear laws are velocity dependent), in [1e-6, 1e6].
     method : {"auto", "adaptive", "verlet", "reference"}
     step : float
         Verlet step as a fraction of the shortest local period, in (0, 0.25].
@@ -414,7 +414,7 @@ def solve_nonlinear_chain(
         One per spring: {"law": "linear"} (stiffness k_i) or {"law": "scissor", "L": ..., "ks":
         ..., "theta0": pi/4, "corner": 1.0} (Eq. 24, with k_i as the cap slope). Default linear.
     v0 : float
-        Approach speed in (0, 1e6] (user units; the nonlinear laws make the COR depend on it).
+        Approach speed in [1e-6, 1e6] (user units; the nonlinear laws make the COR depend on it).
     method : {"auto", "adaptive", "verlet"}
         "auto" = "adaptive": DP5(4) with guaranteed event location for every phase; "verlet":
         the paper's fixed step (``step`` x the shortest period bound), the h/2 result returned.
