@@ -155,7 +155,7 @@ def test_paper_preset_is_the_paper_scene(alpha, beta, xi, n):
         (dict(masses="1,2", springs=[1.0]), "masses must be a list of numbers"),
         (dict(masses=[1.0, 2.0], springs=[1.0], k_contact=0.0), r"k_contact must be > 0"),
         (dict(masses=[1.0, 2.0], springs=[1.0], k_contact=-1.0), r"k_contact must be > 0"),
-        (dict(masses=[1.0, 2.0], springs=[1.0], v0=0.0), r"v0 must be in \(0, 1e6\]"),
+        (dict(masses=[1.0, 2.0], springs=[1.0], v0=0.0), r"v0 must be in \[1e-6, 1e6\]"),
         (dict(masses=[1.0, 2.0], springs=[1.0], contact={"law": "soft"}), "contact law must be"),
         (dict(masses=[1.0, 2.0], springs=[1.0], contact={"law": "hertz"}), "needs k"),
         (dict(masses=[1.0, 2.0], springs=[1.0], links=[{"law": "x"}]), r"links\[0\].*law must"),

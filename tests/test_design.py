@@ -118,11 +118,34 @@ def test_robust_worst_case_is_the_worst_over_the_error_band():
         (dict(n_masses=2, bounds=(1.0, 0.5)), "bounds"),
         (dict(n_masses=2, tolerance=-0.1), "tolerance"),
         (dict(n_masses=2, vary="springs"), "vary"),
+        # issue 29: out of range or of the wrong type (scipy raised RuntimeError, TypeError)
+        (dict(n_masses=2, bounds=(1e-10, 1.0)), "bounds"),
+        (dict(n_masses=2, bounds=(1.0, 1e9)), "bounds"),
+        (dict(n_masses=2, bounds=(0.5,)), "bounds"),
+        (dict(n_masses=2, bounds="ab"), "bounds"),
+        (dict(n_masses=2, beta=1j), "beta"),
+        (dict(n_masses=True), "n_masses"),
+        (dict(n_masses=2, popsize=0), "popsize"),
+        (dict(n_masses=2, maxiter=0), "maxiter"),
+        (dict(n_masses=2, seed=-1), "seed"),
+        (dict(n_masses=2, max_events=0), "max_events"),
+        (dict(n_masses=2, polish="yes"), "polish"),
     ],
 )
 def test_bad_input_is_refused_before_work(kwargs, word):
     with pytest.raises(ValueError, match=word):
         design.minimize_cor(progress=None, **kwargs)
+
+
+def test_polish_keeps_to_the_search_budget():
+    """The polish may spend what the global search may: its population times (maxiter + 1)
+    evaluations (issue 29: minimize_cor(16, popsize=4, maxiter=3) polished for 454 s)."""
+    popsize, maxiter, n = 2, 1, 6
+    budget = max(5, popsize * (n - 1)) * (maxiter + 1)
+    d = design.minimize_cor(n, popsize=popsize, maxiter=maxiter, progress=None)
+    # solves: the search's population per generation, the polish's share, the final solve
+    assert d.evaluations <= 2 * budget + 1, d.evaluations
+    assert f"stopped at its budget of {budget}" in d.method
 
 
 def test_three_masses_free_beats_uniform_and_rechecks():

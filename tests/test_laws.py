@@ -140,7 +140,7 @@ BAD = [
     (dict(contact="elastic"), "contact"),
     (dict(structure="spring"), "structure"),
     (dict(v0=0.0), "v0"),
-    (dict(v0=1e-7), r"v0 .*\[1e-06, 1e\+06\]"),  # narrowed: kappa ~ v0**(1 - eta) left float64
+    (dict(v0=1e-7), r"v0 .*\[1e-6, 1e6\]"),  # narrowed: kappa ~ v0**(1 - eta) left float64
     (dict(contact="plastic", eta=1.0, dr=0.5, alpha=1e-9), r"alpha must be in \[1e-8, 1e8\]"),
     (dict(contact="plastic", eta=1.0, dr=0.5, beta=1e-13), r"beta.*\[1e-12, 1e\+06\]"),
     (dict(structure="scissor", beta=1e-300), r"beta.*\[1e-12, 1e\+06\]"),

@@ -242,3 +242,60 @@ def test_study_target_refuses_bad_files_before_any_job(tmp_path):
     text = result.stdout + result.stderr
     assert result.returncode != 0
     assert "target `study` needs a study file: snakemake -c2 study --config study=" in text
+
+
+# ----------------------------------------------------------------------------------------------
+# Bounded reading (issue 29)
+# ----------------------------------------------------------------------------------------------
+def _levels(n: int) -> str:
+    """A study whose axis values are n levels of nine aliases each ('billion laughs')."""
+    lines = ["name: bomb", "x0: &x0 [1, 1, 1, 1, 1, 1, 1, 1, 1]"]
+    for i in range(1, n):
+        lines.append(f"x{i}: &x{i} [" + ", ".join([f"*x{i - 1}"] * 9) + "]")
+    lines.append(f"axes: [{{param: alpha, values: *x{n - 1}}}]")
+    return "\n".join(lines) + "\n"
+
+
+def test_alias_bomb_is_refused_before_it_is_built(tmp_path):
+    path = tmp_path / "bomb.yaml"
+    path.write_text(_levels(8))  # 9**8 = 43 million values from 300 bytes
+    with pytest.raises(StudyError, match="expands to more than"):
+        load_study(path)
+
+
+def test_aliases_and_size_are_bounded(tmp_path):
+    many = tmp_path / "aliases.yaml"
+    many.write_text(
+        "name: a\nv: &v 0.5\naxes: [{param: alpha, values: ["
+        + ", ".join(["*v"] * (study_module.MAX_ALIASES + 1))
+        + "]}]\n"
+    )
+    with pytest.raises(StudyError, match="aliases"):
+        load_study(many)
+    big = tmp_path / "big.yaml"
+    big.write_text("name: big\n# " + "x" * study_module.MAX_STUDY_BYTES + "\n")
+    with pytest.raises(StudyError, match="at most"):
+        load_study(big)
+    loop = tmp_path / "loop.yaml"
+    loop.write_text("name: loop\naxes: &a [*a]\n")
+    with pytest.raises(StudyError):
+        load_study(loop)
+
+
+def test_a_few_aliases_are_fine(tmp_path):
+    path = tmp_path / "ok.yaml"
+    path.write_text(
+        "name: ok\nscene: {beta: &b 0.01}\n"
+        "axes: [{param: alpha, values: [0.5, 1.0]}, {param: xi, values: [*b, 0.1]}]\n"
+    )
+    assert load_study(path).scene == {"beta": 0.01}
+
+
+def test_general_chain_ratios_are_checked_when_read(tmp_path):
+    path = tmp_path / "g.yaml"
+    path.write_text(
+        "name: g\nscene: {masses: [1.0, 1.0, 1.0], springs: [1.0, 1.0]}\n"
+        "axes: [{param: 'masses[1]', logspace: {start: 1.0e-10, stop: 10, num: 20}}]\n"
+    )
+    with pytest.raises(StudyError, match=r"masses\[i\]/masses\[0\]"):
+        load_study(path)

@@ -8,11 +8,15 @@ scene; ``Chain`` is the scene model and ``methods.METHODS`` the solver table.
 
 from importlib.metadata import PackageNotFoundError, version
 
-from .api import solve, solve_many
-from .chain import Chain, SceneError
-from .result import Result
-from .scene import Scene
-from .trajectory import trajectory
+from .compiling import ensure_cache
+
+ensure_cache()  # before any kernel is defined: a foreign or read-only NUMBA_CACHE_DIR
+
+from .api import solve, solve_many  # noqa: E402
+from .chain import Chain, SceneError  # noqa: E402
+from .result import Result  # noqa: E402
+from .scene import Scene  # noqa: E402
+from .trajectory import trajectory  # noqa: E402
 
 try:
     __version__ = version("restitution")

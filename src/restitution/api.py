@@ -18,6 +18,7 @@ import pandas as pd
 
 from . import blas
 from . import methods as M
+from ._base import HISTORY_MAX_EVENTS
 from .chain import LAW_KEYS, RANGES, Chain, SceneError, check, make_chain, paper_with_laws
 from .compiling import announce
 from .kernels import layout as L
@@ -73,7 +74,7 @@ def solve(
     k_contact : float
         Contact stiffness (> 0); ``math.inf`` (default) is the rigid wall.
     v0 : float, optional
-        Approach speed in (0, 1e6] (default 1; only nonlinear laws depend on it).
+        Approach speed in [1e-6, 1e6] (default 1; only nonlinear laws depend on it).
     contact, links : mapping, sequence of mapping, optional
         Contact and per-link laws (docs/general-chains.md).
     method : str
@@ -135,8 +136,8 @@ def solve(
 
 
 _R = RANGES  # the one range table, read once here for the fast path below
-_A_HI, _B_HI, _X_HI = _R["alpha"].high, _R["beta"].high, _R["xi"].high
-_N_HI = _R["n_masses"].high
+_A_LO, _A_HI, _B_HI, _X_HI = _R["alpha"].low, _R["alpha"].high, _R["beta"].high, _R["xi"].high
+_N_HI, _E_HI = _R["n_masses"].high, _R["max_events"].high
 _NO_HIST = np.zeros((0, L.N_HIST))  # kernels write no history rows into it
 
 
@@ -149,16 +150,18 @@ def _solve_paper(alpha, beta, xi, n_masses, method, history, max_events):
         and type(xi) is float
         and type(n_masses) is int
         and type(max_events) is int
-        and 0.0 < alpha <= _A_HI
+        and type(history) is bool
+        and _A_LO <= alpha <= _A_HI
         and 0.0 <= beta <= _B_HI
         and 0.0 <= xi <= _X_HI
         and 2 <= n_masses <= _N_HI
-        and max_events >= 1
+        and 1 <= max_events <= _E_HI
+        and (not history or max_events <= HISTORY_MAX_EVENTS)
     ):  # plain Python numbers inside RANGES (NaN fails every comparison)
         a, b, x, n = alpha, beta, xi, n_masses
     else:  # anything else through the full checks (and their messages)
         a, b, x = check("alpha", alpha), check("beta", beta), check("xi", xi)
-        n, max_events = check("n_masses", n_masses), check("max_events", max_events)
+        n, max_events = check("n_masses", n_masses), M.options(history, max_events).max_events
     rigid = b == 0.0
     name = _EXACT_NAME[rigid]
     if method != name and method != "auto":
@@ -421,10 +424,15 @@ def solve_many(
     for name in frame.columns:
         data[name] = frame[name]
     if table.chains is None:
-        for name in ("beta", "xi", "n_masses"):
+        for name in ("alpha", "beta", "xi", "n_masses"):
             if name not in data or data[name].dtype != plan[name].dtype:
-                data[name] = plan[name]  # a default or a converted copy: never the user's memory
+                # a default or the checked numbers of a converted column (e.g. decimals): never
+                # the user's memory
+                data[name] = pd.Series(plan[name], index=frame.index)
     else:
+        for name, checked in (("k_contact", table.k_contact), ("v0", table.v0)):
+            if name in data and data[name].dtype != checked.dtype:
+                data[name] = pd.Series(checked, index=frame.index)  # e.g. decimals: as read
         # list cells as the checked floats (CSV text and parquet lists alike; object columns
         # also when the table is empty)
         for name in ("masses", "springs", "dashpots"):

@@ -28,52 +28,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._base import MAX_MASSES, SceneError
+from ._base import MAX_MASSES, RANGES, Range, SceneError, _real, _show
 
-
-@dataclass(frozen=True)
-class Range:
-    """An allowed interval [low, high] (``low_open``: (low, high]); ``text`` is how it reads."""
-
-    low: float
-    high: float
-    low_open: bool
-    text: str
-    integer: bool = False
-
-    def contains(self, x: float) -> bool:
-        """Scalar membership, plain Python (the fast path of ``check``)."""
-        above = x > self.low if self.low_open else x >= self.low
-        return above and x <= self.high and (not self.integer or x.is_integer())
-
-    def accepts(self, x: np.ndarray) -> np.ndarray:
-        """Vectorised membership (NaN is never in range)."""
-        above = x > self.low if self.low_open else x >= self.low
-        ok = above & (x <= self.high)
-        if self.integer:
-            ok &= np.floor(x) == x
-        return ok
-
-
-# The one table of scene parameter ranges (the workflow's configuration check calls ``check``).
-RANGES = {
-    # Below 1e-8 the linear kernels lose the light masses to round-off (alpha = 5e-324 gave garbage
-    # rows marked ok); 1e-8 is also the floor of the mass ratios of the general form (RATIOS).
-    "alpha": Range(1e-8, 1e8, False, "in [1e-8, 1e8]"),
-    "beta": Range(0.0, 1e6, False, "in [0, 1e6] (0 = rigid wall)"),
-    "xi": Range(0.0, 1e3, False, "in [0, 1e3]"),
-    "n_masses": Range(2, MAX_MASSES, False, f"an integer in [2, {MAX_MASSES}]", integer=True),
-    # Any consistent units, within 200 decades so that the scaling to the kernels' units
-    # (products of two of them) cannot overflow; their ratios have ranges of their own (RATIOS).
-    "masses": Range(1e-100, 1e100, False, "in [1e-100, 1e100]", integer=False),
-    "springs": Range(1e-100, 1e100, False, "in [1e-100, 1e100]"),
-    "dashpots": Range(0.0, 1e100, False, "in [0, 1e100]"),
-    "k_contact": Range(0.0, math.inf, True, "> 0 (math.inf = rigid wall)"),
-    "v0": Range(0.0, 1e6, True, "in (0, 1e6]"),
-    "max_events": Range(1, 2**62, False, "a positive integer", integer=True),
-    "rtol": Range(1e-14, 1e-2, False, "in [1e-14, 1e-2]"),
-    "step": Range(0.0, 0.25, True, "in (0, 0.25]"),
-}
+# The one table of parameter ranges (``RANGES``, with ``Range``) lives in ``_base`` so that
+# ``restitution.laws`` reads the same table; it is checked here (``check``, ``check_column``).
 # The ratios the kernels see (their units: m_1 = 1, omega = 1), with the ranges of the paper's form:
 # m_i/m_1 and k_i/k_12 like alpha, beta = k_12/k_contact like beta, and a damping ratio per link
 # c_i omega / (2 k_12) like xi (for the first link it is the paper's xi). Checked in log space.
@@ -121,27 +79,26 @@ def _check_ratios(m: np.ndarray, k: np.ndarray, c: np.ndarray, kc: float) -> Non
 _FINITE = {"masses", "springs", "dashpots"}
 
 
-def _show(value) -> str:
-    """repr of a value as a user typed it (numpy scalars shown as plain Python numbers)."""
-    return repr(value.item() if isinstance(value, np.generic) else value)
-
-
 def check(name: str, value):
-    """``value`` as float (int for integer ranges) if it is in ``RANGES[name]``; else SceneError."""
+    """``value`` as float (int for integer ranges) if it is in ``RANGES[name]``; else SceneError
+    naming the parameter and its range (wrong types included: None, text, bool, complex,
+    containers; a real number of another type, e.g. Decimal, is read as its float)."""
     r = RANGES[name]
     t = type(value)
+    if t is int and r.integer:  # compared exactly (2**62 + 1 would round to 2**62 as a float)
+        if r.low <= value <= r.high:
+            return value
+        raise SceneError(f"{name} must be {r.text}; got {_show(value)}")
     if t is float or t is int:  # fast path: plain Python numbers (NaN fails every comparison)
-        x = float(value)
+        try:
+            x = float(value)
+        except OverflowError:
+            raise SceneError(f"{name} must be {r.text}; got {_show(value)}") from None
         if r.contains(x) and (name not in _FINITE or math.isfinite(x)):
             return int(x) if r.integer else x
         raise SceneError(f"{name} must be {r.text}; got {value!r}")
-    if isinstance(value, (bool, np.bool_)) or isinstance(value, (str, bytes)):
-        raise SceneError(f"{name} must be {r.text}; got {_show(value)}")
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise SceneError(f"{name} must be {r.text}; got {_show(value)}") from None
-    if not r.contains(x) or (name in _FINITE and not math.isfinite(x)):
+    x = _real(value)
+    if x is None or not r.contains(x) or (name in _FINITE and not math.isfinite(x)):
         raise SceneError(f"{name} must be {r.text}; got {_show(value)}")
     return int(x) if r.integer else x
 
@@ -150,22 +107,23 @@ def check_column(name: str, values: np.ndarray, index=None) -> np.ndarray:
     """A column of a scene table checked against ``RANGES[name]`` in one vectorised pass.
 
     Returns float64 (int64 for integer ranges); raises SceneError naming the first bad row.
+    Numeric columns are read as they are; an object column (e.g. decimals from a parquet
+    decimal column) cell by cell as ``check`` reads a value; complex, boolean and text columns
+    are refused (a complex cell's imaginary part would be dropped).
     """
     r = RANGES[name]
     values = np.asarray(values)
     if values.dtype.kind in "fiu":
         x = values.astype(np.float64, copy=False)
         ok = r.accepts(x)
-    else:  # object, bool or string columns: every cell must be a plain number
+    else:  # object, bool, complex or string columns: every cell must be one real number
         x = np.full(len(values), np.nan)
         ok = np.zeros(len(values), dtype=bool)
         for i, v in enumerate(values):
-            if isinstance(v, (bool, np.bool_, str, bytes)):
+            xi = _real(v)
+            if xi is None:
                 break
-            try:
-                x[i] = float(v)
-            except (TypeError, ValueError):
-                break
+            x[i] = xi
             ok[i] = bool(r.accepts(x[i]))
             if not ok[i]:
                 break
@@ -180,17 +138,23 @@ def check_column(name: str, values: np.ndarray, index=None) -> np.ndarray:
 
 def _as_array(name: str, values, length: int | None = None) -> np.ndarray:
     """A list parameter as float64; SceneError for empty, ragged, non-numeric or out-of-range."""
-    if isinstance(values, (str, bytes, Mapping)) or np.ndim(values) != 1:
+    try:  # (a ragged nested list makes numpy raise)
+        flat = not isinstance(values, (str, bytes, Mapping)) and np.ndim(values) == 1
+    except (TypeError, ValueError):
+        flat = False
+    if not flat:
         raise SceneError(f"{name} must be a list of numbers; got {_show(values)}")
     seq = list(values)
     if len(seq) == 0:
         raise SceneError(f"{name} must not be empty")
-    if any(isinstance(v, (bool, np.bool_, str, bytes)) for v in seq):
-        raise SceneError(f"{name} must be a list of numbers; got {_show(values)}")
-    try:
-        x = np.array(seq, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise SceneError(f"{name} must be a list of numbers; got {_show(values)}") from None
+    x = np.empty(len(seq))
+    for i, v in enumerate(seq):
+        xi = _real(v)
+        if xi is None:
+            raise SceneError(
+                f"{name} must be a list of numbers; got {_show(values)} ({name}[{i}] is {_show(v)})"
+            )
+        x[i] = xi
     r = RANGES[name]
     bad = ~(r.accepts(x) & np.isfinite(x))
     if bad.any():
@@ -214,13 +178,12 @@ def _law(kind: str, spec, allowed, where: str) -> dict:
         spec = {"law": spec}
     if not isinstance(spec, Mapping) or "law" not in spec:
         raise SceneError(f"{where} must be a mapping with a key 'law'; got {_show(spec)}")
-    spec = {k: v for k, v in spec.items() if v is not None}
-    if spec["law"] not in allowed:
+    if not isinstance(spec["law"], str) or spec["law"] not in allowed:
         raise SceneError(
             f"{where}: {kind} law must be one of {', '.join(map(repr, allowed))}; "
             f"got {_show(spec['law'])}"
         )
-    return spec
+    return {k: v for k, v in spec.items() if v is not None}
 
 
 def _assign(chain, **fields) -> None:
@@ -244,7 +207,7 @@ class Chain:
     k_contact : float
         Linear contact stiffness > 0; ``math.inf`` (default) is the rigid wall.
     v0 : float
-        Approach speed in (0, 1e6] (only nonlinear laws depend on it).
+        Approach speed in [1e-6, 1e6] (only nonlinear laws depend on it).
     contact : mapping, optional
         Contact law {"law": "rigid" | "linear" | "plastic" | "hertz", ...} (docs/general-chains.md);
         default: rigid for k_contact = inf, else linear with k = k_contact.
@@ -301,7 +264,7 @@ class Chain:
                 contact = None  # the linear laws are described by k_contact alone
         links = self.links
         if links is not None:
-            if isinstance(links, (str, Mapping)) or len(links) != len(m) - 1:
+            if not isinstance(links, (list, tuple, np.ndarray)) or len(links) != len(m) - 1:
                 raise SceneError(
                     f"links must be a list of {len(m) - 1} law mappings (one per link); "
                     f"got {_show(links)}"
@@ -466,6 +429,8 @@ def make_chain(
 
 LAW_KEYS = ("contact", "eta", "dr", "structure", "L", "ks_ratio", "theta0", "corner", "v0")
 NUMERICAL_KEYS = (*LAW_KEYS, "rtol", "step")
+# The paper form's law parameters and the law that reads them (given without it: an error).
+LAW_PARAMS = {"plastic": ("eta", "dr"), "scissor": ("L", "ks_ratio", "theta0", "corner")}
 
 
 def paper_with_laws(alpha, beta, xi, n_masses, law: dict) -> tuple[Chain, dict]:
@@ -478,10 +443,24 @@ def paper_with_laws(alpha, beta, xi, n_masses, law: dict) -> tuple[Chain, dict]:
             f"n_masses, method, history, max_events, masses, springs, dashpots, k_contact, "
             f"contact, links, {', '.join(NUMERICAL_KEYS)}"
         )
+    for k, v in law.items():  # (a table passes only its given cells)
+        if v is None:
+            allowed = RANGES[k].text if k in RANGES else "a law name"
+            raise SceneError(f"{k} must be {allowed}; got None (leave it out for the default)")
     paper = Chain.paper(alpha, beta, xi, n_masses)
     settings = {k: law[k] for k in ("rtol", "step") if k in law}
     contact = law.get("contact", "linear")
     structure = law.get("structure", "linear")
+    for key, names, needs, given in (
+        ("contact", LAW_PARAMS["plastic"], "plastic", contact),
+        ("structure", LAW_PARAMS["scissor"], "scissor", structure),
+    ):
+        stray = [k for k in names if k in law]
+        if stray and given != needs:
+            raise SceneError(
+                f"{', '.join(stray)}: parameter(s) of the {needs!r} {key} law, which this scene "
+                f"does not use ({key}={given!r}); give {key}={needs!r} or leave them out"
+            )
     if contact == "linear" and structure == "linear":
         if "v0" not in law:
             return paper, settings
@@ -504,7 +483,7 @@ def paper_with_laws(alpha, beta, xi, n_masses, law: dict) -> tuple[Chain, dict]:
             {
                 "law": structure,
                 "L": law.get("L", 1.0),
-                "ks": law.get("ks_ratio", 0.01) * k,
+                "ks": _ks_ratio(law.get("ks_ratio", 0.01)) * k,
                 "theta0": law.get("theta0", THETA0_DEFAULT),
                 "corner": law.get("corner", CORNER_DEFAULT),
             }
@@ -519,6 +498,15 @@ def paper_with_laws(alpha, beta, xi, n_masses, law: dict) -> tuple[Chain, dict]:
         links,
     )
     return ch, settings
+
+
+def _ks_ratio(value) -> float:
+    """The paper form's ks_ratio as a number (its range, below tan(theta0)**2, is checked with
+    the scissor law by restitution.laws)."""
+    x = _real(value)
+    if x is None or not RANGES["ks_ratio"].contains(x) or not math.isfinite(x):
+        raise SceneError(f"ks_ratio must be {RANGES['ks_ratio'].text}; got {_show(value)}")
+    return x
 
 
 def replace_v0(ch: Chain, v0) -> Chain:
@@ -536,6 +524,7 @@ __all__ = [
     "LINK_LAWS",
     "MAX_MASSES",
     "RANGES",
+    "Range",
     "Chain",
     "SceneError",
     "check",

@@ -36,6 +36,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import brentq, differential_evolution, minimize, root_scalar
 
+from ._base import SceneError, _real, _show
+from .chain import RATIOS, check
 from .scaled import solve_scaled, solve_scaled_many
 
 log = logging.getLogger(__name__)
@@ -169,8 +171,17 @@ class _Objective:
         self.fam, self.beta, self.tol, self.max_events = fam, beta, tolerance, max_events
         self.calls = 0
         self.samples = 16  # Sobol points of the robust objective's error box
+        # Work of the polish: solves and grazing evaluations, stopped past ``limit``.
+        self.spent, self.limit = 0, math.inf
+
+    def spend(self) -> None:
+        """Count one evaluation of the polish; _Spent once its budget is used up."""
+        self.spent += 1
+        if self.spent > self.limit:
+            raise _Spent
 
     def solve(self, m, k):
+        self.spend()
         self.calls += 1
         masses, springs, kc = scaled_chain(m / m[0], k, self.beta)
         return solve_scaled(masses, springs, kc, max_events=self.max_events)
@@ -243,6 +254,10 @@ class _Objective:
         return self.worst(x) if self.tol > 0.0 else self.cor(x)
 
 
+class _Spent(Exception):
+    """The polish used up its budget (``_Objective.limit``)."""
+
+
 @functools.lru_cache(maxsize=16)
 def _sobol(dim: int, n: int) -> np.ndarray:
     from scipy.stats import qmc
@@ -253,21 +268,23 @@ def _sobol(dim: int, n: int) -> np.ndarray:
 # ---------------------------------------------------------------------------------------------
 # Polish on the grazing manifold.
 # ---------------------------------------------------------------------------------------------
-def _grazing_value(fam: Family, beta: float, x, n: int, kind: str) -> float:
+def _grazing_value(fam: Family, beta: float, x, n: int, kind: str, objective=None) -> float:
     from .cormap import grazing  # cormap imports nothing of this module
 
+    if objective is not None:
+        objective.spend()
     m, k = fam.chain(x)
     masses, springs, kc = scaled_chain(m, k, beta)
     return grazing(masses, springs, kc, n, kind).value
 
 
-def _solve_on_manifold(fam, beta, x, j, n, kind, span=0.05):
+def _solve_on_manifold(fam, beta, x, j, n, kind, span=0.05, objective=None):
     """x with coordinate j moved so that G(n, kind) = 0 (nearest root within +-span), or None."""
 
     def f(t):
         y = np.array(x, dtype=float)
         y[j] = t
-        return _grazing_value(fam, beta, y, n, kind)
+        return _grazing_value(fam, beta, y, n, kind, objective)
 
     f0 = f(x[j])
     if not math.isfinite(f0):
@@ -287,7 +304,10 @@ def _solve_on_manifold(fam, beta, x, j, n, kind, span=0.05):
             f1 = f(x[j] + s * step)
             if math.isfinite(f1) and f1 * f0 <= 0.0:
                 lo, hi = sorted((x[j], x[j] + s * step))
-                t = brentq(f, lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
+                try:
+                    t = brentq(f, lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
+                except ValueError:  # G is NaN inside the bracket (a scene the solver refused)
+                    return None
                 return _to_safe_side(f, t, x, j)
         step *= 2.0
     return None
@@ -322,23 +342,37 @@ def _candidates(n_col: int, beta: float):
 
 
 def _polish(fam, beta, x0, objective: _Objective, progress, box):
-    """Polish the global search's best point on the grazing manifold; (x, grazing) or (x0, None)."""
+    """Polish the global search's best point on the grazing manifold; (x, grazing, finished):
+    the best point found, its grazing condition or None, and False when the polish stopped at
+    its budget (``objective.limit``: then the best point so far)."""
     m, k = fam.chain(x0)
     n_col = objective.solve(m, k).n_collisions
-    best_x, best_f, best_g = np.asarray(x0, float), objective.cor(x0), None
+    best = [np.asarray(x0, float), objective.cor(x0), None]
+    try:
+        _polish_steps(fam, beta, x0, objective, progress, box, n_col, best)
+    except _Spent:
+        if progress:
+            progress(f"polish: stopped at its budget of {objective.limit} evaluations")
+        return best[0], best[2], False
+    return best[0], best[2], True
+
+
+def _polish_steps(fam, beta, x0, objective, progress, box, n_col, best):
+    """The steps of _polish, improving ``best`` = [x, COR, grazing] in place."""
+    best_x, best_f, best_g = best
     for n, kind in _candidates(n_col, beta):
         # Solve G = 0 for the coordinate it depends on most.
         grads = []
         for j in range(fam.dim):
             e = np.zeros(fam.dim)
             e[j] = 1e-6
-            gp = _grazing_value(fam, beta, x0 + e, n, kind)
-            gm = _grazing_value(fam, beta, x0 - e, n, kind)
+            gp = _grazing_value(fam, beta, x0 + e, n, kind, objective)
+            gm = _grazing_value(fam, beta, x0 - e, n, kind, objective)
             grads.append(abs(gp - gm) if math.isfinite(gp - gm) else 0.0)
         if not any(grads):
             continue
         j = int(np.argmax(grads))
-        y = _solve_on_manifold(fam, beta, x0, j, n, kind)
+        y = _solve_on_manifold(fam, beta, x0, j, n, kind, objective=objective)
         if y is None or not _inside(y, box):
             continue
         if fam.dim > 1:
@@ -350,6 +384,7 @@ def _polish(fam, beta, x0, objective: _Objective, progress, box):
             progress(f"polish: grazing {kind} n={n}: COR {fy:.15g} (search: {best_f:.15g})")
         if fy <= best_f + 1e-12:
             best_x, best_f, best_g = y, fy, (n, kind)
+            best[:] = best_x, best_f, best_g
     # At beta > 0 the COR may also have a smooth minimum next to the cusp (the new contact's
     # impulse then grows smoothly, not like a square root): a tight local search finds it.
     loc = minimize(
@@ -367,8 +402,7 @@ def _polish(fam, beta, x0, objective: _Objective, progress, box):
     if loc.fun < best_f - 1e-12:  # more than round-off below the grazing point
         if progress:
             progress(f"polish: smooth minimum: COR {loc.fun:.15g}")
-        best_x, best_f, best_g = loc.x, loc.fun, None
-    return best_x, best_g
+        best[:] = loc.x, loc.fun, None
 
 
 def _inside(x, box) -> bool:
@@ -383,7 +417,7 @@ def _minimise_on_manifold(fam, beta, y0, j, n, kind, objective):
     def f(z):
         x = np.array(state["y"])
         x[free] = z
-        y = _solve_on_manifold(fam, beta, x, j, n, kind)
+        y = _solve_on_manifold(fam, beta, x, j, n, kind, objective=objective)
         if y is None:
             return _BAD
         state["y"] = y
@@ -397,25 +431,51 @@ def _minimise_on_manifold(fam, beta, y0, j, n, kind, objective):
     )
     x = np.array(state["y"])
     x[free] = res.x
-    y = _solve_on_manifold(fam, beta, x, j, n, kind)
+    y = _solve_on_manifold(fam, beta, x, j, n, kind, objective=objective)
     return y0 if y is None or objective.cor(y) > objective.cor(y0) else y
 
 
 # ---------------------------------------------------------------------------------------------
 # Public entry points.
 # ---------------------------------------------------------------------------------------------
-def _check(n_masses, beta, bounds, tolerance, vary):
-    if not isinstance(n_masses, (int, np.integer)) or not 2 <= n_masses <= MAX_MASSES:
-        raise ValueError(f"n_masses={n_masses!r}: must be an integer in [2, {MAX_MASSES}]")
-    if not (isinstance(beta, (int, float)) and math.isfinite(beta) and 0.0 <= beta <= 1e6):
-        raise ValueError(f"beta={beta!r}: must be a number in [0, 1e6] (0: rigid wall)")
-    lo, hi = bounds
-    if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 < lo < hi):
-        raise ValueError(f"bounds={bounds!r}: must be (low, high) with 0 < low < high, finite")
-    if not (math.isfinite(tolerance) and 0.0 <= tolerance < 0.5):
-        raise ValueError(f"tolerance={tolerance!r}: must be a number in [0, 0.5)")
-    if vary not in ("masses", "masses+springs"):
-        raise ValueError(f"vary={vary!r}: must be 'masses' or 'masses+springs'")
+def _int_in(name: str, value, low: int, high: int) -> int:
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise SceneError(f"{name} must be an integer in [{low}, {high}]; got {_show(value)}")
+    if not low <= value <= high:
+        raise SceneError(f"{name} must be an integer in [{low}, {high}]; got {_show(value)}")
+    return int(value)
+
+
+def _check(n_masses, beta, bounds, tolerance, vary, seed=1, popsize=15, maxiter=200,
+           max_events=100_000, polish=True, progress=None):  # fmt: skip
+    """Every argument of the design entry points, before any work (SceneError, a ValueError,
+    naming the argument and its range)."""
+    _int_in("n_masses", n_masses, 2, MAX_MASSES)
+    b = _real(beta)
+    if b is None or not (math.isfinite(b) and 0.0 <= b <= 1e6):
+        raise SceneError(f"beta must be a number in [0, 1e6] (0: rigid wall); got {_show(beta)}")
+    lo_r, hi_r = RATIOS["masses[i]/masses[0]"]
+    what = f"bounds must be (low, high) with {lo_r:g} <= low < high <= {hi_r:g}"
+    try:
+        lo, hi = (_real(v) for v in bounds)
+    except (TypeError, ValueError):
+        raise SceneError(f"{what}; got {_show(bounds)}") from None
+    if lo is None or hi is None or not lo_r <= lo < hi <= hi_r:
+        raise SceneError(f"{what} (the ratios the solvers handle); got {_show(bounds)}")
+    t = _real(tolerance)
+    if t is None or not (math.isfinite(t) and 0.0 <= t < 0.5):
+        raise SceneError(f"tolerance must be a number in [0, 0.5); got {_show(tolerance)}")
+    if not isinstance(vary, str) or vary not in ("masses", "masses+springs"):
+        raise SceneError(f"vary must be 'masses' or 'masses+springs'; got {_show(vary)}")
+    if seed is not None:
+        _int_in("seed", seed, 0, 2**32 - 1)
+    _int_in("popsize", popsize, 1, 10_000)
+    _int_in("maxiter", maxiter, 1, 1_000_000)
+    check("max_events", max_events)
+    if not isinstance(polish, (bool, np.bool_)):
+        raise SceneError(f"polish must be True or False; got {_show(polish)}")
+    if progress is not None and not callable(progress):
+        raise SceneError(f"progress must be a callable (e.g. print) or None; got {_show(progress)}")
 
 
 def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, progress, polish):
@@ -454,8 +514,17 @@ def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, 
     x, graz = res.x, None
     method = "differential_evolution"
     if polish and tolerance == 0.0:
-        x, graz = _polish(fam, beta, res.x, objective, progress, list(zip(lb, ub, strict=True)))
+        # The polish's budget is the global search's: its population times (maxiter + 1)
+        # evaluations (solves and grazing evaluations), so popsize and maxiter bound the
+        # whole run (the polish alone ran 450 s for N = 16, popsize 4, maxiter 3).
+        objective.spent = 0
+        objective.limit = max(5, popsize * fam.dim) * (maxiter + 1)
+        box = list(zip(lb, ub, strict=True))
+        x, graz, finished = _polish(fam, beta, res.x, objective, progress, box)
+        objective.limit = math.inf
         method += " + grazing-manifold polish" if graz else " + local polish (smooth minimum)"
+        if not finished:
+            method += f" (stopped at its budget of {max(5, popsize * fam.dim) * (maxiter + 1)})"
     elif tolerance > 0.0:
         # Robust objective is not a cusp of one condition: refine it where it is (bounded Powell).
         loc = minimize(
@@ -543,11 +612,14 @@ def minimize_cor(
     >>> round(d.masses[1], 6), round(d.cor, 6)
     (0.697123, 0.178465)
     """
-    _check(n_masses, beta, bounds, tolerance, vary)
+    _check(n_masses, beta, bounds, tolerance, vary, seed, popsize, maxiter, max_events, polish,
+           progress)  # fmt: skip
     fam = family(vary, n_masses)
+    bounds = (float(_real(bounds[0])), float(_real(bounds[1])))
     return _optimise(
-        fam, float(beta), bounds, tolerance, seed, popsize, maxiter, max_events, progress, polish
-    )
+        fam, float(_real(beta)), bounds, float(_real(tolerance)), seed, popsize, maxiter,
+        max_events, progress, polish,
+    )  # fmt: skip
 
 
 def best_uniform(
@@ -561,7 +633,8 @@ def best_uniform(
     progress=print,
 ) -> Design:
     """The paper's uniform chain (Fig. 6: m_2..m_N all alpha m_1, equal springs), best alpha."""
-    _check(n_masses, beta, bounds, 0.0, "masses")
+    _check(n_masses, beta, bounds, 0.0, "masses", seed, popsize, maxiter, 100_000, True, progress)
+    bounds = (float(_real(bounds[0])), float(_real(bounds[1])))
     return _optimise(
         family("uniform", n_masses),
         float(beta),
@@ -589,9 +662,15 @@ def best_tapered(
 ) -> Design:
     """Geometric chain m_i = r**(i-1) m_1, equal springs, best r < 1 ("decreasing" from the wall)
     or r > 1 ("increasing"); the end mass r**(N-1) stays within ``bounds``."""
-    _check(n_masses, beta, bounds, 0.0, "masses")
+    _check(n_masses, beta, bounds, 0.0, "masses", seed, popsize, maxiter, 100_000, True, progress)
+    bounds = (float(_real(bounds[0])), float(_real(bounds[1])))
     if direction not in ("decreasing", "increasing"):
-        raise ValueError(f"direction={direction!r}: must be 'decreasing' or 'increasing'")
+        raise SceneError(f"direction must be 'decreasing' or 'increasing'; got {_show(direction)}")
+    if not (bounds[0] < 1.0 if direction == "decreasing" else bounds[1] > 1.0):
+        raise SceneError(
+            f"bounds = {_show(bounds)} leave no ratio r of a {direction} chain "
+            f"(r {'< 1' if direction == 'decreasing' else '> 1'} within the bounds)"
+        )
     b = (bounds[0], 1.0) if direction == "decreasing" else (1.0, bounds[1])
     d = _optimise(
         family("tapered", n_masses),

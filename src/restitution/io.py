@@ -227,6 +227,8 @@ def write_table(frame: pd.DataFrame, path, *, config=None, extra: dict | None = 
         os.replace(tmp, path)
     except OSError as e:
         raise _io_error(path, e) from None
+    except (pa.ArrowException, TypeError, ValueError) as e:  # a column Arrow cannot store
+        raise TableError(f"{path}: cannot write the table ({e})".replace("\n", " ")) from None
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)

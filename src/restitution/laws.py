@@ -77,7 +77,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ._base import MAX_MASSES, SceneError
+from ._base import MAX_MASSES, RANGES, SceneError, _real, _show
 
 # Contact law kinds (contact_params[0]).
 C_RIGID = 0  # beta = 0: impulsive reversal of m1's velocity
@@ -106,47 +106,48 @@ CORNER_DEFAULT = 1.0
 
 
 def _num(name, value, allowed):
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise SceneError(f"{name} must be a number {allowed}; got {value!r}") from None
-    if isinstance(value, bool) or not math.isfinite(x):
-        raise SceneError(f"{name} must be a finite number {allowed}; got {value!r}")
+    """One finite real number (wrong types and huge integers: SceneError naming ``name``)."""
+    x = _real(value)
+    if x is None:
+        raise SceneError(f"{name} must be a number {allowed}; got {_show(value)}")
+    if not math.isfinite(x):
+        raise SceneError(f"{name} must be a finite number {allowed}; got {_show(value)}")
+    return x
+
+
+def _ranged(name: str, value, what: str = "") -> float:
+    """A law parameter checked against its entry of the one range table (``_base.RANGES``)."""
+    r = RANGES[name]
+    x = _num(name, value, r.text)
+    if not r.contains(x):
+        raise SceneError(f"{name}{what} must be {r.text}; got {_show(value)}")
     return x
 
 
 def check_eta(value) -> float:
-    x = _num("eta", value, "in (0, 10]")
-    if not 0.0 < x <= 10.0:
-        raise SceneError(f"eta must be in (0, 10]; got {value!r}")
-    return x
+    return _ranged("eta", value)
 
 
 def check_dr(value, eta: float = 1.0) -> float:
-    x = _num("dr", value, "in [0, 1)")
-    if not 0.0 <= x < 1.0:
-        raise SceneError(f"dr (nominal dissipation ratio) must be in [0, 1); got {value!r}")
+    x = _ranged("dr", value, " (nominal dissipation ratio)")
     low = max(0.0, (1.0 - eta) / 2.0)
     if x < low - 1e-15:
         raise SceneError(
             f"dr must be in [{low:g}, 1) for eta={eta:g}: a power-law loading with eta < 1 and a "
             f"linear unloading cannot return more than (1 + eta)/2 of the energy (the residual "
-            f"dent would be negative); got {value!r}"
+            f"dent would be negative); got {_show(value)}"
         )
     return x
 
 
-V0_MIN, V0_MAX = 1e-6, 1e6
+V0_MIN, V0_MAX = RANGES["v0"].low, RANGES["v0"].high
 
 
 def check_v0(value) -> float:
-    """Impact speed in [1e-6, 1e6] (narrowed from (0, 1e6]: below 1e-6 the plastic law's kappa
+    """Impact speed in RANGES["v0"] = [1e-6, 1e6] (below 1e-6 the plastic law's kappa
     ~ v0**(1 - eta) and the Hertz contact's stiffness ~ v0**0.4 leave float64's range or make
     the contact so soft that no work budget finishes it; see tests/test_nonlinear_chain.py)."""
-    x = _num("v0", value, f"in [{V0_MIN:g}, {V0_MAX:g}]")
-    if not V0_MIN <= x <= V0_MAX:
-        raise SceneError(f"v0 (impact speed) must be in [{V0_MIN:g}, {V0_MAX:g}]; got {value!r}")
-    return x
+    return _ranged("v0", value, " (impact speed)")
 
 
 # Ratio of the first structural spring to the contact's stiffness (the paper's beta) that the
@@ -234,37 +235,26 @@ def hertz_slope_at_depth(k_h: float, v0: float, m1: float = 1.0) -> float:
 
 
 def check_L(value) -> float:  # noqa: N802 - the paper's symbol
-    x = _num("L", value, "in (0, 1e6]")
-    if not 0.0 < x <= 1e6:
-        raise SceneError(f"L (scissor bar length) must be in (0, 1e6]; got {value!r}")
-    return x
+    return _ranged("L", value, " (scissor bar length)")
 
 
 def check_theta0(value) -> float:
-    x = _num("theta0", value, "in (0, pi/2)")
-    if not 0.0 < x < math.pi / 2:
-        raise SceneError(f"theta0 must be in (0, pi/2) (radians); got {value!r}")
-    return x
+    return _ranged("theta0", value)
 
 
 def check_ks_ratio(value, theta0: float = THETA0_DEFAULT) -> float:
-    x = _num("ks_ratio", value, "in (0, 1)")
     cap = math.tan(theta0) ** 2
+    x = _num("ks_ratio", value, f"in (0, tan(theta0)**2 = {cap:.6g})")
     if not 0.0 < x < cap:
         raise SceneError(
             f"ks_ratio (= ks/k2) must be in (0, tan(theta0)**2 = {cap:.6g}) so that the scissor's "
-            f"rest slope ks*cot(theta0)**2 stays below the cap k2; got {value!r}"
+            f"rest slope ks*cot(theta0)**2 stays below the cap k2; got {_show(value)}"
         )
     return x
 
 
 def check_corner(value) -> float:
-    x = _num("corner", value, "in (0, 100]")
-    if not 0.0 < x <= 100.0:
-        raise SceneError(
-            f"corner (stroke fraction to reach the cap) must be in (0, 100]; got {value!r}"
-        )
-    return x
+    return _ranged("corner", value, " (stroke fraction to reach the cap)")
 
 
 def plastic_kappa(dr: float, eta: float, k1: float, v0: float = 1.0, m1: float = 1.0) -> float:
@@ -365,7 +355,7 @@ def _spec(kind: str, spec, table: dict, defaults: dict, where: str) -> tuple[str
         if v is not None and not (isinstance(v, float) and math.isnan(v))
     }
     name = spec.get("law")
-    if name not in table:
+    if not isinstance(name, str) or name not in table:
         allowed = ", ".join(map(repr, table))
         raise SceneError(f"{where}: {kind} law must be one of {allowed}; got {name!r}")
     need = table[name][1]
@@ -618,7 +608,8 @@ def to_kernel_units(spec, table: dict, m1: float, omega: float, where: str):
     if not isinstance(spec, dict):
         raise SceneError(f"{where} must be a mapping like {{'law': 'linear', ...}}; got {spec!r}")
     out = dict(spec)
-    entry = table.get(spec.get("law"))
+    law = spec.get("law")
+    entry = table.get(law) if isinstance(law, str) else None
     for key, (a, b) in (entry[2] if entry else {}).items():
         if out.get(key) is not None:
             out[key] = _num(f"{where}.{key}", out[key], "> 0") / (m1**a * omega**b)

@@ -130,6 +130,8 @@ def _cells(values: np.ndarray, missing_ok: bool = False):
                 return None
         elif isinstance(cell, (list, tuple)) or (isinstance(cell, np.ndarray) and cell.ndim == 1):
             out.append(cell)
+        elif type(cell) in _NUMBER:  # one number: a one-entry list (tables.parse_list)
+            out.append([cell])
         else:
             return None
     if not set(map(type, _concat.from_iterable(c for c in out if c is not None))) <= _NUMBER:

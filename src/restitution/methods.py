@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import blas
+from ._base import HISTORY_MAX_EVENTS, _show
 from .chain import Chain, SceneError, check
 from .compiling import announce
 from .kernels import layout as L
@@ -52,9 +53,30 @@ class Options:
     step: float = 0.01
 
 
+def check_history(history) -> bool:
+    """``history`` as a bool: True or False (numpy's too); anything else is an error (the text
+    "no" would be true)."""
+    if not isinstance(history, (bool, np.bool_)):
+        raise SceneError(f"history must be True or False; got {_show(history)}")
+    return bool(history)
+
+
+def check_events(max_events, history: bool) -> int:
+    """The contact budget: RANGES["max_events"], and with a history at most
+    HISTORY_MAX_EVENTS (its rows are allocated before the solve: 48 bytes per contact)."""
+    n = check("max_events", max_events)
+    if history and n > HISTORY_MAX_EVENTS:
+        raise SceneError(
+            f"max_events must be at most {HISTORY_MAX_EVENTS:,} with a history (one 48-byte "
+            f"row per contact is allocated before the solve); got {_show(max_events)}"
+        )
+    return n
+
+
 def options(history=False, max_events=100_000, rtol=1e-9, step=0.01) -> Options:
+    history = check_history(history)
     return Options(
-        bool(history), check("max_events", max_events), check("rtol", rtol), check("step", step)
+        history, check_events(max_events, history), check("rtol", rtol), check("step", step)
     )
 
 

@@ -190,19 +190,104 @@ class Study:
         return values[start : min(start + self.chunk_size, len(values) - 1) + 1]
 
 
-def load_study(path) -> Study:
-    """Read and check a study file (YAML). Needs PyYAML (the workflow's dependencies)."""
-    import yaml  # only here: the core package does not depend on PyYAML
+# Bounds of a study file, so that reading it costs at most a fraction of a second: its size
+# (100,000 axis values fit in ~2 MB), the aliases it may use (a study needs none; a
+# 'billion laughs' file of nested aliases expands 427 bytes into 10**9 values) and the number of
+# values it expands to, aliases followed (checked on the node graph before anything is built).
+MAX_STUDY_BYTES = 4 * 2**20
+MAX_ALIASES = 100
+MAX_NODES = 1_000_000
 
+
+def load_study(path) -> Study:
+    """Read and check a study file (YAML). Needs PyYAML (the workflow's dependencies).
+
+    The file is read within bounds (``MAX_STUDY_BYTES``, ``MAX_ALIASES``, ``MAX_NODES``): a
+    larger file or one whose aliases expand it beyond them is refused before it is built.
+    """
     path = Path(path)
     source = f"study file {path}"
     try:
-        data = yaml.safe_load(path.read_text())
+        size = path.stat().st_size
+        if size > MAX_STUDY_BYTES:
+            raise StudyError(
+                [f"it has {size:,} bytes; a study file may have at most {MAX_STUDY_BYTES:,}"],
+                source,
+            )
+        text = path.read_text()
     except OSError as error:
         raise StudyError([f"cannot read it: {error.strerror}"], source) from None
+    except UnicodeDecodeError as error:
+        raise StudyError([f"not UTF-8 text ({error.reason})"], source) from None
+    return check_study(_bounded_yaml(text, source), source)
+
+
+def _bounded_yaml(text: str, source: str):
+    """``yaml.safe_load(text)`` within MAX_ALIASES aliases and MAX_NODES expanded nodes."""
+    import yaml  # only here: the core package does not depend on PyYAML
+
+    class Loader(yaml.SafeLoader):
+        aliases = 0
+
+        def compose_node(self, parent, index):
+            if self.check_event(yaml.AliasEvent):
+                Loader.aliases += 1
+                if Loader.aliases > MAX_ALIASES:
+                    raise StudyError(
+                        [f"it uses more than {MAX_ALIASES} YAML aliases (*name); write the values"],
+                        source,
+                    )
+            return super().compose_node(parent, index)
+
+    loader = Loader(text)
+    try:
+        node = loader.get_single_node()
+        if node is None:
+            return None
+        _expanded_size(node, source)
+        return loader.construct_document(node)
     except yaml.YAMLError as error:
         raise StudyError([f"not valid YAML: {error}".replace("\n", " ")], source) from None
-    return check_study(data, source)
+    finally:
+        loader.dispose()
+
+
+def _expanded_size(root, source: str) -> int:
+    """Nodes of the YAML graph with every alias expanded (each distinct node visited once);
+    StudyError past MAX_NODES or for a node that contains itself."""
+    import yaml
+
+    sizes: dict[int, int] = {}
+    open_nodes: set[int] = set()
+    stack = [(root, False)]
+    while stack:
+        node, done = stack.pop()
+        key = id(node)
+        if done:
+            children = _children(node, yaml)
+            sizes[key] = 1 + sum(sizes[id(c)] for c in children)
+            open_nodes.discard(key)
+            if sizes[key] > MAX_NODES:
+                raise StudyError(
+                    [f"it expands to more than {MAX_NODES:,} values (aliases followed)"], source
+                )
+            continue
+        if key in sizes:
+            continue
+        if key in open_nodes:
+            raise StudyError(["a YAML alias refers to a node that contains it"], source)
+        open_nodes.add(key)
+        stack.append((node, True))
+        stack.extend((c, False) for c in _children(node, yaml) if id(c) not in sizes)
+    return sizes[id(root)]
+
+
+def _children(node, yaml) -> list:
+    if isinstance(node, yaml.SequenceNode):
+        return list(node.value)
+    if isinstance(node, yaml.MappingNode):
+        return [n for pair in node.value for n in pair]
+    return []
 
 
 def _is_general(scene: Mapping, params) -> bool:
@@ -285,6 +370,8 @@ def _check_scene_values(study_scene, axes, general, problems):
                 if not ok(float(v)):
                     problems.append(f"{where} = {float(v)!r}: {name} must be {allowed}")
                     break
+        if not problems:
+            _check_chain_corners(study_scene, axes, problems)
         return
     if "alpha" not in study_scene and "alpha" not in [a.param for a in axes]:
         problems.append("scene.alpha: required (in scene or as an axis) for the paper's scene")
@@ -301,6 +388,38 @@ def _check_scene_values(study_scene, axes, general, problems):
             except SceneError as error:
                 problems.append(f"axis {axis.param} = {float(v)!r}: {error}")
                 break
+
+
+def _check_chain_corners(study_scene, axes, problems) -> None:
+    """The general chains a study makes, checked whole by ``restitution.Chain`` (ranges of every
+    value and of their ratios, RATIOS) at every corner of the axes' box: each ratio is monotone
+    in each single parameter, so its extremes over the grid are at the corners."""
+    import itertools
+
+    from restitution.chain import Chain
+
+    n = len(study_scene["masses"])
+    base = {
+        "masses": [float(v) for v in study_scene["masses"]],
+        "springs": [float(v) for v in study_scene["springs"]],
+        "dashpots": [float(v) for v in study_scene.get("dashpots", [0.0] * (n - 1))],
+        "k_contact": float(study_scene.get("k_contact", math.inf)),
+    }
+    ends = [sorted({float(a.values.min()), float(a.values.max())}) for a in axes]
+    for corner in itertools.product(*ends):
+        scene = {k: list(v) if isinstance(v, list) else v for k, v in base.items()}
+        for axis, value in zip(axes, corner, strict=True):
+            match = PARAM.match(axis.param)
+            if match.group(2):
+                scene[match.group(2)][int(match.group(3))] = value
+            else:
+                scene[axis.param] = value
+        try:
+            Chain(scene["masses"], scene["springs"], scene["dashpots"], scene["k_contact"])
+        except SceneError as error:
+            at = ", ".join(f"{a.param} = {v!r}" for a, v in zip(axes, corner, strict=True))
+            problems.append(f"axes: the chain at {at}: {error}")
+            return
 
 
 def check_study(data, source: str = "study") -> Study:

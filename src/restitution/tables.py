@@ -27,7 +27,7 @@ import pandas as pd
 
 from . import linear_rows
 from . import methods as M
-from ._base import missing_cell, missing_list
+from ._base import _real, _show, missing_cell, missing_list
 from .chain import Chain, SceneError, check_column, paper_with_laws
 from .result import RESULT_COLUMNS, T_COL
 
@@ -86,6 +86,8 @@ def parse_list(name: str, cell, where: str):
             ) from None
     if missing_cell(cell):
         raise SceneError(f"{name} is missing ({where})")
+    if _real(cell) is not None:  # one number: a one-entry list (a CSV cell "1.0" of a two-mass
+        return [cell]  # chain's springs is read as a number, also from our own CSV output)
     return cell
 
 
@@ -102,6 +104,11 @@ def parse_law(name: str, cell, where: str):
                 f"JSON text; got {cell!r} ({where})"
             ) from None
     if name == "links" and not isinstance(cell, Mapping):
+        if isinstance(cell, (str, bytes)) or not isinstance(cell, (list, tuple, np.ndarray)):
+            raise SceneError(
+                f'links must be a list of law mappings such as [{{"law": "linear"}}] or its '
+                f"JSON text; got {_show(cell)} ({where})"
+            )
         cell = list(cell)
     return cell
 
@@ -184,8 +191,9 @@ class SceneTable:
                 v = frame[c].to_numpy(dtype=object)
                 given = ~pd.isna(v)  # (NA from a pyarrow-backed column compares as NA: mask first)
                 legacy[given] |= v[given] != "linear"
-        if "v0" in self.columns:
-            legacy |= ~pd.isna(frame["v0"].to_numpy(dtype=object))
+        for c in ("v0", "eta", "dr", "L", "ks_ratio", "theta0", "corner"):
+            if c in self.columns:  # given: the row's laws are read (and checked) row by row
+                legacy |= ~pd.isna(frame[c].to_numpy(dtype=object))
         alpha, beta, xi, nm = plan["alpha"], plan["beta"], plan["xi"], plan["n_masses"]
         chosen = np.empty(n, dtype=object)
         # Linear rows: one dispatcher call per distinct (rigid wall, N, method), so the solver
@@ -228,6 +236,7 @@ class SceneTable:
         linear chain (restitution.linear_rows), else row by row."""
         kc, v0 = self._general_columns()
         self._kc, self._raw = kc, None
+        self.k_contact, self.v0 = kc, v0  # the checked columns (float64)
         fast = linear_rows.read(self.frame, self.columns, kc, v0, method)
         if fast is None:
             self.chains = self._general_chains(kc, v0)

@@ -17,8 +17,9 @@ import numpy as np
 import pandas as pd
 
 from . import blas
-from .chain import Chain, SceneError, check
-from .methods import choose
+from ._base import _real, _show
+from .chain import Chain, SceneError
+from .methods import check_events, choose
 
 
 def _scene(scene, keywords: dict) -> Chain:
@@ -41,7 +42,16 @@ def _scene(scene, keywords: dict) -> Chain:
         if settings:
             raise SceneError(f"{', '.join(settings)}: not used by trajectory (exact methods)")
         return ch
+    unknown = sorted(set(keywords) - set(_CHAIN_KEYS), key=str)
+    if unknown:
+        raise SceneError(
+            f"unknown scene parameter(s) {', '.join(map(str, unknown))} for a general chain; "
+            f"allowed: {', '.join(_CHAIN_KEYS)} (or alpha, beta, xi, n_masses)"
+        )
     return make_chain(**keywords)
+
+
+_CHAIN_KEYS = ("masses", "springs", "dashpots", "k_contact", "v0", "contact", "links")
 
 
 def _sample(ch: Chain, wt: np.ndarray, max_events: int):
@@ -79,6 +89,38 @@ def _no_chain_kernel() -> bool:
     return False
 
 
+def _times(times) -> np.ndarray:
+    """The requested times as a flat float64 array; SceneError for anything but a non-empty
+    list (or array) of finite real numbers >= 0."""
+    what = "times must be a non-empty list of finite times >= 0"
+    if times is None:
+        raise SceneError(f"{what} (none given)")
+    if isinstance(times, (str, bytes, Mapping)):
+        raise SceneError(f"{what}; got {_show(times)}")
+    try:
+        arr = np.asarray(times)
+    except (TypeError, ValueError):  # ragged nesting
+        arr = np.asarray(times, dtype=object)
+    if arr.dtype.kind in "fiu":  # real numbers: checked at once
+        t = arr.astype(np.float64).ravel()
+        bad = ~(np.isfinite(t) & (t >= 0.0))
+        if t.size and bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            raise SceneError(f"{what}; times[{i}] is {_show(arr.ravel()[i])}")
+        seq = ()
+    else:  # any other element type: one real number each
+        seq = arr.ravel()
+        t = np.empty(len(seq))
+    for i, v in enumerate(seq):
+        x = _real(v)
+        if x is None or not math.isfinite(x) or x < 0.0:
+            raise SceneError(f"{what}; times[{i}] is {_show(v)}")
+        t[i] = x
+    if t.size == 0:
+        raise SceneError(f"{what}; got an empty list")
+    return t
+
+
 def trajectory(scene=None, times=None, *, max_events: int = 10_000, **keywords) -> pd.DataFrame:
     """Positions, velocities and the wall force of every mass at the requested times.
 
@@ -109,12 +151,8 @@ def trajectory(scene=None, times=None, *, max_events: int = 10_000, **keywords) 
             "trajectory samples the exact closed-form motion of linear chains; this scene needs "
             f"the numerical method {name!r}"
         )
-    max_events = check("max_events", max_events)
-    if times is None:
-        raise SceneError("times must be given (an array of times >= 0)")
-    t = np.asarray(times, dtype=np.float64).ravel()
-    if t.size == 0 or not np.isfinite(t).all() or (t < 0).any():
-        raise SceneError("times must be a non-empty array of finite times >= 0")
+    max_events = check_events(max_events, history=True)  # impacts are read from a history
+    t = _times(times)
     w, m1, v0 = ch.omega, float(ch.masses[0]), ch.v0
     u, v, f, impacts = _sample(ch, np.ascontiguousarray(t * w), max_events)
     n = ch.n_masses
