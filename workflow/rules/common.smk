@@ -121,8 +121,10 @@ PACKAGE_DIR = Path(workflow.basedir) / "src" / "restitution"
 # too long for every snakemake call): strings and comments are matched first, so that an import
 # written in a docstring is skipped; each statement found is then parsed on its own by ast.
 _IMPORT_SCAN = re.compile(
-    r'"{3}(?:\\.|[^\\])*?"{3}' + r"|'{3}(?:\\.|[^\\])*?'{3}"  # triple-quoted strings
-    r'|"(?:\\.|[^"\\\n])*"' + r"|'(?:\\.|[^'\\\n])*'"  # one-line strings
+    r'"{3}(?:\\.|[^\\])*?"{3}'  # triple-quoted strings
+    r"|'{3}(?:\\.|[^\\])*?'{3}"
+    r'|"(?:\\.|[^"\\\n])*"'  # one-line strings
+    r"|'(?:\\.|[^'\\\n])*'"
     r"|#[^\n]*"  # comments
     r"|^[ \t]*(?P<statement>from[ \t]+[\w.]+[ \t]+import[ \t]*(?:\((?:#[^\n]*|[^)#])*\)|[^\n;#]*)"
     r"|import[ \t]+[^\n;#]*)",
@@ -183,7 +185,7 @@ def _direct_imports(path, package):
         if node.level > len(package):
             raise WorkflowError(f"{path}: relative import beyond the top-level package")
         base = package[: len(package) - node.level + 1] if node.level else ()
-        target = base + (tuple(node.module.split(".")) if node.module else ())
+        target = (*base, *(node.module.split(".") if node.module else ()))
         names.append(target)
         # `from package import name` imports the submodule `name` if there is one.
         names += [(*target, alias.name) for alias in node.names if alias.name != "*"]
@@ -198,7 +200,7 @@ def _direct_imports(path, package):
 
 
 def script_code(script):
-    """Code inputs of a rule that runs workflow/scripts/``script``: it and all it can import.
+    """Code inputs of the rules running workflow/scripts/``script``, i.e. it and all it imports.
 
     Paths relative to the repository root (under runs/<run>/ reached through its links), or
     absolute under `snakemake --directory` (make bench-smoke), where the working directory is
