@@ -144,7 +144,7 @@ def test_modulefinder_sees_the_kernels():
     assert "workflow/scripts/simulate_fig4.py" in reached("simulate_fig5.py")  # a local helper
 
 
-@pytest.mark.pipeline
+@pytest.mark.slow  # dry runs only (~15-30 s): no job is executed
 def test_touching_a_module_reruns_exactly_the_jobs_that_import_it(tmp_path):
     """Every module touched, layer by layer of the DAG: the outputs of the layers above are made
     newer than the code (so their jobs do not rerun and snakemake checks the next layer's own
