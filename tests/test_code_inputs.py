@@ -162,7 +162,12 @@ def test_touching_a_module_reruns_exactly_the_jobs_that_import_it(tmp_path):
         SRC, tmp_path / "src", ignore=shutil.ignore_patterns("__pycache__", "*.egg-info")
     )
     assert code_files(tmp_path) == code
-    jobs = [job for job in dry_run(tmp_path) if job["output"]]  # `all` & co. have none
+    jobs = dry_run(tmp_path)
+    targets = [job for job in jobs if not job["output"]]  # `all` & co. run nothing
+    assert {job["rule"] for job in targets} == {"all", "benchmarks", "design_extra", "study"}
+    for job in targets:
+        assert not set(job["input"]) & set(code), f"target rule {job['rule']} has code inputs"
+    jobs = [job for job in jobs if job["output"]]
     assert {job["rule"] for job in jobs} == {r for r, s in scripts.items() if s}, (
         "a rule has no job"
     )
