@@ -94,7 +94,7 @@ def test_ill_conditioned_scene_is_refused():
     m, k, c, kc = random_chain(329, "wide")
     r = R.solve(masses=m, springs=k, dashpots=c, k_contact=kc, max_events=2000)
     assert r.status == "ill_conditioned"
-    assert math.isnan(r.cor) and r.error_estimate > 1e-8
+    assert math.isnan(r.cor) and r.error_estimate > 1e-4
     # Independent evidence: at 60 digits the reference does not agree with itself at 80 (or,
     # if it does, one mass moved by one part in 1e15 moves the true COR by more than 1e-8).
     a = solve_precise(m, k, c, kc, dps=60, max_events=2000)

@@ -463,7 +463,7 @@ def test_work_budget_ends_a_scene_honestly():
 @pytest.mark.parametrize(
     "kw, match",
     [
-        (dict(v0=1e-7), r"v0 .*\[1e-06, 1e\+06\]"),
+        (dict(v0=1e-7), r"v0 .*\[1e-6, 1e6\]"),
         (dict(contact_law={"law": "linear", "k": 1e-12}), r"\[1e-12, 1e\+06\]"),
         (dict(contact_law={"law": "hertz", "k": 1e-12}), "slope at m1's depth"),
         (

@@ -28,6 +28,7 @@ from restitution.kernels.layout import (
     OUT_ERR,
     OUT_ETRANS,
     OUT_EVIB,
+    OUT_FLAGS,
     OUT_NCOL,
     OUT_NEVENTS,
     OUT_STATUS,
@@ -343,7 +344,8 @@ def test_chatter_matches_high_precision_reference(alpha, xi, cor, ncol, tcol):
     50-digit re-run), so n contacts of round-off allow n times that (bounds below, with a small
     safety factor). Measured: COR within 4e-14, time within 2.1e-10 (also at alpha +- 1 ulp)."""
     out, _ = run(alpha, xi, max_events=2000)
-    assert out[OUT_STATUS] == STATUS_OK and out[OUT_ERR] == 0.0
+    assert out[OUT_STATUS] == STATUS_OK and out[OUT_FLAGS] == 0  # no sticking cut-off
+    assert abs(out[OUT_COR] - cor) <= out[OUT_ERR]  # the estimate bounds the actual error
     assert out[OUT_NCOL] == ncol
     assert abs(out[OUT_COR] - cor) < 4e-16 * ncol
     assert abs(out[OUT_TCOL] - tcol) < 2e-12 * ncol
@@ -404,7 +406,8 @@ def test_history_momentum_balance(xi):
     # total wall impulse = change of total momentum (1 + alpha)(cor + 1)
     assert abs(hist[:n, H_IMPULSE].sum() - (1.0 + alpha) * (out[OUT_COR] + 1.0)) < 1e-11
     assert hist[n - 1, H_TSTART] == out[OUT_TCOL]
-    assert out[OUT_ERR] == 0.0  # no sticking here
+    assert out[OUT_FLAGS] == 0  # no sticking here
+    assert out[OUT_ERR] < 1e-10  # round-off only (the replica check's estimate)
 
 
 def test_batch_matches_scalar_and_threads():

@@ -33,7 +33,7 @@ MESSAGES = {
     "this result.",
     "ill_conditioned": (
         "Double precision cannot resolve this scene: an eigenbasis too ill-conditioned for a"
-        " closed form, or round-off moves the result by more than 1e-8 (its replica check);"
+        " closed form, or round-off moves the result by more than 1e-4 (its replica check);"
         " method='precise' solves it at high precision."
     ),
     "event_not_converged": "An event root search did not converge.",

@@ -7,7 +7,7 @@
 rule approx_points:
     """Exact beta = 0 special points alpha*_n, e*_n, alpha#_n (n = 1..n_max) by root solving."""
     input:
-        code=package_sources(*APPROX_MODULES),
+        code=script_code("approx_points.py"),
     output:
         table=report(
             "results/approx/special_points.parquet",
@@ -38,7 +38,7 @@ rule approx_points:
 rule approx_finite_beta:
     """Finite-beta counterparts: alphas where the contact count changes, and smooth COR minima."""
     input:
-        code=package_sources(*APPROX_MODULES),
+        code=script_code("approx_points.py"),
     output:
         table=report(
             "results/approx/finite_beta_points.parquet",
@@ -77,7 +77,7 @@ rule approx_fit:
     """Fits (Eqs. 19, 22, minima law, eta1/eta2, improved shapes) and model errors vs exact."""
     input:
         points=rules.approx_points.output.table,
-        code=package_sources(*APPROX_MODULES),
+        code=script_code("approx_fit.py"),
     output:
         fit=report(
             "results/approx/fit.json",
@@ -125,10 +125,9 @@ rule fig2b:
         points=rules.approx_points.output.table,
         fit=rules.approx_fit.output.fit,
         style="src/restitution/restitution.mplstyle",
-        plotting="src/restitution/plotting.py",
         paper="config/paper_values.yaml",
         template="workflow/report/fig2b.rst",
-        caption_code="workflow/scripts/render_caption.py",
+        code=script_code("render_fig2bcd.py"),
     output:
         png=report(
             "figures/fig2b.png",
@@ -158,10 +157,9 @@ rule fig2c:
         residuals=rules.approx_fit.output.residuals,
         fit=rules.approx_fit.output.fit,
         style="src/restitution/restitution.mplstyle",
-        plotting="src/restitution/plotting.py",
         paper="config/paper_values.yaml",
         template="workflow/report/fig2c.rst",
-        caption_code="workflow/scripts/render_caption.py",
+        code=script_code("render_fig2bcd.py"),
     output:
         png=report(
             "figures/fig2c.png",
@@ -192,10 +190,9 @@ rule fig2d:
         errors=rules.approx_fit.output.errors,
         fit=rules.approx_fit.output.fit,
         style="src/restitution/restitution.mplstyle",
-        plotting="src/restitution/plotting.py",
         paper="config/paper_values.yaml",
         template="workflow/report/fig2d.rst",
-        caption_code="workflow/scripts/render_caption.py",
+        code=script_code("render_fig2bcd.py"),
     output:
         png=report(
             "figures/fig2d.png",

@@ -20,28 +20,12 @@ if not BENCH["scaling"]["sweep_alpha_min"] < BENCH["scaling"]["sweep_alpha_max"]
     raise WorkflowError(
         "Invalid configuration: benchmarks.scaling.sweep_alpha_max must exceed sweep_alpha_min"
     )
-# Absolute paths: `make bench-smoke` runs with --directory in a scratch folder.
-BENCH_SOURCES = [
-    str(Path(workflow.basedir) / path)
-    for path in package_sources(
-        "reference.py",
-        "laws.py",
-        "nonlinear.py",
-        "kernels/nonlinear.py",
-        "kernels/integrators.py",
-        "bench/__init__.py",
-        "bench/scenes.py",
-        "bench/harness.py",
-        "bench/ivp.py",
-        "bench/scaling.py",
-    )
-]
 
 
 rule bench_run:
     """Time and score every setting of one method family on every benchmark scene."""
     input:
-        code=BENCH_SOURCES,
+        code=script_code("bench_run.py"),
     output:
         table="results/benchmarks/runs/{family}.parquet",
     log:
@@ -63,6 +47,7 @@ rule bench_collect:
         runs=expand(
             "results/benchmarks/runs/{family}.parquet", family=BENCH["families"]
         ),
+        code=script_code("bench_collect.py"),
     output:
         table=report(
             "results/benchmarks/workprecision.parquet",
@@ -95,6 +80,7 @@ rule bench_workprecision:
     """Work-precision diagrams: time per scene vs COR error, one panel per scene."""
     input:
         table=rules.bench_collect.output.table,
+        code=script_code("bench_plot_workprecision.py"),
     output:
         png=report(
             "figures/benchmarks/workprecision.png",
@@ -113,7 +99,7 @@ rule bench_workprecision:
 rule bench_scaling:
     """Cost vs alpha, vs chain length N, and solve_many sweep size on 1 and 2 threads."""
     input:
-        code=BENCH_SOURCES,
+        code=script_code("bench_scaling.py"),
     output:
         table="results/benchmarks/scaling.parquet",
         exponents=report(
@@ -138,6 +124,7 @@ rule bench_scaling_plot:
     input:
         table=rules.bench_scaling.output.table,
         exponents=rules.bench_scaling.output.exponents,
+        code=script_code("bench_plot_scaling.py"),
     output:
         png=report(
             "figures/benchmarks/scaling.png",

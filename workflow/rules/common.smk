@@ -1,8 +1,10 @@
 # Shared helpers: configuration checks and the small functions rules use for inputs and params.
 # No rules here (snakemake --lint wants rules and functions in separate files).
 
+import ast
 import math
 import mimetypes
+import re
 from pathlib import Path
 
 import yaml
@@ -103,31 +105,127 @@ def beta_label(beta):
     return short if float(short) == beta else repr(beta)
 
 
-# Package modules each stage runs are inputs of its jobs, so editing one reruns exactly what uses it
-# (Snakemake cannot see imports). Plotting code is never listed, so restyling reruns no simulation.
-EXACT_SOLVER_MODULES = (
-    "__init__.py",
-    "api.py",
-    "io.py",
-    "result.py",
-    "scene.py",
-    "sweeps.py",
-    "kernels/__init__.py",
-    "kernels/layout.py",
-    "kernels/rigid2.py",
-    "kernels/linear.py",
+# ---------------------------------------------------------------------------------------------
+# Code inputs: a rule's script and every module it can import are inputs of its jobs, so editing
+# one reruns exactly the jobs that run it (Snakemake cannot see imports). The modules are found
+# statically, never imported (no numba kernel is loaded to read the workflow): every import
+# statement of the script, at module level or inside a function, is followed through the local
+# helpers in workflow/scripts/ (_common.py, render_caption.py, ...) and the package in
+# src/restitution/, and so on through what those import. Importing restitution.x runs
+# restitution/__init__.py first, so each package on the way counts with its __init__.py and
+# whatever that imports. A rule that runs package code writes `code=script_code("<script>.py")`.
+# ---------------------------------------------------------------------------------------------
+SCRIPTS_DIR = Path(workflow.basedir) / "workflow" / "scripts"
+PACKAGE_DIR = Path(workflow.basedir) / "src" / "restitution"
+# Import statements are found without parsing whole files (ast.parse of the package takes ~0.5 s,
+# too long for every snakemake call): strings and comments are matched first, so that an import
+# written in a docstring is skipped; each statement found is then parsed on its own by ast.
+_IMPORT_SCAN = re.compile(
+    r'"{3}(?:\\.|[^\\])*?"{3}'  # triple-quoted strings
+    r"|'{3}(?:\\.|[^\\])*?'{3}"
+    r'|"(?:\\.|[^"\\\n])*"'  # one-line strings
+    r"|'(?:\\.|[^'\\\n])*'"
+    r"|#[^\n]*"  # comments
+    r"|^[ \t]*(?P<statement>from[ \t]+[\w.]+[ \t]+import[ \t]*(?:\((?:#[^\n]*|[^)#])*\)|[^\n;#]*)"
+    r"|import[ \t]+[^\n;#]*)",
+    re.MULTILINE | re.DOTALL,
 )
-APPROX_MODULES = ("special_points.py", "approx.py", "fitting.py")
+# Caches for one reading of the workflow: module name (tuple) -> file, for the package and the
+# scripts' local helpers; file -> modules its imports run; script -> its code inputs.
+_CODE = {}
+_IMPORTS = {}
+_SCRIPT_CODE = {}
 
 
-def package_sources(*extra):
-    """Sorted paths of the exact-solver modules plus ``extra`` (names under src/restitution)."""
-    src = Path(workflow.basedir) / "src" / "restitution"
-    names = sorted(set(EXACT_SOLVER_MODULES) | set(extra))
-    missing = [n for n in names if not (src / n).is_file()]
-    if missing:
-        raise WorkflowError(f"package_sources: no such module(s) {missing} under {src}")
-    return [str((src / n).relative_to(workflow.basedir)) for n in names]
+def _code_index():
+    """Module name (tuple of parts) -> file, for src/restitution and workflow/scripts."""
+    if not _CODE:
+        for path in PACKAGE_DIR.rglob("*.py"):
+            parts = (
+                "restitution",
+                *path.relative_to(PACKAGE_DIR).with_suffix("").parts,
+            )
+            _CODE[parts[:-1] if parts[-1] == "__init__" else parts] = path
+        # Snakemake puts the script's folder on sys.path: its modules import as top-level names.
+        for path in SCRIPTS_DIR.glob("*.py"):
+            _CODE.setdefault((path.stem,), path)
+    return _CODE
+
+
+def _import_nodes(path):
+    """The import statements of ``path`` (module level and inside functions) as ast nodes."""
+    text = path.read_text(encoding="utf-8")
+    try:
+        return [
+            ast.parse(match["statement"]).body[0]
+            for match in _IMPORT_SCAN.finditer(text)
+            if match["statement"]
+        ]
+    except SyntaxError:
+        # A statement the scan cut short (a backslash continuation): parse the whole file.
+        tree = ast.parse(text, filename=str(path))
+        return [
+            n for n in ast.walk(tree) if isinstance(n, (ast.Import, ast.ImportFrom))
+        ]
+
+
+def _direct_imports(path, package):
+    """Files of the modules that the import statements of ``path`` run (parent packages too).
+
+    ``package``: the package relative imports of ``path`` start from (empty for a script).
+    """
+    if path in _IMPORTS:
+        return _IMPORTS[path]
+    index = _code_index()
+    names = []
+    for node in _import_nodes(path):
+        if isinstance(node, ast.Import):
+            names += [tuple(alias.name.split(".")) for alias in node.names]
+            continue
+        if node.level > len(package):
+            raise WorkflowError(f"{path}: relative import beyond the top-level package")
+        base = package[: len(package) - node.level + 1] if node.level else ()
+        target = (*base, *(node.module.split(".") if node.module else ()))
+        names.append(target)
+        # `from package import name` imports the submodule `name` if there is one.
+        names += [(*target, alias.name) for alias in node.names if alias.name != "*"]
+    found = set()
+    for parts in names:
+        # Importing restitution.a.b runs restitution/__init__.py and restitution/a/__init__.py.
+        for depth in range(1, len(parts) + 1):
+            if parts[:depth] in index:
+                found.add(parts[:depth])
+    _IMPORTS[path] = found
+    return found
+
+
+def script_code(script):
+    """Code inputs of the rules running workflow/scripts/``script``, i.e. it and all it imports.
+
+    Paths relative to the repository root (under runs/<run>/ reached through its links), or
+    absolute under `snakemake --directory` (make bench-smoke), where the working directory is
+    elsewhere.
+    """
+    if script not in _SCRIPT_CODE:
+        start = SCRIPTS_DIR / script
+        if not start.is_file():
+            raise WorkflowError(f"script_code: no such script {start}")
+        index = _code_index()
+        seen, todo = {start}, [(start, ())]
+        while todo:
+            path, package = todo.pop()
+            for name in _direct_imports(path, package):
+                found = index[name]
+                if found not in seen:
+                    seen.add(found)
+                    # A package's __init__ imports relative to itself, a module to its parent.
+                    is_package = found.name == "__init__.py"
+                    todo.append((found, name if is_package else name[:-1]))
+        root = Path(workflow.basedir)
+        _SCRIPT_CODE[script] = sorted(str(p.relative_to(root)) for p in seen)
+    if workflow.overwrite_workdir is not None:
+        return [str(Path(workflow.basedir) / p) for p in _SCRIPT_CODE[script]]
+    return _SCRIPT_CODE[script]
 
 
 def solver_settings():

@@ -11,7 +11,7 @@
 rule simulate_fig8a_map:
     """COR and contact count on one chunk of the (alpha, beta) grid (beta rows split in chunks)."""
     input:
-        code=package_sources(),
+        code=script_code("simulate_fig8a_map.py"),
     output:
         table="results/fig8/map_{chunk}.parquet",
     log:
@@ -34,13 +34,11 @@ rule simulate_fig8a_map:
 rule simulate_fig8a_curves:
     """Trace the count-step curves from the exact beta = 0 points; seed grid steps they miss."""
     input:
-        code=package_sources(
-            "cormap.py", "design.py", "special_points.py", "chain.py", "methods.py"
-        ),
         maps=expand(
             "results/fig8/map_{chunk}.parquet",
             chunk=range(config["fig8"]["map"]["chunks"]),
         ),
+        code=script_code("simulate_fig8a_curves.py"),
     output:
         table=report(
             "results/fig8/curves.parquet",
@@ -76,7 +74,7 @@ rule fig8a:
         curves=rules.simulate_fig8a_curves.output.table,
         template="workflow/report/fig8a.rst",
         style="src/restitution/restitution.mplstyle",
-        plotting="src/restitution/plotting.py",
+        code=script_code("render_fig8a.py"),
     output:
         png=report(
             "figures/fig8a.png",
@@ -109,15 +107,7 @@ rule fig8a:
 rule design_fig8b:
     """One design: the minimum-COR chain of one family and one N, re-checked by a fresh solve."""
     input:
-        code=package_sources(
-            "cormap.py",
-            "design.py",
-            "chain.py",
-            "methods.py",
-            "tables.py",
-            "kernels/chain.py",
-            "kernels/locator.py",
-        ),
+        code=script_code("design_fig8b.py"),
     output:
         table="results/design/{family}_N{n}.parquet",
     log:
@@ -151,6 +141,7 @@ rule design_fig8b_collect:
             for family, ns in config["fig8"]["design"]["all"].items()
             for n in ns
         ],
+        code=script_code("design_fig8b_collect.py"),
     output:
         table=report(
             "results/design/designs.parquet",
@@ -177,6 +168,7 @@ rule design_extra_collect:
             for family, ns in config["fig8"]["design"]["extra"].items()
             for n in ns
         ],
+        code=script_code("design_fig8b_collect.py"),
     output:
         table="results/design/designs_extra.parquet",
     log:
@@ -202,7 +194,7 @@ rule fig8b:
         table=rules.design_fig8b_collect.output.table,
         template="workflow/report/fig8b.rst",
         style="src/restitution/restitution.mplstyle",
-        plotting="src/restitution/plotting.py",
+        code=script_code("render_fig8b.py"),
     output:
         png=report(
             "figures/fig8b.png",

@@ -10,7 +10,7 @@
 rule simulate_fig3a:
     """Solve the log-spaced beta grid for every alpha, refined at every change of the contact count."""
     input:
-        code=package_sources(),
+        code=script_code("simulate_fig3.py"),
     output:
         sweep="results/fig3/sweep.parquet",
         minima=report(
@@ -42,10 +42,9 @@ rule fig3a:
     input:
         sweep=rules.simulate_fig3a.output.sweep,
         style="src/restitution/restitution.mplstyle",
-        plotting="src/restitution/plotting.py",
         paper="config/paper_values.yaml",
         template="workflow/report/fig3a.rst",
-        caption_code="workflow/scripts/render_caption.py",
+        code=script_code("render_fig3a.py"),
     output:
         png=report(
             "figures/fig3a.png",
@@ -74,7 +73,7 @@ rule fig3a:
 rule simulate_fig3b:
     """Compression histories for the betas of fig3.compression; bisect the marginal beta."""
     input:
-        code=package_sources(),
+        code=script_code("simulate_fig3.py"),
     output:
         compression="results/fig3/compression.parquet",
         contacts=report(
@@ -115,10 +114,9 @@ rule fig3b:
         contacts=rules.simulate_fig3b.output.contacts,
         marginal=rules.simulate_fig3b.output.marginal,
         style="src/restitution/restitution.mplstyle",
-        plotting="src/restitution/plotting.py",
         paper="config/paper_values.yaml",
         template="workflow/report/fig3b.rst",
-        caption_code="workflow/scripts/render_caption.py",
+        code=script_code("render_fig3b.py"),
     output:
         png=report(
             "figures/fig3b.png",
@@ -147,7 +145,7 @@ rule fig3b:
 rule simulate_fig6b:
     """Solve the log-spaced x = (N-1)*alpha grid for one chain length N, cusps refined."""
     input:
-        code=package_sources(),
+        code=script_code("simulate_fig6b.py"),
     output:
         table="results/fig6/n~{n}.parquet",
     log:
@@ -173,6 +171,7 @@ rule aggregate_fig6b:
     """One table from the per-N tables; its COR minima as CSV; check the first-contact branch."""
     input:
         tables=expand("results/fig6/n~{n}.parquet", n=config["fig6"]["n_masses"]),
+        code=script_code("aggregate_fig6b.py"),
     output:
         sweep="results/fig6/sweep.parquet",
         minima=report(
@@ -199,10 +198,9 @@ rule fig6b:
     input:
         sweep=rules.aggregate_fig6b.output.sweep,
         style="src/restitution/restitution.mplstyle",
-        plotting="src/restitution/plotting.py",
         paper="config/paper_values.yaml",
         template="workflow/report/fig6b.rst",
-        caption_code="workflow/scripts/render_caption.py",
+        code=script_code("render_fig6b.py"),
     output:
         png=report(
             "figures/fig6b.png",
@@ -232,7 +230,7 @@ rule fig1:
     """Draw Fig. 1: the two-mass model at the wall (contact spring k1, structural spring k2)."""
     input:
         style="src/restitution/restitution.mplstyle",
-        plotting="src/restitution/plotting.py",
+        code=script_code("render_schematics.py"),
     output:
         png=report(
             "figures/fig1.png",
@@ -258,7 +256,7 @@ rule fig6a:
     """Draw Fig. 6(a): the chain of N masses at the wall."""
     input:
         style="src/restitution/restitution.mplstyle",
-        plotting="src/restitution/plotting.py",
+        code=script_code("render_schematics.py"),
     output:
         png=report(
             "figures/fig6a.png",

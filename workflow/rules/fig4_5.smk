@@ -5,18 +5,11 @@
 # named after the figure so that `snakemake fig4c` builds figures/fig4c.{png,pdf}.
 # Panels (a) are drawn from the force laws in restitution/laws.py (no simulation).
 
-FIG45_NONLINEAR_MODULES = (
-    "nonlinear.py",
-    "laws.py",
-    "kernels/nonlinear.py",
-    "kernels/integrators.py",
-)
-
 
 rule simulate_fig4b:
     """COR against alpha, plastic contact, several DR at one eta (Fig. 4(b))."""
     input:
-        code=package_sources(*FIG45_NONLINEAR_MODULES),
+        code=script_code("simulate_fig4.py"),
     output:
         table="results/fig4/b/sweep.parquet",
         summary=report(
@@ -48,7 +41,7 @@ rule simulate_fig4b:
 rule simulate_fig4c:
     """COR against alpha, plastic contact, several eta at beta = 0.01; Eq. 23 checked (Fig. 4(c))."""
     input:
-        code=package_sources(*FIG45_NONLINEAR_MODULES),
+        code=script_code("simulate_fig4.py"),
     output:
         table="results/fig4/c/sweep.parquet",
         summary=report(
@@ -83,7 +76,7 @@ rule simulate_fig4c:
 rule simulate_fig4d:
     """As simulate_fig4c at beta = 0.1 (Fig. 4(d))."""
     input:
-        code=package_sources(*FIG45_NONLINEAR_MODULES),
+        code=script_code("simulate_fig4.py"),
     output:
         table="results/fig4/d/sweep.parquet",
         summary=report(
@@ -118,8 +111,8 @@ rule simulate_fig4d:
 rule simulate_fig5b:
     """COR against alpha with the scissor structural spring, several L (Fig. 5(b))."""
     input:
-        code=package_sources(*FIG45_NONLINEAR_MODULES),
         helpers="workflow/scripts/simulate_fig4.py",
+        code=script_code("simulate_fig5.py"),
     output:
         table="results/fig5/b/sweep.parquet",
         summary=report(
@@ -159,7 +152,7 @@ rule fig4a:
     input:
         laws="src/restitution/laws.py",
         style="src/restitution/restitution.mplstyle",
-        plotting="src/restitution/plotting.py",
+        code=script_code("render_fig4.py"),
     output:
         png=report(
             "figures/fig4a.png",
@@ -187,10 +180,9 @@ rule fig4b:
     input:
         sweep=rules.simulate_fig4b.output.table,
         style="src/restitution/restitution.mplstyle",
-        plotting="src/restitution/plotting.py",
         paper="config/paper_values.yaml",
         template="workflow/report/fig4b.rst",
-        caption_code="workflow/scripts/render_caption.py",
+        code=script_code("render_fig4.py"),
     output:
         png=report(
             "figures/fig4b.png",
@@ -219,10 +211,9 @@ rule fig4c:
     input:
         sweep=rules.simulate_fig4c.output.table,
         style="src/restitution/restitution.mplstyle",
-        plotting="src/restitution/plotting.py",
         paper="config/paper_values.yaml",
         template="workflow/report/fig4c.rst",
-        caption_code="workflow/scripts/render_caption.py",
+        code=script_code("render_fig4.py"),
     output:
         png=report(
             "figures/fig4c.png",
@@ -254,10 +245,9 @@ rule fig4d:
     input:
         sweep=rules.simulate_fig4d.output.table,
         style="src/restitution/restitution.mplstyle",
-        plotting="src/restitution/plotting.py",
         paper="config/paper_values.yaml",
         template="workflow/report/fig4d.rst",
-        caption_code="workflow/scripts/render_caption.py",
+        code=script_code("render_fig4.py"),
     output:
         png=report(
             "figures/fig4d.png",
@@ -289,10 +279,9 @@ rule fig5a:
     input:
         laws="src/restitution/laws.py",
         style="src/restitution/restitution.mplstyle",
-        plotting="src/restitution/plotting.py",
         paper="config/paper_values.yaml",
         template="workflow/report/fig5a.rst",
-        caption_code="workflow/scripts/render_caption.py",
+        code=script_code("render_fig5.py"),
     output:
         png=report(
             "figures/fig5a.png",
@@ -326,10 +315,9 @@ rule fig5b:
         sweep=rules.simulate_fig5b.output.table,
         scan=rules.simulate_fig5b.output.scan,
         style="src/restitution/restitution.mplstyle",
-        plotting="src/restitution/plotting.py",
         paper="config/paper_values.yaml",
         template="workflow/report/fig5b.rst",
-        caption_code="workflow/scripts/render_caption.py",
+        code=script_code("render_fig5.py"),
     output:
         png=report(
             "figures/fig5b.png",

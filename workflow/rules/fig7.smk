@@ -4,7 +4,7 @@
 #         fig7a (COR), fig7b (number of contacts), fig7c (omega*t_col), all from one sweep table.
 # Traces: simulate_fig7d (closed-form compression s1(t) for a few (xi, alpha)) -> fig7d.
 # The render rules are named by the panel, so `snakemake -c2 fig7a` builds exactly that panel.
-# Helpers from common.smk: package_sources(), solver_settings(), beta_label() (a short exact path
+# Helpers from common.smk: script_code(), solver_settings(), beta_label() (a short exact path
 # label for any float, used here for xi). No functions here (lint: rules and functions apart).
 
 FIG7_GRID = {
@@ -31,7 +31,7 @@ FIG7_PLOT = {
 rule simulate_fig7:
     """Solve one chunk of the alpha grid for one xi (dashpot), refined at every change of the contact count."""
     input:
-        code=package_sources(),
+        code=script_code("simulate_fig7.py"),
     output:
         table="results/fig7/xi~{xi}/chunk_{chunk}.parquet",
     log:
@@ -58,6 +58,7 @@ rule aggregate_fig7:
     """One sweep table from the chunks, a status check, and per-xi numbers (peak contact count, minima)."""
     input:
         chunks=FIG7_CHUNK_TABLES,
+        code=script_code("aggregate_fig7.py"),
     output:
         sweep="results/fig7/sweep.parquet",
         summary=report(
@@ -99,10 +100,9 @@ rule fig7a:
     input:
         sweep=rules.aggregate_fig7.output.sweep,
         style="src/restitution/restitution.mplstyle",
-        plotting="src/restitution/plotting.py",
         paper="config/paper_values.yaml",
         template="workflow/report/fig7a.rst",
-        caption_code="workflow/scripts/render_caption.py",
+        code=script_code("render_fig7.py"),
     output:
         png=report(
             "figures/fig7a.png",
@@ -131,10 +131,9 @@ rule fig7b:
     input:
         sweep=rules.aggregate_fig7.output.sweep,
         style="src/restitution/restitution.mplstyle",
-        plotting="src/restitution/plotting.py",
         paper="config/paper_values.yaml",
         template="workflow/report/fig7b.rst",
-        caption_code="workflow/scripts/render_caption.py",
+        code=script_code("render_fig7.py"),
     output:
         png=report(
             "figures/fig7b.png",
@@ -163,10 +162,9 @@ rule fig7c:
     input:
         sweep=rules.aggregate_fig7.output.sweep,
         style="src/restitution/restitution.mplstyle",
-        plotting="src/restitution/plotting.py",
         paper="config/paper_values.yaml",
         template="workflow/report/fig7c.rst",
-        caption_code="workflow/scripts/render_caption.py",
+        code=script_code("render_fig7.py"),
     output:
         png=report(
             "figures/fig7c.png",
@@ -193,7 +191,7 @@ rule fig7c:
 rule simulate_fig7d:
     """Contact compression s1(t) for each (xi, alpha) of Fig. 7(d), sampled inside every contact."""
     input:
-        code=package_sources(),
+        code=script_code("simulate_fig7d.py"),
     output:
         traces="results/fig7/traces.parquet",
         contacts="results/fig7/contacts.parquet",
@@ -228,10 +226,9 @@ rule fig7d:
         traces=rules.simulate_fig7d.output.traces,
         contacts=rules.simulate_fig7d.output.contacts,
         style="src/restitution/restitution.mplstyle",
-        plotting="src/restitution/plotting.py",
         paper="config/paper_values.yaml",
         template="workflow/report/fig7d.rst",
-        caption_code="workflow/scripts/render_caption.py",
+        code=script_code("render_fig7d.py"),
     output:
         png=report(
             "figures/fig7d.png",

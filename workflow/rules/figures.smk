@@ -6,10 +6,9 @@ rule fig2a:
     input:
         sweep=rules.aggregate_fig2a.output.sweep,
         style="src/restitution/restitution.mplstyle",
-        plotting="src/restitution/plotting.py",
         paper="config/paper_values.yaml",
         template="workflow/report/fig2a.rst",
-        caption_code="workflow/scripts/render_caption.py",
+        code=script_code("render_fig2a.py"),
     output:
         png=report(
             "figures/fig2a.png",

@@ -11,6 +11,7 @@ rule reproduction:
         minima=rules.aggregate_fig2a.output.minima,
         marginal=rules.simulate_fig3b.output.marginal,
         paper="config/paper_values.yaml",
+        code=script_code("reproduction.py"),
     output:
         table=report(
             "results/reproduction.csv",

@@ -22,7 +22,7 @@ if STUDY_FILE is not None:
         """Solve one chunk of the first axis on one curve of the study, cusps refined."""
         input:
             study=str(STUDY_FILE),
-            code=package_sources("study.py", "config_check.py"),
+            code=script_code("study_simulate.py"),
         output:
             table=f"results/{STUDY_DIR}/curve~{{curve}}/chunk_{{chunk}}.parquet",
         log:
@@ -50,6 +50,7 @@ if STUDY_FILE is not None:
                 curve=range(len(STUDY.curves)),
                 chunk=range(STUDY.n_chunks),
             ),
+            code=script_code("study_aggregate.py"),
         output:
             sweep=f"results/{STUDY_DIR}/sweep.parquet",
             minima=report(
@@ -79,7 +80,7 @@ if STUDY_FILE is not None:
         input:
             sweep=rules.study_aggregate.output.sweep,
             style="src/restitution/restitution.mplstyle",
-            plotting="src/restitution/plotting.py",
+            code=script_code("study_plot.py"),
         output:
             png=[
                 report(

@@ -6,7 +6,7 @@
 rule simulate_fig2a:
     """Solve one chunk of the alpha grid for one beta, refined at every change of the contact count."""
     input:
-        code=package_sources(),
+        code=script_code("simulate_fig2a.py"),
     output:
         table="results/fig2a/beta~{beta}/chunk_{chunk}.parquet",
     log:
@@ -30,6 +30,7 @@ rule aggregate_fig2a:
     """One sweep table from the chunks (shared boundary rows once), and its COR minima as CSV."""
     input:
         chunks=fig2a_chunk_tables(),
+        code=script_code("aggregate_fig2a.py"),
     output:
         sweep="results/fig2a/sweep.parquet",
         minima=report(

@@ -14,7 +14,8 @@ at a smaller size, so
 
     error_estimate = max(the kernel's own bound, REPLICA_SAFETY * max |cor - cor_replica|),
 
-and a result whose replicas land more than ``ILL_TOL`` away (or end otherwise: another status)
+and a result whose replicas land more than ``ILL_TOL`` away (or end otherwise: permanent contact
+against separation)
 is ``STATUS_ILL_CONDITIONED``: double precision cannot resolve the scene (the ``precise`` method
 can). Checked against an independent 40-digit reference (restitution.precise) on random chains,
 long sequences included (tests/test_accuracy.py, docs/accuracy.md).
@@ -46,7 +47,11 @@ JITTER = REPLICA_ULPS * EPS
 REPLICAS = 2
 REPLICA_SEED = 7919  # Weyl-sequence offset between replicas (a prime: no shared points)
 REPLICA_SAFETY = 8.0
-ILL_TOL = 1e-8  # a COR that round-off can move by more than this is not reported
+# A COR that round-off can move by more than ILL_TOL is not reported (fewer than four digits).
+# Below it the estimate says how far: at a grazing contact (the COR minima of the paper's sweeps)
+# round-off decides whether a contact of depth ~eps happens, and its impulse is O(sqrt(eps)), so
+# an estimate of ~1e-7..1e-6 there is the truth about the scene, not a failure.
+ILL_TOL = 1e-4
 
 
 @njit(cache=True, inline="always")
@@ -70,8 +75,13 @@ def combine(out, reps):
         return out
     spread = 0.0
     for r in range(reps.shape[0]):
-        if reps[r, OUT_STATUS] != st:
-            spread = math.inf
+        rs = reps[r, OUT_STATUS]
+        if not finished(rs):
+            # A replica that stops (a root search or budget of the perturbed scene) says nothing
+            # about this run's round-off; the other replica, or the kernel's own bound, stands.
+            continue
+        if rs != st:
+            spread = math.inf  # ok against permanent contact: the outcome itself is unsure
         else:
             spread = max(spread, abs(out[OUT_COR] - reps[r, OUT_COR]))
     if not spread <= ILL_TOL / REPLICA_SAFETY:
