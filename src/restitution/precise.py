@@ -230,9 +230,9 @@ def solve_precise(m, k, c=None, kc=math.inf, *, dps=40, max_events=2000) -> Prec
 
     Examples
     --------
-    >>> r = solve_precise([1.0, 1.0], [0.5])
+    >>> r = solve_precise([1.0, 0.5], [1 / 3])  # alpha = 0.5: one contact, COR 1/3
     >>> r.n_collisions, round(r.cor, 12), r.digits >= 30
-    (2, 0.8, True)
+    (1, 0.333333333333, True)
     """
     c = [0.0] * (len(m) - 1) if c is None else list(c)
     lo = _sequence(m, k, c, kc, dps, max_events)
