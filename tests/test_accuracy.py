@@ -130,3 +130,31 @@ def test_precise_agrees_with_exact_kernels_on_paper_scenes():
         assert ref.digits > 35
         assert r.n_collisions == ref.n_collisions
         assert abs(r.cor - ref.cor) <= min(r.error_estimate, 1e-14)
+
+
+def test_precise_method_resolves_what_double_precision_cannot():
+    """method='precise' (opt-in, never chosen by auto) solves the ill-conditioned chain above:
+    40 digits do not agree with 60, so it goes on to 80, which agree with 100. The energy
+    account of the undamped chain closes (nothing dissipated)."""
+    m, k, c, kc = random_chain(329, "wide")
+    r = R.solve(masses=m, springs=k, dashpots=c, k_contact=kc, method="precise")
+    assert r.status == "ok" and r.method == "precise"
+    assert r.error_estimate < 1e-15 and 0.0 < r.cor < 1.0
+    assert abs(r.e_translational + r.e_vibrational - 1.0) < 1e-14
+    ref = solve_precise(m, k, c, kc, dps=120, max_events=2000)
+    assert ref.status == "ok" and ref.n_collisions == r.n_collisions
+    assert abs(ref.cor - r.cor) <= r.error_estimate
+
+
+def test_precise_method_matches_exact_kernels_and_is_opt_in():
+    scene = dict(alpha=2.2, beta=0.1, xi=0.05, n_masses=3)
+    exact = R.solve(**scene)
+    precise = R.solve(**scene, method="precise")
+    assert exact.method == "piecewise" and precise.method == "precise"
+    assert precise.n_collisions == exact.n_collisions
+    assert abs(precise.cor - exact.cor) <= exact.error_estimate
+    assert precise.omega_t_col == pytest.approx(exact.omega_t_col, rel=1e-12)
+    assert precise.e_vibrational == pytest.approx(exact.e_vibrational, abs=1e-11)
+    with pytest.raises(R.SceneError, match="'precise'.*linear contact and links"):
+        hertz = {"law": "hertz", "k": 50.0}
+        R.solve(masses=[1, 0.5, 2], springs=[0.3, 1.2], contact=hertz, method="precise")

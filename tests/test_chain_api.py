@@ -190,7 +190,14 @@ def test_solver_table_dispatch_and_forced_methods():
         M.choose(spring, "reference")
     with pytest.raises(SceneError, match="method must be one of auto, impulsive"):
         M.choose(rigid, "rk4")
-    assert set(M.METHODS) == {"impulsive", "piecewise", "adaptive", "verlet", "reference"}
+    assert set(M.METHODS) == {
+        "impulsive",
+        "piecewise",
+        "adaptive",
+        "verlet",
+        "reference",
+        "precise",
+    }
     for name, m in M.METHODS.items():
         assert m.name == name and callable(m.applies) and callable(m.run)
 

@@ -49,6 +49,8 @@ class PreciseResult:
     error_estimate: float
     contact_times: tuple = ()
     cor_mp: object = None
+    e_translational: float = math.nan
+    e_vibrational: float = math.nan
 
 
 class _Phase:
@@ -195,14 +197,17 @@ def _sequence(m, k, c, kc, dps, max_events):
             ncol += 1
             times.append(t)
             if ncol > max_events:
-                return None, ncol, t_last, tuple(times)
+                return None, ncol, t_last, tuple(times), None
             if rigid:
                 v[0] = -v[0]
                 t_last = t
             else:
                 in_contact = True
         cor = sum(mi * vi for mi, vi in zip(mp, v, strict=True)) / mt
-        return cor, ncol, t_last, tuple(times)
+        # Vibrational energy after the final separation (relative kinetic + springs) / (mt / 2).
+        evib = sum(mi * (vi - cor) ** 2 for mi, vi in zip(mp, v, strict=True))
+        evib += sum(kp[i] * (u[i + 1] - u[i]) ** 2 for i in range(n - 1))
+        return cor, ncol, t_last, tuple(times), evib / mt
 
 
 def solve_precise(m, k, c=None, kc=math.inf, *, dps=40, max_events=2000) -> PreciseResult:
@@ -226,7 +231,8 @@ def solve_precise(m, k, c=None, kc=math.inf, *, dps=40, max_events=2000) -> Prec
         ``cor`` rounded to float, ``digits`` (how many decimal digits of the COR the two
         precisions share), ``error_estimate`` (their difference), ``n_collisions``, ``t_col`` (time
         from first contact to final separation, the scene's units), ``status``, the contact start
-        times and the COR as an mpmath number at dps + 20 digits (``cor_mp``).
+        times, the COR as an mpmath number at dps + 20 digits (``cor_mp``) and the final
+        translational and vibrational energies as fractions of the initial kinetic energy.
 
     Examples
     --------
@@ -253,4 +259,6 @@ def solve_precise(m, k, c=None, kc=math.inf, *, dps=40, max_events=2000) -> Prec
             float(diff) if same else math.inf,
             tuple(float(x) for x in hi[3]),
             hi[0],
+            float(hi[0] ** 2),
+            float(hi[4]),
         )
