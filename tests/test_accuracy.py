@@ -3,51 +3,18 @@ independent 40-digit reference (restitution.precise: mpmath, its own eigen-decom
 root search, nothing shared with the numba kernels), on random chains that include long, chaotic
 contact sequences and mass and spring ratios far from 1.
 
-The suite (``suite_scenes``) is the one docs/accuracy.md plots (benchmarks/accuracy_suite.py).
+The suite (``restitution.bench.accuracy``) is the one docs/accuracy.md plots
+(benchmarks/bench_accuracy.py).
 """
 
 import math
 
 import mpmath
-import numpy as np
 import pytest
 
 import restitution as R
+from restitution.bench.accuracy import random_chain, suite_scenes
 from restitution.precise import solve_precise
-
-
-def random_chain(seed: int, family: str):
-    """A random linear chain: ``uniform`` ratios in 0.3..3, ``long`` (the masses behind m1 5-50
-    times heavier: long sequences), ``wide`` ratios in 1e-2..1e2. A quarter each of rigid /
-    contact spring x undamped / damped."""
-    rng = np.random.default_rng(seed)
-    n = int(rng.integers(2, 9))
-    if family == "wide":
-        m = 10 ** rng.uniform(-2, 2, n)
-        k = 10 ** rng.uniform(-2, 2, n - 1)
-    else:
-        m = rng.uniform(0.3, 3, n)
-        k = rng.uniform(0.3, 3, n - 1)
-    m[0] = 1.0
-    if family == "long":
-        m[1:] *= 10 ** rng.uniform(1.0, 2.0)
-    kind = rng.integers(0, 4)
-    c = np.zeros(n - 1)
-    kc = math.inf
-    if kind in (1, 3):
-        kc = k[0] / 10 ** rng.uniform(-3, 0)
-    if kind in (2, 3):
-        c = rng.uniform(0, 0.1, n - 1) * (rng.random(n - 1) < 0.6)
-    return m, k, c, kc
-
-
-def suite_scenes():
-    """(family, seed) of the accuracy suite."""
-    return (
-        [("uniform", s) for s in range(0, 12)]
-        + [("long", s) for s in range(100, 118)]
-        + [("wide", s) for s in range(200, 216)]
-    )
 
 
 def kernel_and_reference(family, seed, dps=30):
