@@ -125,3 +125,31 @@ def test_precise_method_matches_exact_kernels_and_is_opt_in():
     with pytest.raises(R.SceneError, match="'precise'.*linear contact and links"):
         hertz = {"law": "hertz", "k": 50.0}
         R.solve(masses=[1, 0.5, 2], springs=[0.3, 1.2], contact=hertz, method="precise")
+
+
+@pytest.mark.slow
+def test_numerical_estimates_bound_the_actual_error_on_linear_chains():
+    """Verlet and the adaptive method forced onto random linear-contact chains, against the
+    exact kernels (whose own estimates, bounded above, are far smaller): every ok row within
+    its error estimate (Verlet: 4 x the larger COR change against the steps h and h/4)."""
+    worst = {}
+    checked = 0
+    for family, seeds in (("uniform", range(0, 24)), ("long", range(100, 112))):
+        for seed in seeds:
+            m, k, c, kc = random_chain(seed, family)
+            if math.isinf(kc):
+                continue
+            kw = dict(masses=m, springs=k, dashpots=c, k_contact=kc, max_events=5000)
+            exact = R.solve(**kw)
+            assert exact.status == "ok"
+            for method, setting in (("verlet", {"step": 0.01}), ("verlet", {"step": 0.05}),
+                                    ("adaptive", {}), ("adaptive", {"rtol": 1e-6})):  # fmt: skip
+                r = R.solve(**kw, method=method, **setting)
+                if r.status != "ok":
+                    continue
+                actual = abs(r.cor - exact.cor) + exact.error_estimate
+                assert actual <= r.error_estimate, (family, seed, method, setting, actual, r)
+                key = (method, str(setting))
+                worst[key] = max(worst.get(key, 0.0), actual / r.error_estimate)
+                checked += 1
+    assert checked >= 60, checked
