@@ -153,3 +153,19 @@ def test_numerical_estimates_bound_the_actual_error_on_linear_chains():
                 worst[key] = max(worst.get(key, 0.0), actual / r.error_estimate)
                 checked += 1
     assert checked >= 60, checked
+
+
+@pytest.mark.parametrize("beta", [0.0, 0.1, 1.0])
+@pytest.mark.parametrize("xi", [5e-324, 1e-310, 2.2e-308])
+def test_subnormal_damping_is_undamped(xi, beta):
+    """A damping ratio below the smallest normal float (in range: xi in [0, 1e3]) is the
+    undamped scene to round-off (it ended event_not_converged in the two-mass kernels)."""
+    r = R.solve(alpha=2.0, beta=beta, xi=xi)
+    undamped = R.solve(alpha=2.0, beta=beta)
+    assert r.status == "ok", r
+    assert r.n_collisions == undamped.n_collisions
+    assert abs(r.cor - undamped.cor) <= r.error_estimate + undamped.error_estimate
+    t = R.trajectory(alpha=2.0, beta=beta, xi=xi, times=[0.5, 3.0])
+    u = R.trajectory(alpha=2.0, beta=beta, times=[0.5, 3.0])
+    for col in ("u_1", "u_2", "v_1", "v_2"):
+        assert t[col].to_numpy() == pytest.approx(u[col].to_numpy(), abs=1e-12)

@@ -128,7 +128,7 @@ from restitution.kernels.locator import (
 from restitution.kernels.parallel import row_blocks
 from restitution.kernels.replica import JITTER, REPLICA_SEED, REPLICAS, combine, finished, weyl
 from restitution.kernels.rigid2 import _V_STICK as V_STICK_2
-from restitution.kernels.rigid2 import _next_contact0, _next_contact_d, _rigid2
+from restitution.kernels.rigid2 import XI_NEGLIGIBLE, _next_contact0, _next_contact_d, _rigid2
 
 COND_MAX = 1e8  # eigenvector condition number above which a closed form is not trusted
 ENERGY_TOL = 1e-9
@@ -559,6 +559,8 @@ def _run(
     mt = _total(m)
     mu = m[1] / (m[0] + m[1])
     xi = c[0] / (2.0 * k[0])  # of the scalar two-mass oscillator (omega = 1)
+    if xi < XI_NEGLIGIBLE:
+        xi = 0.0  # subnormal: undamped to within any float (see kernels.rigid2)
     q2 = (1.0 - xi) * (1.0 + xi)  # its 1 - xi^2 and frequency, as restitution.kernels.rigid2
     w2 = math.sqrt(abs(q2))
     status = STATUS_OK
@@ -1119,6 +1121,8 @@ def _sample(m, k, c, kc, times, max_events):
     mt = _total(m)
     mu = m[1] / (m[0] + m[1])
     xi = c[0] / (2.0 * k[0])
+    if xi < XI_NEGLIGIBLE:
+        xi = 0.0  # as in _run
     if n > 2:
         lamF, UF, PF, _c = _modal_model(m, k, c, 0.0, 0.0, True)
     else:

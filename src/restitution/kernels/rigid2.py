@@ -89,6 +89,9 @@ from restitution.kernels.parallel import row_blocks
 from restitution.kernels.replica import EPS, JITTER, REPLICA_SEED, REPLICAS, combine, finished, weyl
 
 _EPS = 2.220446049250313e-16
+# A damping ratio below the smallest normal float moves the COR by O(xi), far below an ulp, but
+# subnormal arithmetic in the damped closed-form walk fails (event_not_converged): it is 0.
+XI_NEGLIGIBLE = 2.2250738585072014e-308
 ROUNDOFF_ULPS = 64.0  # the round-off floor of OUT_ERR, in ulps per contact (as the chain kernel)
 _TOUCH = 16.0  # contact if g_min < -_TOUCH * eps * (scale of the terms of g)
 _ENERGY_TOL = 1e-9
@@ -587,6 +590,8 @@ def _rigid2(alpha, xi, max_events, hist, v_stick, jitter=0.0, seed=0):
     no replica check; ``jitter`` > 0 perturbs the state (V, r, r') by that much (relative) at
     every contact, along the Weyl sequence from ``seed`` (restitution.kernels.replica)."""
     out = np.zeros(N_OUT)
+    if xi < XI_NEGLIGIBLE:
+        xi = 0.0
     mu = alpha / (1.0 + alpha)
     q = (1.0 - xi) * (1.0 + xi)  # 1 - xi^2 without cancellation near xi = 1
     w = math.sqrt(abs(q))
