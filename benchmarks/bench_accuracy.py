@@ -163,10 +163,12 @@ def main() -> None:
     ap.add_argument("--scale", type=int, default=3)
     ap.add_argument("--plot", default=None, help="PNG of actual error against the estimate")
     ap.add_argument("--skip-accuracy", action="store_true")
+    ap.add_argument("--skip-cost", action="store_true")
     args = ap.parse_args()
     if not args.skip_accuracy:
         accuracy(args.scale, args.plot)
-    cost()
+    if not args.skip_cost:
+        cost()
 
 
 if __name__ == "__main__":
