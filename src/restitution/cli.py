@@ -55,9 +55,27 @@ def _json(text: str):
         ) from None
 
 
-def _parser() -> argparse.ArgumentParser:
-    from .methods import NAMES
+class _MethodNames:
+    """``methods.NAMES`` for argparse's ``choices``, imported when first used.
 
+    ``restitution.methods`` imports numpy and pandas; ``restitution --help`` must not wait for
+    them. argparse looks into ``choices`` only when --method is given or the cor subcommand's
+    help is formatted (the metavar is fixed so that ``add_argument`` does not list them).
+    """
+
+    def _names(self) -> tuple[str, ...]:
+        from .methods import NAMES
+
+        return NAMES
+
+    def __contains__(self, value) -> bool:
+        return value in self._names()
+
+    def __iter__(self):
+        return iter(self._names())
+
+
+def _parser() -> argparse.ArgumentParser:
     fmt = argparse.RawDescriptionHelpFormatter
     p = argparse.ArgumentParser(
         prog="restitution",
@@ -94,7 +112,13 @@ def _parser() -> argparse.ArgumentParser:
         help='JSON, e.g. {"law": "hertz", "k": 50}',
     )
     general.add_argument("--links", type=_json, help='JSON list, e.g. [{"law": "linear"}, ...]')
-    cor.add_argument("--method", default="auto", choices=NAMES)
+    cor.add_argument(
+        "--method",
+        default="auto",
+        choices=_MethodNames(),
+        metavar="METHOD",
+        help="solver: %(choices)s (default: %(default)s)",
+    )
     cor.add_argument("--max-events", type=int, default=100_000, help="contact budget")
     law = cor.add_argument_group(
         "nonlinear laws and numerical methods in the paper's form (two masses)"
