@@ -72,3 +72,13 @@ def test_submodules_and_unknown_names():
     assert not hasattr(restitution, "no_such_name")
     with pytest.raises(AttributeError, match="no attribute 'no_such_name'"):
         restitution.no_such_name  # noqa: B018
+
+
+def test_trajectory_stays_the_function_when_its_submodule_is_imported():
+    probe = (
+        "import restitution.trajectory, restitution, sys\n"
+        "print(callable(restitution.trajectory), type(sys.modules['restitution.trajectory']))"
+    )
+    p = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.split()[0] == "True" and "module" in p.stdout

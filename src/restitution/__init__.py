@@ -14,6 +14,8 @@ as if they had been imported here.
 from __future__ import annotations
 
 import importlib
+import sys
+import types
 
 from .compiling import ensure_cache
 
@@ -79,3 +81,21 @@ def __getattr__(name: str):
 
 def __dir__() -> list[str]:
     return sorted({*globals(), *__all__})
+
+
+class _Package(types.ModuleType):
+    """The package module: ``restitution.trajectory`` stays the function.
+
+    The function and its submodule share a name. Importing the submodule (``import
+    restitution.trajectory``, or a first ``from restitution import trajectory``) sets the
+    package's attribute to the module; this puts the function there instead, as the eager
+    ``from .trajectory import trajectory`` did (the module stays in ``sys.modules``).
+    """
+
+    def __setattr__(self, name: str, value) -> None:
+        if isinstance(value, types.ModuleType) and name in _LAZY and _LAZY[name] == name:
+            value = getattr(value, name)
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package
