@@ -238,3 +238,21 @@ def test_api_reference_covers_every_module():
     assert not documented & NOT_IN_API.keys(), "rendered and listed as not rendered"
     assert modules - documented - NOT_IN_API.keys() == set(), "add them to docs/api.md"
     assert NOT_IN_API.keys() <= modules  # no stale entries
+
+
+# --- installation ----------------------------------------------------------------------------
+
+
+def test_install_page_lists_the_core_dependencies_of_pyproject():
+    import tomllib
+
+    declared = {}
+    for req in tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["dependencies"]:
+        name, version = re.fullmatch(r"([\w-]+)>=([\d.]+)", req).groups()
+        declared[name] = version
+    text = (ROOT / "docs" / "install.md").read_text()
+    table = dict(re.findall(r"^\| ([\w-]+) \| >= ([\d.]+) \|", text, re.M))
+    assert table == declared
+    readme = next(line for line in (ROOT / "README.md").read_text().splitlines()
+                  if line.startswith("pip install . "))  # fmt: skip
+    assert re.findall(r"[\w-]+", readme.split("core:")[1]) == list(declared)
