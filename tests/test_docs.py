@@ -256,3 +256,19 @@ def test_install_page_lists_the_core_dependencies_of_pyproject():
     readme = next(line for line in (ROOT / "README.md").read_text().splitlines()
                   if line.startswith("pip install . "))  # fmt: skip
     assert re.findall(r"[\w-]+", readme.split("core:")[1]) == list(declared)
+
+
+# --- sizes the docs state --------------------------------------------------------------------
+
+
+def test_index_counts_are_the_workflows():
+    """docs/index.md's panel and job counts of `make all`, computed here (no typed numbers)."""
+    from conftest import run_snakemake
+
+    text = " ".join((ROOT / "docs" / "index.md").read_text().split())
+    panels = int(re.search(r"draws the (\d+) figure panels in `figures/`", text)[1])
+    jobs = int(re.search(r"(\d+) Snakemake jobs from a clean state", text)[1])
+    assert panels == len(list((ROOT / "figures").glob("fig*.png")))
+    result = run_snakemake("-n", "--forceall", "all", "--quiet", "rules")
+    assert result.returncode == 0, result.stderr
+    assert jobs == int(re.search(r"^total\s+(\d+)$", result.stdout, re.M)[1])
