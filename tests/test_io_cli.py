@@ -144,3 +144,31 @@ def test_cli_cor_json_carries_law_parameters():
     p = _run("cor", "--alpha", "0.5", "--json")
     d = json.loads(p.stdout)
     assert d["scene"]["contact"] == {"law": "rigid"} and d["scene"]["k_contact"] == "inf"
+
+
+def test_cli_batch_prints_a_one_line_summary(tmp_path):
+    src = write_table(pd.DataFrame({"alpha": [0.3, 2.0, 100.0]}), tmp_path / "in.csv")
+    dst = tmp_path / "out.parquet"
+    p = _run("batch", str(src), "-o", str(dst), "--max-events", "3")
+    assert p.returncode == 3
+    [summary] = [line for line in p.stderr.splitlines() if line.startswith("restitution: 3 rows")]
+    assert summary.endswith(f"(2 ok, 1 event_budget_exhausted) -> {dst}")
+    assert float(summary.split(" in ")[1].split(" s ")[0]) > 0  # the time, in seconds
+    p = _run("batch", str(src), "-o", str(dst), "--max-events", "3", "--quiet", "--progress")
+    assert p.returncode == 3 and "restitution: 3 rows" not in p.stderr and "3/3" not in p.stderr
+    assert "1 event_budget_exhausted" in p.stderr  # the warning stays
+
+
+def test_batch_summary_line():
+    from pathlib import Path
+
+    from restitution.cli import batch_summary
+
+    status = pd.Series(["ok", "precise_failed", "ok", "ill_conditioned", "ill_conditioned"])
+    assert batch_summary(status, 12.34, Path("o.csv")) == (
+        "restitution: 5 rows in 12.3 s (2 ok, 2 ill_conditioned, 1 precise_failed) -> o.csv"
+    )
+    assert batch_summary(pd.Series(["ok"]), 0.04, Path("o.csv")) == (
+        "restitution: 1 row in 0.0 s (1 ok) -> o.csv"
+    )
+    assert "(0 ok, 1 x)" in batch_summary(pd.Series(["x"]), 1.0, Path("o.csv"))

@@ -1,0 +1,84 @@
+"""``import restitution`` and ``restitution --help`` stay cheap: the package's public names and
+submodules are imported on first use (module ``__getattr__``), and the command line imports the
+numerical stack only once a subcommand runs."""
+
+import importlib
+import json
+import subprocess
+import sys
+
+import pytest
+
+import restitution
+
+HEAVY = ("numpy", "pandas", "scipy", "numba", "pyarrow", "matplotlib")
+
+
+def _loaded_after(code: str) -> list[str]:
+    """The heavy modules a fresh interpreter has imported after running ``code``."""
+    probe = (
+        f"{code}\nimport json, sys\nprint(json.dumps([m for m in {HEAVY!r} if m in sys.modules]))"
+    )
+    p = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    return json.loads(p.stdout.splitlines()[-1])
+
+
+def test_import_restitution_loads_no_numerical_library():
+    assert _loaded_after("import restitution") == []
+    assert "numpy" in _loaded_after("import restitution\nrestitution.solve")  # the probe sees
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["--version"], ["batch", "--help"]])
+def test_cli_help_loads_no_numerical_library(argv):
+    code = (
+        f"from restitution.cli import main\ntry:\n    main({argv!r})\nexcept SystemExit:\n    pass"
+    )
+    assert _loaded_after(code) == []
+
+
+def test_cli_method_choices_are_the_solver_table():
+    from restitution.methods import NAMES
+
+    p = subprocess.run(
+        [sys.executable, "-m", "restitution.cli", "cor", "--help"], capture_output=True, text=True
+    )
+    assert p.returncode == 0 and f"solver: {', '.join(NAMES)}" in " ".join(p.stdout.split())
+    p = subprocess.run(
+        [sys.executable, "-m", "restitution.cli", "cor", "--alpha", "1", "--method", "rk9"],
+        capture_output=True,
+        text=True,
+    )
+    assert p.returncode == 2 and "invalid choice: 'rk9'" in p.stderr and "'precise'" in p.stderr
+
+
+@pytest.mark.parametrize("name", restitution.__all__)
+def test_every_public_name_imports(name):
+    probe = f"from restitution import {name}\nprint({name}.__module__ if callable({name}) else '')"
+    p = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    value = getattr(restitution, name)
+    if name == "__version__":
+        assert isinstance(value, str) and value
+    else:
+        assert p.stdout.strip() == value.__module__  # the defining module, not a stand-in
+        assert getattr(importlib.import_module(value.__module__), name) is value
+    assert name in dir(restitution)
+
+
+def test_submodules_and_unknown_names():
+    assert restitution.methods.METHODS  # a submodule, as when __init__ imported it eagerly
+    assert restitution.study.load_study
+    assert not hasattr(restitution, "no_such_name")
+    with pytest.raises(AttributeError, match="no attribute 'no_such_name'"):
+        restitution.no_such_name  # noqa: B018
+
+
+def test_trajectory_stays_the_function_when_its_submodule_is_imported():
+    probe = (
+        "import restitution.trajectory, restitution, sys\n"
+        "print(callable(restitution.trajectory), type(sys.modules['restitution.trajectory']))"
+    )
+    p = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.split()[0] == "True" and "module" in p.stdout
