@@ -100,7 +100,7 @@ def test_the_check_catches_a_typed_result():
     assert stray_numbers("it grows by a factor of about 1.58", allowed) == ["1.58"]
     # A number the paper prints (config/paper_values.yaml) is read from there, never typed.
     assert stray_numbers("compare with the paper's 0.178 and 0.710", allowed) == ["0.178", "0.710"]
-    assert stray_numbers('the paper\'s {{ paper.rigid_min1_cor }}', allowed) == []
+    assert stray_numbers("the paper's {{ paper.rigid_min1_cor }}", allowed) == []
 
 
 def test_paper_values_are_printed_strings():
