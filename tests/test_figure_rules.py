@@ -196,8 +196,8 @@ def test_fig7b_caption_states_where_each_count_first_appears():
     """Synthetic counts: the second contact moves right with xi, every later count left."""
     data = render_fig7.caption_data(_fig7_sweep(), "b", FIG7)
     assert data["reach2_word"] == "moves to larger"
-    assert data["n_right"] == "2"
-    assert data["n_left"].startswith("3")
+    assert data["n_right"] == "n = 2"
+    assert data["n_left"].startswith("n = 3")
     # Just above the undamped onset the least damped curve has more contacts than the others.
     counts = [int(v) for v in data["fall_counts"].split(", ")]
     assert counts[0] > counts[-1]

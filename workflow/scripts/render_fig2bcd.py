@@ -212,7 +212,7 @@ def caption_data(panel, inp, fit) -> dict:
         "alpha_star_1": f"{PAPER['alpha_star_1']:g}",
         "below_lo": f"{float(below['alpha'].min()):.3g}",
         "below_paper": f"{float((below['paper'] - below['exact']).abs().max()):.2f}",
-        "below_eq1": f"{float(eq1_below):.1e}",
+        "below_eq1": "0 (exact there)" if eq1_below == 0 else f"{float(eq1_below):.1e}",
         "improved_max": f"{improved:.1e}",
         "ratio": f"{paper / improved:.0f}",
         "universal_max": f"{universal:.1e}",

@@ -166,15 +166,15 @@ def first_reach(curve: pd.DataFrame, n: int) -> float:
 
 
 def _ranges(values: list[int]) -> str:
-    """Integers as runs: [2, 4, 5, 6, 9] -> '2, 4-6, 9' ('none' if empty)."""
+    """Integers as runs: [2, 4, 5, 6, 9] -> 'n = 2, 4-6, 9' ('no n' if empty)."""
     if not values:
-        return "none"
+        return "no n"
     runs, start = [], values[0]
     for a, b in zip(values, [*values[1:], None], strict=True):
         if b != a + 1:
             runs.append(f"{start}" if start == a else f"{start}-{a}")
             start = b
-    return ", ".join(runs)
+    return "n = " + ", ".join(runs)
 
 
 def count_order(by_xi: dict, fig7: dict) -> dict:
