@@ -204,3 +204,26 @@ def test_fig7b_caption_states_where_each_count_first_appears():
     # Reversed order of the onset: the words follow the data.
     flipped = _fig7_sweep(xis=(1.2, 1.0, 0.3, 0.1))
     assert render_fig7.caption_data(flipped, "b", FIG7)["reach2_word"] == "moves to smaller"
+
+
+def test_study_plot_colours_a_xi_curve_by_its_xi():
+    """A user study's curves per xi (config/study-example.yaml) take the xi colours, so its plots
+    pass the audit save_outputs applies."""
+    import yaml
+
+    from restitution.study import check_study
+
+    study_plot = _load("study_plot")
+    example = Path(__file__).resolve().parents[1] / "config" / "study-example.yaml"
+    study = check_study(yaml.safe_load(example.read_text()))
+    alpha = np.geomspace(0.1, 100, 20)
+    table = pd.concat(
+        pd.DataFrame(
+            dict(alpha=alpha, cor=0.5, n_collisions=1, curve=xi, curve_index=i, status="ok")
+        )  # fmt: skip
+        for i, xi in enumerate([0.0, 0.1, 0.3, 1.0])
+    )
+    fig = study_plot.draw(table, study, "cor", LOG)
+    assert plotting.audit_figure(fig) == []
+    colours = {line.get_label(): line.get_color() for line in fig.axes[0].lines}
+    assert colours[r"$\xi = 0.3$"] == plotting.xi_colour(0.3)
