@@ -14,6 +14,7 @@ same data twice gives identical files.
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Iterable
 from pathlib import Path
 
@@ -69,8 +70,14 @@ def save_figure(fig: Figure, stem, formats: Iterable[str] = ("png", "pdf")) -> l
     return paths
 
 
-def save_outputs(fig: Figure, png_path, pdf_path, logger=None) -> list[Path]:
-    """Write a rule's png and pdf outputs (which must share a stem) with ``save_figure``."""
+def save_outputs(fig: Figure, png_path, pdf_path, logger=None, audit: bool = True) -> list[Path]:
+    """Write a rule's png and pdf outputs (which must share a stem) with ``save_figure``.
+
+    With ``audit`` (the default) the figure is first checked against the house rules
+    (:func:`check_figure`: text size, one colour one meaning); a figure that breaks one fails.
+    """
+    if audit:
+        check_figure(fig)
     stem = Path(png_path).with_suffix("")
     if Path(pdf_path).with_suffix("") != stem:
         raise ValueError(f"png and pdf outputs must share a stem: {png_path}, {pdf_path}")
@@ -113,15 +120,17 @@ BETA_COLOURS = {0.0: "#000000", 1e-3: "#0072B2", 1e-2: "#009E73", 0.1: "#E69F00"
 BETA_EXTRA = ("#56B4E9", "#D55E00", "#F0E442")
 XI_COLOURS = {0.1: "#332288", 0.3: "#CC6677", 1.0: "#999933", 1.2: "#882255", 3.0: "#88CCEE"}
 XI_EXTRA = ("#DDCC77", "#117733", "#AA4499")
-ALPHA_COLOURS = {2.0: "#8C510A", 2.2: "#DDAA33", 2.5: "#555555", 100.0: "#5AB4AC", 200.0: "#01665E"}
-ALPHA_EXTRA = ("#BF812D", "#543005", "#999999")
+ALPHA_COLOURS = {2.0: "#8C510A", 2.2: "#DDAA33", 2.5: "#01665E", 100.0: "#5AB4AC", 200.0: "#543005"}
+ALPHA_EXTRA = ("#BF812D", "#003C30", "#999999")
 
 # Everything that is none of beta, xi, alpha -- the number of masses N (Fig. 6), the plastic
-# law's eta and DR (Fig. 4), the role of a curve (exact, the paper's law, our fit: Figs. 2(b)-(d))
-# -- is drawn in black and greys told apart by line style and marker, so that no chromatic colour
-# means two things (black and grey are neutral: black is also beta = 0). Bar lengths L and impact
-# speeds V0 (Fig. 5 only) have colour sets of their own (ColorBrewer's Set1 with Tol's dark blue,
-# and sequential purples), each at least 0.2 (RGB distance) from every colour of the three sets.
+# law's eta and DR (Fig. 4), the role of a curve (exact, the paper's law, our fit: Figs. 2(b)-(d)),
+# a design family (Fig. 8(b)), a solver in the benchmarks -- is drawn in black and greys told apart
+# by line style and marker, so that no chromatic colour means two things (black and grey are
+# neutral: black is also beta = 0). eta takes SERIES_STYLES, DR (in the same figure)
+# MARKED_STYLES. Bar lengths L and impact speeds V0 (Fig. 5 only) have colour sets of their own
+# (ColorBrewer's Set1 with Tol's dark blue, and sequential purples), each at least 0.2 (RGB
+# distance) from every colour of the three sets.
 SERIES_STYLES = (
     {"color": "#000000", "ls": "-"},
     {"color": "#4D4D4D", "ls": (0, (4, 1.5))},
@@ -130,6 +139,19 @@ SERIES_STYLES = (
     {"color": "#262626", "ls": (0, (2.5, 1, 1, 1, 1, 1))},
     {"color": "#9A9A9A", "ls": "-"},
 )
+#: Categories drawn with markers (DR in Fig. 4(b), design families, benchmark methods): greys and
+#: black, a marker and a line style each.
+MARKED_STYLES = (
+    {"color": "#000000", "ls": "-", "marker": "o"},
+    {"color": "#4D4D4D", "ls": (0, (4, 1.5)), "marker": "s"},
+    {"color": "#000000", "ls": (0, (1, 1.2)), "marker": "^"},
+    {"color": "#6E6E6E", "ls": (0, (6, 1.5, 1, 1.5)), "marker": "D"},
+    {"color": "#262626", "ls": (0, (2.5, 1, 1, 1, 1, 1)), "marker": "v"},
+    {"color": "#8A8A8A", "ls": "-", "marker": "P"},
+    {"color": "#000000", "ls": (0, (3, 1, 1, 1)), "marker": "<"},
+    {"color": "#5A5A5A", "ls": (0, (1, 2)), "marker": ">"},
+    {"color": "#8A8A8A", "ls": (0, (5, 2)), "marker": "X"},
+)
 #: A reference curve the others are read against (the exact COR, a linear law, a limit branch):
 #: a light grey band under the data.
 REFERENCE_STYLE = {"color": "0.75", "lw": 2.4, "ls": "-"}
@@ -137,6 +159,7 @@ REFERENCE_STYLE = {"color": "0.75", "lw": 2.4, "ls": "-"}
 ROLE_STYLES = {
     "exact": {"color": "#000000", "marker": "o", "mfc": "none", "ls": "none", "ms": 2.5},
     "paper": {"color": "#5A5A5A", "ls": (0, (4, 2)), "lw": 0.9},
+    "paper_alt": {"color": "#8A8A8A", "ls": (0, (6, 1.5, 1, 1.5)), "lw": 0.9},
     "fit": {"color": "#000000", "ls": "-", "lw": 0.9},
     "fit_alt": {"color": "#000000", "ls": (0, (1, 1.2)), "lw": 0.9},
 }
@@ -151,11 +174,18 @@ def series_style(index: int) -> dict:
     return dict(SERIES_STYLES[index % len(SERIES_STYLES)])
 
 
+def marked_style(index: int) -> dict:
+    """Marker and line style number ``index`` of MARKED_STYLES (cycling)."""
+    return dict(MARKED_STYLES[index % len(MARKED_STYLES)])
+
+
 #: Axis labels of the collision duration in the paper's two normalisations, in one style.
 T_COL_LABELS = {
     "2pi": r"collision duration $\omega t_\mathrm{col} / 2\pi$",
     "omega": r"collision duration $\omega t_\mathrm{col}$",
 }
+#: The one axis label of the coefficient of restitution (a qualifier goes before it: "smallest").
+COR_LABEL = "COR $e$"
 #: The one sign convention for the contact compression: s1 = -u1 >= 0, positive into the wall.
 COMPRESSION_LABEL = r"contact compression $\omega s_1 / V_0$"
 
@@ -183,3 +213,159 @@ def xi_colour(xi: float, others=()) -> str:
 def alpha_colour(alpha: float, others=()) -> str:
     """The colour of a mass ratio alpha."""
     return _pick(ALPHA_COLOURS, ALPHA_EXTRA, alpha, others or (alpha,))
+
+
+# ---------------------------------------------------------------------------------------------
+# The rules every workflow figure keeps, checked on its artists when it is saved (save_outputs):
+# text no smaller than MIN_TEXT_PT at the figure's printed size, and one colour one meaning -- an
+# artist whose label names one beta, xi or alpha (e.g. "$\\xi = 0.3$"; a label that starts with
+# "_" names it without a legend entry) has that value's colour, and an artist that names none of
+# them takes no colour of their sets.
+# ---------------------------------------------------------------------------------------------
+#: Smallest text (points) at the figure's printed size: the report shows figures at that size.
+MIN_TEXT_PT = 7.0
+PARAMETER_SETS = {
+    "beta": (BETA_COLOURS, BETA_EXTRA),
+    "xi": (XI_COLOURS, XI_EXTRA),
+    "alpha": (ALPHA_COLOURS, ALPHA_EXTRA),
+}
+_NAMED = re.compile(
+    r"\\(beta|xi|alpha)\s*=\s*"
+    r"(?:10\^\{?(?P<exp>[-+]?\d+)\}?|(?P<num>[-+]?\d+(?:\.\d*)?(?:e[-+]?\d+)?))"
+    r"(?![\d./_^])"
+)
+
+
+class FigureRuleError(ValueError):
+    """A figure breaks a house rule (text size, one colour one meaning); lists every problem."""
+
+
+def named_values(label: str) -> list[tuple[str, float]]:
+    """The (parameter, value) pairs a label names: ``$\\beta = 10^{-3}$`` -> [("beta", 0.001)].
+
+    >>> named_values(r"$\\xi = 0.3$, $\\alpha = 100$")
+    [('xi', 0.3), ('alpha', 100.0)]
+    >>> named_values(r"mass ratio $\\alpha = m_2/m_1$")
+    []
+    """
+    out = []
+    for m in _NAMED.finditer(label or ""):
+        value = 10.0 ** int(m["exp"]) if m["exp"] is not None else float(m["num"])
+        out.append((m.group(1), value))
+    return out
+
+
+def _hex(colour) -> str | None:
+    from matplotlib.colors import to_hex
+
+    try:
+        return to_hex(colour, keep_alpha=False).lower()
+    except ValueError:
+        return None
+
+
+def _is_chromatic(colour: str) -> bool:
+    from matplotlib.colors import to_rgb
+
+    r, g, b = to_rgb(colour)
+    return max(r, g, b) - min(r, g, b) > 0.05
+
+
+def _artist_colours(artist) -> set[str]:
+    """The colours an artist is drawn in (line, marker edge and face; a collection's faces and
+    edges); colour-mapped artists (an image, a mesh, a scatter with values) have none here."""
+    from matplotlib.collections import Collection
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    colours = []
+    if isinstance(artist, Line2D):
+        colours.append(artist.get_color())
+        if artist.get_marker() not in (None, "None", "none", ""):
+            colours += [artist.get_markeredgecolor(), artist.get_markerfacecolor()]
+    elif isinstance(artist, Collection):
+        if artist.get_array() is not None:
+            return set()
+        colours += list(artist.get_facecolor()) + list(artist.get_edgecolor())
+    elif isinstance(artist, Patch):
+        colours += [artist.get_facecolor(), artist.get_edgecolor()]
+    out = set()
+    for c in colours:
+        if isinstance(c, str) and c.lower() == "none":
+            continue
+        if not isinstance(c, str) and len(c) == 4 and c[3] == 0:
+            continue
+        h = _hex(c)
+        if h is not None:
+            out.add(h)
+    return out
+
+
+def expected_colour(parameter: str, value: float) -> str | None:
+    """The colour of ``value`` in ``parameter``'s table; None if the table has no such value."""
+    table, _extra = PARAMETER_SETS[parameter]
+    for key, colour in table.items():
+        if math.isclose(key, value, rel_tol=1e-9, abs_tol=1e-15):
+            return colour.lower()
+    return None
+
+
+def audit_figure(fig: Figure, min_text_pt: float = MIN_TEXT_PT) -> list[str]:
+    """Every place where ``fig`` breaks a house rule, as sentences (empty: none).
+
+    - a visible, non-empty text (tick label, legend, title, annotation) smaller than
+      ``min_text_pt`` points;
+    - an artist whose label names one beta, xi or alpha (legend entries and hidden ``_`` labels)
+      drawn in a chromatic colour other than that value's (a value outside the table: any colour
+      of that parameter's extra set);
+    - an artist that names none of them drawn in a colour of the beta, xi or alpha sets.
+    """
+    from matplotlib.text import Text
+
+    fig.draw_without_rendering()  # tick labels and legends take their final text
+    problems = []
+    for text in fig.findobj(Text):
+        if not text.get_visible() or not text.get_text().strip():
+            continue
+        if text.get_fontsize() < min_text_pt - 1e-9:
+            problems.append(
+                f"text {text.get_text()!r} is {text.get_fontsize():.2g} pt (< {min_text_pt:g} pt)"
+            )
+    owner = {}
+    for name, (table, extra) in PARAMETER_SETS.items():
+        for colour in [*table.values(), *extra]:
+            owner[colour.lower()] = name
+    for ax in fig.axes:
+        for artist in [*ax.lines, *ax.collections, *ax.patches]:
+            colours = {c for c in _artist_colours(artist) if _is_chromatic(c)}
+            if not colours:
+                continue
+            label = artist.get_label() or ""
+            named = named_values(label)
+            if not named:
+                for c in sorted(colours & set(owner)):
+                    problems.append(
+                        f"{type(artist).__name__} {label!r} names no {owner[c]} but is drawn in "
+                        f"{c}, a {owner[c]} colour"
+                    )
+                continue
+            allowed = set()
+            for parameter, value in named:
+                colour = expected_colour(parameter, value)
+                extra = PARAMETER_SETS[parameter][1]
+                allowed |= {colour} if colour else {c.lower() for c in extra}
+            wrong = colours - allowed
+            if wrong:
+                problems.append(
+                    f"{type(artist).__name__} {label!r} is drawn in {sorted(wrong)}, "
+                    f"not the colour of {', '.join(f'{p} = {v:g}' for p, v in named)} "
+                    f"({sorted(allowed)})"
+                )
+    return problems
+
+
+def check_figure(fig: Figure, min_text_pt: float = MIN_TEXT_PT) -> None:
+    """Raise FigureRuleError listing every problem :func:`audit_figure` finds."""
+    problems = audit_figure(fig, min_text_pt)
+    if problems:
+        raise FigureRuleError("figure breaks the house rules:\n  " + "\n  ".join(problems))

@@ -98,6 +98,18 @@ def no_study_given(wildcards):
     )
 
 
+def paper_values(*keys):
+    """The paper's printed values (config/paper_values.yaml, strings as printed) named by ``keys``.
+
+    For captions that Snakemake renders itself (``report(caption="../report/...")``): they see
+    only the job's config, params, input and output, so the rule passes the values as params.
+    """
+    values = yaml.safe_load(
+        (Path(workflow.basedir) / "config" / "paper_values.yaml").read_text()
+    )
+    return {key: str(values[key]) for key in keys}
+
+
 def beta_label(beta):
     """Path label of a beta value: short ('0', '0.001', '1e-05') yet exact when read back."""
     beta = float(beta)

@@ -31,5 +31,8 @@ rule reproduction:
         "logs/benchmarks/reproduction.tsv"
     conda:
         "../envs/restitution.yaml"
+    params:
+        # For the caption only (the script reads input.paper).
+        paper=paper_values("cor_reduction", "alpha_reduction"),
     script:
         "../scripts/reproduction.py"

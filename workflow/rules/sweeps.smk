@@ -49,5 +49,7 @@ rule aggregate_fig2a:
     params:
         fig2a=config["fig2a"],
         solver=solver_settings(),
+        # For the caption only (the paper's beta = 0 minima it compares with).
+        paper=paper_values("rigid_min1_cor", "rigid_min2_cor", "rigid_min3_cor"),
     script:
         "../scripts/aggregate_fig2a.py"

@@ -4,8 +4,10 @@ solve_many sweep time vs number of scenes on 1 and 2 threads; fitted exponents i
 
 import numpy as np
 
-COLOURS = {"exact": "black", "solve_many": "black"}
-OTHER = "#D55E00"
+# A method or a thread count is none of beta, xi, alpha: black and a grey with its own marker and
+# line style (restitution.plotting's rule), never a parameter's colour.
+FIRST = dict(color="black", marker="o", ls="-")
+OTHER = dict(color="#6E6E6E", marker="s", mfc="white", ls=(0, (4, 1.5)))
 
 
 def _label(fits, kind, family, threads=1, quantity="time_s"):
@@ -20,7 +22,7 @@ def _label(fits, kind, family, threads=1, quantity="time_s"):
     return rf" ($\propto x^{{{f['exponent'].iloc[0]:.2f}}}$)"
 
 
-POINTS = dict(marker="o", ms=3, lw=0.8)  # every measured series: points joined by thin lines
+POINTS = dict(ms=3, lw=0.8)  # every measured series: points joined by thin lines
 
 
 def draw(table, fits):
@@ -35,7 +37,7 @@ def draw(table, fits):
             g["x"],
             g["time_s"],
             **POINTS,
-            color=COLOURS.get(family, OTHER),
+            **(FIRST if family == "exact" else OTHER),
             label=f"{family}{_label(fits, 'alpha', family)}",
         )
     ex = a[a["family"] == "exact"]
@@ -54,29 +56,29 @@ def draw(table, fits):
     ax_a.set_ylabel("time per scene (s)")
     lines = ax_a.get_legend_handles_labels()
     more = twin.get_legend_handles_labels()
-    ax_a.legend(lines[0] + more[0], lines[1] + more[1], fontsize="x-small", loc="best")
+    ax_a.legend(lines[0] + more[0], lines[1] + more[1], loc="best")
     c = ok[ok["kind"] == "chain"]
     ax_n.plot(
         c["x"],
         c["time_s"],
         **POINTS,
-        color="black",
+        **FIRST,
         label=f"exact{_label(fits, 'chain', 'exact')}",
     )
     ax_n.set_xlabel("number of masses N")
-    ax_n.legend(fontsize="x-small", loc="best")
+    ax_n.legend(loc="best")
     s = table[table["kind"] == "sweep"]
     for threads, g in s.groupby("threads"):
         ax_s.plot(
             g["x"],
             g["time_s"],
             **POINTS,
-            color="black" if threads == 1 else OTHER,
+            **(FIRST if threads == 1 else OTHER),
             label=f"{threads} thread(s){_label(fits, 'sweep', 'solve_many', threads)}",
         )
     ax_s.set_xlabel("scenes in one solve_many call")
     ax_s.set_ylabel("time per sweep (s)")
-    ax_s.legend(fontsize="x-small", loc="best")
+    ax_s.legend(loc="best")
     for ax in (ax_a, ax_n, ax_s):
         plotting.log_axis(ax, "x")
         ax.set_yscale("log")

@@ -12,17 +12,18 @@ import math
 import numpy as np
 
 FLOOR = 1e-17
-STYLE = {
-    "exact": dict(color="black", marker="*", ms=7, ls="none"),
-    "adaptive": dict(color="#0072B2", marker="o", ms=3),
-    "verlet": dict(color="#009E73", marker="s", ms=3),
-    "RK45": dict(color="#E69F00", marker="v", ms=3),
-    "RK23": dict(color="#F0E442", marker="<", ms=3),
-    "DOP853": dict(color="#D55E00", marker="^", ms=3),
-    "Radau": dict(color="#CC79A7", marker="D", ms=3),
-    "BDF": dict(color="#999999", marker=">", ms=3),
-    "LSODA": dict(color="#56B4E9", marker="P", ms=3),
-}
+#: A method is none of beta, xi, alpha: greys and black told apart by marker and line style
+#: (restitution.plotting.MARKED_STYLES), never a parameter's colour.
+METHODS = ("adaptive", "verlet", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
+
+
+def _styles() -> dict:
+    from restitution import plotting
+
+    styles = {"exact": dict(color="black", marker="*", ms=7, ls="none")}
+    for index, method in enumerate(METHODS):
+        styles[method] = {**plotting.marked_style(index), "ms": 3, "mfc": "white"}
+    return styles
 
 
 def draw(records, titles):
@@ -36,7 +37,7 @@ def draw(records, titles):
     ok = records[(records["status"] == "ok") & records["cor_error"].notna()]
     for ax, scene in zip(axes, scenes, strict=False):
         sub = ok[ok["scene"] == scene]
-        for family, style in STYLE.items():
+        for family, style in _styles().items():
             g = sub[sub["family"] == family]
             if g.empty:
                 continue
@@ -61,7 +62,7 @@ def draw(records, titles):
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlim(FLOOR / 3, 1.0)
-        ax.set_title(titles.get(scene, scene), fontsize="x-small")
+        ax.set_title(titles.get(scene, scene), fontsize=7)
         ax.grid(True, which="major", lw=0.3, color="0.85")
     for ax in axes[len(scenes) :]:
         ax.set_visible(False)
@@ -84,7 +85,7 @@ def draw(records, titles):
     labels.append("below the reference's error bound")
     # The house style uses constrained layout: "outside" reserves room below the panels.
     fig.legend(handles, labels, loc="outside lower center", ncol=min(len(labels), 6),
-               fontsize="x-small", frameon=False)  # fmt: skip
+               frameon=False)  # fmt: skip
     return fig
 
 

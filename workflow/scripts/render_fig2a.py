@@ -51,7 +51,7 @@ def draw(sweep: pd.DataFrame, betas, logger):
     ax.set_xlim(sweep["alpha"].min(), sweep["alpha"].max())
     ax.set_ylim(0.0, 1.02)
     ax.set_xlabel(r"mass ratio $\alpha = m_2/m_1$")
-    ax.set_ylabel("coefficient of restitution $e$")
+    ax.set_ylabel(plotting.COR_LABEL)
     ax.legend(loc="lower right", ncols=1)
     return fig
 

@@ -48,16 +48,19 @@ def fig2b(sweep, points, fit, plot):
         t = (c["omega_t_col"] / (2 * np.pi)).where(c["omega_t_col"] > 0)  # log axis: no zeros
         ax1.plot(c["alpha"], t, color=colour, lw=0.8, label=plotting.beta_text(beta))
         if beta > 0:
-            ax1.plot(a, small_alpha_limit(a, beta), color=colour, lw=0.6, ls=(0, (2, 2)))
+            ax1.plot(a, small_alpha_limit(a, beta), color=colour, lw=0.6, ls=(0, (2, 2)),
+                     label="_" + plotting.beta_text(beta))  # fmt: skip
         if beta == 0:
-            ax2.step(c["alpha"], c["n_collisions"], where="post", color="black", lw=0.8,
-                     label=r"exact, $\beta = 0$")  # fmt: skip
+            # The exact count is the reference the laws are read against: a grey band, so the
+            # staircase and the fitted law (black) never share a style.
+            ax2.step(c["alpha"], c["n_collisions"], where="post", **plotting.REFERENCE_STYLE,
+                     label=r"exact count, $\beta = 0$", zorder=1)  # fmt: skip
     ax1.plot([], [], color="0.3", lw=0.6, ls=(0, (2, 2)),
              label=r"$\frac{1}{2}\sqrt{\beta(1+\alpha)/\alpha}$ ($\alpha \to 0$)")  # fmt: skip
     ax1.set_ylabel(plotting.T_COL_LABELS["2pi"])
     plotting.log_axis(ax1, "y")
     ax1.set_ylim(1e-2, None)
-    ax1.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="x-small")
+    ax1.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0))
     a = np.geomspace(plot["alpha_min"], plot["alpha_max"], 400)
     p = fit["fits"]["eq19_unity"]["params"]["p"]
     sel = (points["alpha_unity"] >= plot["alpha_min"]) & (
@@ -70,7 +73,7 @@ def fig2b(sweep, points, fit, plot):
     ax2.plot(a, 1 + a**0.8, **role["paper"], label=r"Eq. 19, $p = 0.8$ (paper)", zorder=3)
     plotting.log_axis(ax2, "y")
     ax2.set_ylabel("number of contacts $n$")
-    ax2.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="x-small")
+    ax2.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0))
     c_fit = fit["fits"]["minima_c_n1"]["params"]["c"]
     sel = (points["alpha_star"] >= plot["alpha_min"]) & (points["alpha_star"] <= plot["alpha_max"])
     ax3.plot(points["alpha_star"][sel], points["e_star"][sel], **role["exact"],
@@ -79,8 +82,8 @@ def fig2b(sweep, points, fit, plot):
              label=r"$(\alpha^* - 0.4)/(1 + \alpha^*)$ (paper)")  # fmt: skip
     ax3.plot(a, (a - c_fit) / (1 + a), **role["fit"], label=rf"$c = {c_fit:.3f}$ (fit)")
     ax3.set_ylim(0, 1.02)
-    ax3.set_ylabel(r"minimum COR $e^*$")
-    ax3.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="x-small")
+    ax3.set_ylabel(r"COR minima $e^*_n$")
+    ax3.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0))
     plotting.log_axis(ax3, "x")
     ax3.set_xlim(plot["alpha_min"], plot["alpha_max"])
     ax3.set_xlabel(r"mass ratio $\alpha = m_2/m_1$")
@@ -106,7 +109,7 @@ def fig2c(residuals, fit):
     ax1.plot(nn, qs["A"] * nn ** qs["q"], **role["fit_alt"],
              label=rf"${qs['A']:.3f}\,n^{{{qs['q']:.4f}}}$ (fit, $n \geq 2$)")  # fmt: skip
     ax1.set_ylabel(r"$\alpha^*_n - \alpha^\#_n$")
-    ax1.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="x-small")
+    ax1.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0))
     ax2.axhline(0, color="0.6", lw=0.5)
     ax2.plot(n, n**0.21 - gap, marker="o", ms=2, mfc="white", lw=0.6, color=role["paper"]["color"],
              ls=role["paper"]["ls"], label="paper law - exact")  # fmt: skip
@@ -122,7 +125,7 @@ def fig2c(residuals, fit):
     ax2.xaxis.set_major_formatter(FuncFormatter(lambda v, _p: f"{v:g}"))
     ax2.xaxis.set_minor_formatter(NullFormatter())
     ax2.set_xlim(0.9, n.max() * 1.1)
-    ax2.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="x-small")
+    ax2.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0))
     return fig
 
 
@@ -136,16 +139,19 @@ def fig2d(curves, errors, plot):
     c = curves[(curves["alpha"] >= plot["alpha_min"]) & (curves["alpha"] <= plot["alpha_max"])]
     e = {r.model: r for r in errors.itertuples()}
     role = plotting.ROLE_STYLES
+    # The paper's model read two ways below alpha*_1: Eq. 21 literally (its falling branch from
+    # alpha = 0) or the exact single-contact branch (1 - alpha)/(1 + alpha) of Eq. 1 there.
     styles = [
-        ("paper", role["paper"], "paper, Eqs. 19-22"),
+        ("paper", role["paper"], r"paper, Eq. 21 below $\alpha^*_1$"),
+        ("paper_exact_first_branch", role["paper_alt"], r"paper, Eq. 1 below $\alpha^*_1$"),
         ("improved", role["fit"], "improved (sqrt cusp)"),
     ]
     ax1.plot(c["alpha"], c["exact"], **plotting.REFERENCE_STYLE, label="exact", zorder=1)
     for name, style, text in styles:
         ax1.plot(c["alpha"], c[name], **{**style, "lw": 0.8}, label=text, zorder=2)
     ax1.set_ylim(0, 1.02)
-    ax1.set_ylabel("COR $e$")
-    ax1.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="x-small")
+    ax1.set_ylabel(plotting.COR_LABEL)
+    ax1.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0))
     styles_err = styles + [
         ("improved_universal", role["fit_alt"], "improved, one shape for all $n$")
     ]
@@ -156,7 +162,7 @@ def fig2d(curves, errors, plot):
     ax2.set_yscale("log")
     ax2.set_ylim(1e-8, 1)
     ax2.set_ylabel("|approx - exact|")
-    ax2.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="x-small", ncols=1)
+    ax2.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), ncols=1)
     plotting.log_axis(ax2, "x")
     ax2.set_xlim(plot["alpha_min"], plot["alpha_max"])
     ax2.set_xlabel(r"mass ratio $\alpha = m_2/m_1$")
@@ -187,12 +193,26 @@ def caption_data(panel, inp, fit) -> dict:
             "A_fit": f"{qs['A']:.3f}",
             "q2_fit": f"{qs['q']:.4f}",
         }
+    from restitution.approx import PAPER
+
     errors = read_table(inp.errors).set_index("model")
+    curves = read_table(inp.curves)
+    below = curves[curves["alpha"] < PAPER["alpha_star_1"]]
+    eq1_below = (below["paper_exact_first_branch"] - below["exact"]).abs().max()
     paper = float(errors.loc["paper", "max_abs_error"])
+    eq1 = errors.loc["paper_exact_first_branch"]
     improved = float(errors.loc["improved", "max_abs_error"])
     universal = float(errors.loc["improved_universal", "max_abs_error"])
     return {
         "paper_max": f"{paper:.2f}",
+        "paper_max_alpha": f"{float(errors.loc['paper', 'alpha_at_max']):.3g}",
+        "eq1_max": f"{float(eq1['max_abs_error']):.2f}",
+        "eq1_max_alpha": f"{float(eq1['alpha_at_max']):.3g}",
+        "eq1_ratio": f"{float(eq1['max_abs_error']) / improved:.0f}",
+        "alpha_star_1": f"{PAPER['alpha_star_1']:g}",
+        "below_lo": f"{float(below['alpha'].min()):.3g}",
+        "below_paper": f"{float((below['paper'] - below['exact']).abs().max()):.2f}",
+        "below_eq1": "0 (exact there)" if eq1_below == 0 else f"{float(eq1_below):.1e}",
         "improved_max": f"{improved:.1e}",
         "ratio": f"{paper / improved:.0f}",
         "universal_max": f"{universal:.1e}",
@@ -201,7 +221,6 @@ def caption_data(panel, inp, fit) -> dict:
 
 
 def main(inp, out, params, logger, smk=None):
-    from pathlib import Path
 
     from restitution import plotting
     from restitution.io import read_table
@@ -224,9 +243,7 @@ def main(inp, out, params, logger, smk=None):
         fig = fig2d(read_table(inp.curves), read_table(inp.errors), plot)
     else:
         raise ValueError(f"unknown panel {params.panel!r}; expected 'b', 'c' or 'd'")
-    stem = Path(out.png).with_suffix("")
-    for path in plotting.save_figure(fig, stem, formats=("png", "pdf")):
-        logger.info("wrote %s", path)
+    plotting.save_outputs(fig, out.png, out.pdf, logger)
     if smk is not None:
         from render_caption import write_caption
 

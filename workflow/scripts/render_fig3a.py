@@ -47,7 +47,7 @@ def draw(sweep: pd.DataFrame, alphas, logger):
     low = sweep.loc[sweep["status"] == "ok", "cor"].min()
     ax.set_ylim(max(0.0, np.floor(low * 10) / 10 - 0.05), 1.01)
     ax.set_xlabel(r"stiffness ratio $\beta = k_2/k_1$")
-    ax.set_ylabel("coefficient of restitution $e$")
+    ax.set_ylabel(plotting.COR_LABEL)
     ax.legend(loc="lower right")
     return fig
 

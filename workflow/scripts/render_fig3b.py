@@ -1,8 +1,8 @@
 """Render Fig. 3(b): the contact compression against time at alpha = fig3.compression.alpha, one
-curve per beta, on the paper's axes (alpha s1/V0 against alpha t) and omega-scaled.
+curve per beta, omega s1/V0 against omega t (the paper's "alpha" axes: a probable misprint).
 
 The compression s1 = -u1 (in units V0/omega) is zero out of contact and drawn positive (the sign
-convention of every figure). An inset in the omega-scaled panel magnifies the last contact, which
+convention of every figure). An inset magnifies the last contact, which
 is marginal near beta = 0.1; the exact marginal beta (results/fig3/marginal_beta.csv) is printed
 in the panel, so the number comes from the generated file.
 """
@@ -13,16 +13,17 @@ DASHES = ["-", "--", "-.", ":"]
 
 
 def draw(compression: pd.DataFrame, contacts: pd.DataFrame, marginal: pd.Series, betas, logger):
-    """Two panels: the paper's axes (alpha s1/V0 against alpha t) and the omega-scaled view.
+    """One panel: the compression omega s1/V0 against omega t, an inset on the last contact.
 
-    Units are m1 = V0 = omega = 1, so the paper's "alpha t" is alpha times omega t and its
-    "alpha s1/V0" is alpha times omega s1/V0. Compression s1 = -u1 >= 0 is drawn positive, the
-    sign convention of every figure (Fig. 7(d) too).
+    The paper's own axes read "alpha t" and "alpha s1/V0", most likely omega misprinted as alpha
+    (the referee's reading, issue 26): the caption says so instead of a second panel that repeats
+    the same curves on axes rescaled by alpha. Compression
+    s1 = -u1 >= 0 is drawn positive, the sign convention of every figure (Fig. 7(d) too).
     """
     from restitution import plotting
 
-    fig = plotting.new_figure("single", aspect=1.45)
-    paper_ax, ax = fig.subplots(2, 1)
+    fig = plotting.new_figure("single", aspect=0.9)
+    ax = fig.add_subplot()
     alpha = float(compression["alpha"].iloc[0])
     # Inset on the last contacts of the curves with the most contacts (the marginal one).
     most = int(contacts.groupby("beta")["contact"].max().max())
@@ -33,42 +34,37 @@ def draw(compression: pd.DataFrame, contacts: pd.DataFrame, marginal: pd.Series,
         t1 = float(last["omega_t_end"].max())
         pad = 0.15 * (t1 - t0)
         depth = float(last["x_max"].max())
-        inset = ax.inset_axes([0.64, 0.52, 0.34, 0.42])
+        inset = ax.inset_axes([0.6, 0.2, 0.37, 0.36])
     for k, beta in enumerate(betas):
         curve = compression[compression["beta"] == beta].sort_values("omega_t")
         n = int((contacts["beta"] == beta).sum())
         cor = float(contacts.loc[contacts["beta"] == beta, "cor"].iloc[0])
         style = dict(color=plotting.beta_colour(beta, betas), ls=DASHES[k % len(DASHES)], lw=1.0)
         label = rf"$\beta = {beta:g}$: {n} contacts, $e = {cor:.3f}$"
-        paper_ax.plot(alpha * curve["omega_t"], alpha * curve["compression"], label=label, **style)
-        ax.plot(curve["omega_t"], curve["compression"], **style)
+        ax.plot(curve["omega_t"], curve["compression"], label=label, **style)
         if inset is not None:
-            inset.plot(curve["omega_t"], curve["compression"], **style)
+            inset.plot(curve["omega_t"], curve["compression"], label="_" + label, **style)
         logger.info("beta %g: %d contacts, COR %.6f", beta, n, cor)
     top = compression["compression"].max()
-    for axis, scale in ((paper_ax, alpha), (ax, 1.0)):
-        axis.axhline(0.0, color="0.6", lw=0.5, zorder=0)
-        axis.set_xlim(scale * compression["omega_t"].min(), scale * compression["omega_t"].max())
-        axis.set_ylim(-0.03 * scale * top, 1.75 * scale * top)
-    paper_ax.set_xlabel(r"$\alpha t$ (paper's axes; $\alpha\,\omega t$ here)")
-    paper_ax.set_ylabel(r"$\alpha s_1 / V_0$")
+    ax.axhline(0.0, color="0.6", lw=0.5, zorder=0)
+    ax.set_xlim(compression["omega_t"].min(), compression["omega_t"].max())
+    ax.set_ylim(-0.03 * top, 1.7 * top)
     ax.set_xlabel(r"scaled time $\omega t$")
     ax.set_ylabel(plotting.COMPRESSION_LABEL)
-    paper_ax.legend(
-        loc="upper right",
-        fontsize=6.5,
+    ax.legend(
+        loc="upper left",
         title=rf"$\alpha = {alpha:g}$; marginal $\beta^* = {marginal['beta_marginal']:.5f}$ "
         rf"({int(marginal['n_collisions_low'])} $\to$ "
         rf"{int(marginal['n_collisions_high'])} contacts)",
-        title_fontsize=6.5,
         alignment="left",
     )
     if inset is not None:
         inset.set_xlim(t0 - pad, t1 + pad)
         inset.set_ylim(-0.15 * depth, 1.15 * depth)
         inset.axhline(0.0, color="0.6", lw=0.5, zorder=0)
-        inset.tick_params(labelsize=6, length=2)
-        inset.set_title(f"contact {most} (magnified)", fontsize=6, pad=2)
+        inset.tick_params(labelsize=7, length=2)
+        inset.minorticks_off()
+        inset.set_title(f"contact {most} (magnified)", fontsize=7, pad=2)
         low, high = inset.get_ylim()
         ax.indicate_inset((t0 - pad, low, t1 - t0 + 2 * pad, high - low), edgecolor="0.4", lw=0.5)
     return fig

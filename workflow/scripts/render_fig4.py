@@ -65,7 +65,7 @@ def draw_a(panel, logger):
     ax.legend(loc="upper right", title=rf"$\mathrm{{DR}} = {panel['dr']:g}$")
     ax.text(
         0.03, 0.96, "loading $\\kappa x^\\eta$, unloading slope $k_1$;\n"
-        "$\\circ$ residual dent", transform=ax.transAxes, va="top", fontsize=6.5,
+        "$\\circ$ residual dent", transform=ax.transAxes, va="top", fontsize=7,
     )  # fmt: skip
     return fig
 
@@ -83,7 +83,10 @@ def draw_sweep(name, sweep, panel, logger):
 
     fig = plotting.new_figure("single", aspect=0.72)
     ax = fig.add_subplot()
-    styles = (plotting.series_style(i) for i in range(len(sweep)))
+    # eta (panels c, d) takes the line styles, DR (panel b) the marked styles: one style, one
+    # meaning across Fig. 4.
+    pick = plotting.marked_style if name == "b" else plotting.series_style
+    styles = (pick(i) for i in range(len(sweep)))
     n_bad_total = 0
     for _, group in sweep.groupby("curve", sort=True):
         group = group.sort_values("alpha")
@@ -95,6 +98,8 @@ def draw_sweep(name, sweep, panel, logger):
             raise ValueError(f"fig4{name}: no rows with status ok for {label}")
         linear = first["contact"] == "linear"
         style = plotting.REFERENCE_STYLE if linear else {**next(styles), "lw": 1.0}
+        if "marker" in style:
+            style.update(ms=3, mfc="white", markevery=0.08)
         ax.plot(ok["alpha"], ok["cor"], **style, zorder=2 if linear else 3, label=label)
         if len(bad):
             n_bad_total += len(bad)
@@ -123,7 +128,7 @@ def draw_sweep(name, sweep, panel, logger):
     ax.set_xlim(sweep["alpha"].min(), sweep["alpha"].max())
     ax.set_ylim(0.0, 1.02)
     ax.set_xlabel(r"mass ratio $\alpha = m_2/m_1$")
-    ax.set_ylabel("coefficient of restitution $e$")
+    ax.set_ylabel(plotting.COR_LABEL)
     title = plotting.beta_text(panel["beta"])
     if name == "b":
         title += rf", $\eta = {panel['eta']:g}$"

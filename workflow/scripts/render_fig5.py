@@ -53,17 +53,17 @@ def draw_frame(ax, theta_deg: float, label: str) -> None:
     ax.plot([-w, xs[0]], [0, 0], color="0.3", lw=0.6)
     ax.plot([xs[-1], w], [0, 0], color="0.3", lw=0.6)
     ax.plot(xs, ys, color="0.3", lw=0.6)
-    ax.text(0, -0.16, r"$k_s$", ha="center", va="top", fontsize=6)
+    ax.text(0, -0.16, r"$k_s$", ha="center", va="top", fontsize=7)
     # Load at the corners and the half angle at the top hinge.
     ax.annotate("", xy=(0, h + 0.35), xytext=(0, h + 0.02),
                 arrowprops=dict(arrowstyle="-|>", lw=0.6, color="black"))  # fmt: skip
     ax.annotate("", xy=(0, -h - 0.35), xytext=(0, -h - 0.02),
                 arrowprops=dict(arrowstyle="-|>", lw=0.6, color="black"))  # fmt: skip
-    ax.text(0.08, h + 0.22, r"$F_2$", fontsize=6, va="center")
+    ax.text(0.08, h + 0.22, r"$F_2$", fontsize=7, va="center")
     ax.add_patch(Arc(top, 0.5, 0.5, theta1=270 - 0, theta2=270 + theta_deg, lw=0.5))
-    ax.text(0.12, h - 0.38, r"$\theta$", fontsize=6)
-    ax.text(-w / 2 - 0.18, h / 2 + 0.05, r"$L$", fontsize=6, ha="right")
-    ax.text(0, -h - 0.5, label, ha="center", va="top", fontsize=5.5)
+    ax.text(0.12, h - 0.38, r"$\theta$", fontsize=7)
+    ax.text(-w / 2 - 0.18, h / 2 + 0.05, r"$L$", fontsize=7, ha="right")
+    ax.text(0, -h - 0.5, label, ha="center", va="top", fontsize=7)
     ax.set_xlim(-1.15, 1.15)
     ax.set_ylim(-h - 0.75, h + 0.45)
     ax.set_aspect("equal")
@@ -93,7 +93,7 @@ def draw_corners(ax, theta_deg: float, label: str) -> None:
                 arrowprops=dict(arrowstyle="-|>", lw=0.6, color="black"))  # fmt: skip
     ax.annotate("", xy=(0, -h + 0.02), xytext=(0, -h - 0.3),
                 arrowprops=dict(arrowstyle="-|>", lw=0.6, color="black"))  # fmt: skip
-    ax.text(0, -h - 0.38, label, ha="center", va="top", fontsize=5.5)
+    ax.text(0, -h - 0.38, label, ha="center", va="top", fontsize=7)
     ax.set_xlim(-1.15, 1.15)
     ax.set_ylim(-h - 0.65, h + 0.35)
     ax.set_aspect("equal")
@@ -164,11 +164,11 @@ def draw_a(spring, panel, logger):
     ax.set_ylabel(r"spring force $F_2\,\omega / (k_2 V_0)$")
     title = plotting.beta_text(spring["beta"]) + ", " + spring_title(spring)
     fig.suptitle(title, fontsize=7)
-    ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=6.5)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=7)
     # Insets in the two empty quadrants: the frame (upper left), the corner pairs (lower right).
-    upper = ax.inset_axes([0.02, 0.52, 0.34, 0.46])
+    upper = ax.inset_axes([0.09, 0.52, 0.34, 0.46])
     draw_frame(upper, float(spring["theta0_deg"]), r"frame at rest, $\theta = \theta_0$")
-    lower = ax.inset_axes([0.64, 0.02, 0.34, 0.46])
+    lower = ax.inset_axes([0.57, 0.04, 0.34, 0.46])
     theta_lock = math.degrees(math.asin(math.sin(theta0) ** (1 / 3)))
     draw_corners(lower, max(theta_lock + 10, 80.0), "corner contact pairs")
     zoom.set_xlim(-1.6, 0.7)
@@ -176,9 +176,9 @@ def draw_a(spring, panel, logger):
     zoom.set_ylim(6 * low, -30 * low)
     zoom.set_xlabel(r"$x_2 / L$ (Eq. 24's units)")
     zoom.set_ylabel(r"$F_2 / (k_s L)$")
-    zoom.legend(loc="upper left", fontsize=6)
+    zoom.legend(loc="upper left", fontsize=7)
     zoom.text(0.98, 0.03, "Eq. 24 is homogeneous in $L$:\nthe curves of every $L$ coincide",
-              transform=zoom.transAxes, ha="right", va="bottom", fontsize=6)  # fmt: skip
+              transform=zoom.transAxes, ha="right", va="bottom", fontsize=7)  # fmt: skip
     return fig
 
 
@@ -214,6 +214,13 @@ def draw_b(sweep, spring, panel, logger):
             label = rf"$v_0 = {first['v0']:g}$"
             v0s = sorted(panel["velocity"]["v0s"])
             colour = plotting.V0_COLOURS[v0s.index(first["v0"]) % len(plotting.V0_COLOURS)]
+            length = float(panel["velocity"]["L"])
+            if np.isclose(first["v0"], panel["v0"]) and length in map(float, panel["Ls"]):
+                # The same curve as L = length on the left: the same colour, said so.
+                colour = plotting.L_COLOURS[
+                    sorted(map(float, panel["Ls"])).index(length) % len(plotting.L_COLOURS)
+                ]
+                label += rf" (left: $L = {length:g}$)"
         ok = group[group["status"] == "ok"]
         bad = group[group["status"] != "ok"]
         if ok.empty:
@@ -235,13 +242,13 @@ def draw_b(sweep, spring, panel, logger):
         ax.set_xlim(sweep["alpha"].min(), sweep["alpha"].max())
         ax.set_ylim(0.0, 1.02)
         ax.set_xlabel(r"mass ratio $\alpha = m_2/m_1$")
-    axes[0].set_ylabel("coefficient of restitution $e$")
+    axes[0].set_ylabel(plotting.COR_LABEL)
     title = plotting.beta_text(spring["beta"]) + ", " + spring_title(spring)
-    axes[0].legend(loc="lower right", title=rf"$v_0 = {panel['v0']:g}$", ncols=2, fontsize=6.5,
-                   title_fontsize=6.5)  # fmt: skip
+    axes[0].legend(loc="lower right", title=rf"$v_0 = {panel['v0']:g}$", ncols=2, fontsize=7,
+                   title_fontsize=7)  # fmt: skip
     if has_v0:
         axes[1].legend(loc="lower right", title=rf"$L = {panel['velocity']['L']:g}$",
-                       fontsize=6.5, title_fontsize=6.5)  # fmt: skip
+                       fontsize=7, title_fontsize=7)  # fmt: skip
     fig.suptitle(title, fontsize=7)
     return fig
 

@@ -57,7 +57,7 @@ def draw(sweep: pd.DataFrame, n_masses, logger):
     ax.set_xlim(x_lo, x_hi)
     ax.set_ylim(0.0, 1.02)
     ax.set_xlabel(r"rear mass ratio $x = (N-1)\,\alpha$")
-    ax.set_ylabel("coefficient of restitution $e$")
+    ax.set_ylabel(plotting.COR_LABEL)
     ax.legend(loc="lower right")
     return fig
 

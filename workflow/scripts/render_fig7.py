@@ -14,7 +14,7 @@ import numpy as np
 import pandas as pd
 
 PANELS = {
-    "a": ("cor", "coefficient of restitution $e$"),
+    "a": ("cor", None),  # plotting.COR_LABEL
     "b": ("n_collisions", "number of contacts $n$"),
     "c": ("omega_t_col", None),  # plotting.T_COL_LABELS["omega"], the paper's normalisation
 }
@@ -80,14 +80,17 @@ def draw(sweep: pd.DataFrame, panel: str, fig7: dict, logger):
     plotting.log_axis(ax, "x")
     ax.set_xlim(fig7["alpha_min"], fig7["alpha_max"])
     ax.set_xlabel(r"mass ratio $\alpha = m_2/m_1$")
-    ax.set_ylabel(ylabel or plotting.T_COL_LABELS["omega"])
+    ax.set_ylabel(ylabel or {"a": plotting.COR_LABEL}.get(panel, plotting.T_COL_LABELS["omega"]))
     title = plotting.beta_text(fig7["beta"])
     if panel == "a":
         ax.set_ylim(0.0, 1.02)
         ax.legend(loc="lower right", title=title, ncols=2)
     elif panel == "b":
-        ax.set_ylim(0, None)
+        # Log count axis: the first steps (1, 2, 3 contacts) stay apart from the peaks.
+        plotting.log_axis(ax, "y")
+        ax.set_ylim(0.8, None)
         ax.legend(loc="upper left", title=title)
+        zoom_counts(ax, sweep, fig7)
     else:
         plotting.log_axis(ax, "y")
         # The fitted large-alpha power law (caption: slope per xi), drawn below the curves.
@@ -101,6 +104,39 @@ def draw(sweep: pd.DataFrame, panel: str, fig7: dict, logger):
                 label=rf"$\propto \alpha^{{{slope:.2f}}}$ (fit, mean slope)")  # fmt: skip
         ax.legend(loc="lower right", title=title)
     return fig
+
+
+#: The inset of Fig. 7(b): the first steps of the count, alpha in ZOOM_ALPHA, counts 1..ZOOM_N.
+ZOOM_ALPHA = (0.6, 2.2)
+ZOOM_N = 4
+
+
+def zoom_counts(ax, sweep: pd.DataFrame, fig7: dict) -> None:
+    """Inset of Fig. 7(b) on linear axes: where the second, third and fourth contacts appear.
+
+    The step curves would cover one another on the same count; each xi is drawn a little higher
+    than the previous (by 0.06 of a contact, stated in the caption) so every step stays visible.
+    """
+    from restitution import plotting
+
+    inset = ax.inset_axes([0.57, 0.11, 0.41, 0.27])
+    xis = sorted(fig7["xis"])
+    for k, xi in enumerate(xis):
+        rows = sweep[(sweep["xi"] == xi) & (sweep["status"] == "ok")].sort_values("alpha")
+        offset = ZOOM_OFFSET * (k - (len(xis) - 1) / 2)
+        inset.step(rows["alpha"], rows["n_collisions"] + offset, where="post", lw=0.8,
+                   color=plotting.xi_colour(xi, fig7["xis"]), label="_" + xi_text(xi))  # fmt: skip
+    inset.set_xlim(*ZOOM_ALPHA)
+    inset.set_ylim(0.6, ZOOM_N + 0.4)
+    inset.set_yticks(range(1, ZOOM_N + 1))
+    inset.set_xticks([1.0, 1.5, 2.0], ["1", "1.5", "2"])
+    inset.minorticks_off()
+    inset.tick_params(labelsize=7, length=2, which="both")
+    inset.set_facecolor("white")
+
+
+#: Vertical offset between the xi curves in the inset of Fig. 7(b), in contacts.
+ZOOM_OFFSET = 0.06
 
 
 def _fmt(value, digits=3):
@@ -121,6 +157,86 @@ def local_minima(curve: pd.DataFrame) -> pd.DataFrame:
     cor = curve["cor"].to_numpy()
     idx = [i for i in range(1, len(cor) - 1) if cor[i] < cor[i - 1] and cor[i] <= cor[i + 1]]
     return curve.iloc[idx]
+
+
+def first_reach(curve: pd.DataFrame, n: int) -> float:
+    """The smallest alpha at which the contact count of ``curve`` is at least ``n`` (NaN: never)."""
+    hit = curve.loc[curve["n_collisions"] >= n, "alpha"]
+    return float(hit.iloc[0]) if len(hit) else float("nan")
+
+
+def _ranges(values: list[int]) -> str:
+    """Integers as runs: [2, 4, 5, 6, 9] -> 'n = 2, 4-6, 9' ('no n' if empty)."""
+    if not values:
+        return "no n"
+    runs, start = [], values[0]
+    for a, b in zip(values, [*values[1:], None], strict=True):
+        if b != a + 1:
+            runs.append(f"{start}" if start == a else f"{start}-{a}")
+            start = b
+    return "n = " + ", ".join(runs)
+
+
+def count_order(by_xi: dict, fig7: dict) -> dict:
+    """How the contact count orders with xi, as caption words and numbers (Fig. 7(b)).
+
+    - Where the count first reaches n, per xi, for every n that every curve reaches: the n whose
+      first alpha moves right (to larger alpha) as xi grows, left, or neither. n = 2 is where the
+      second contact appears, the first COR minimum of Fig. 7(a).
+    - On a log grid of alpha: the share where the count rises with xi (never falls from one xi to
+      the next and is not the same for all), falls with xi, is the same, or neither; and the
+      first alpha of the grid where it falls with xi, with its counts.
+    """
+    xis = list(by_xi)
+    top = min(int(c["n_collisions"].max()) for c in by_xi.values())
+    right, left, neither = [], [], []
+    reach = {}
+    for n in range(2, top + 1):
+        alphas = [first_reach(c, n) for c in by_xi.values()]
+        reach[n] = alphas
+        steps = np.diff(alphas)
+        (right if np.all(steps > 0) else left if np.all(steps < 0) else neither).append(n)
+    grid = np.geomspace(fig7["alpha_min"], fig7["alpha_max"], 4000)
+    counts = np.array(
+        [
+            c["n_collisions"].to_numpy()[
+                np.clip(np.searchsorted(c["alpha"].to_numpy(), grid, side="right") - 1, 0, None)
+            ]
+            for c in by_xi.values()
+        ]
+    )
+    d = np.diff(counts, axis=0)
+    same = np.all(d == 0, axis=0)
+    rises = np.all(d >= 0, axis=0) & ~same
+    falls = np.all(d <= 0, axis=0) & ~same
+    first_fall = int(np.argmax(falls)) if falls.any() else None
+    left_example = left[len(left) // 2] if left else None
+    return {
+        "reach2": ", ".join(_fmt(a) for a in reach.get(2, [])) or "-",
+        "reach2_word": "moves to larger"
+        if 2 in right
+        else (
+            "moves to smaller" if 2 in left else "does not move monotonically to larger or smaller"
+        ),
+        "n_common": top,
+        "n_right": _ranges(right),
+        "n_left": _ranges(left),
+        "n_neither": _ranges(neither),
+        "left_n": left_example if left_example is not None else "-",
+        "left_alphas": ", ".join(_fmt(a) for a in reach[left_example]) if left else "-",
+        "share_rises": f"{100 * rises.mean():.0f}%",
+        "share_falls": f"{100 * falls.mean():.0f}%",
+        "share_same": f"{100 * same.mean():.0f}%",
+        "share_neither": f"{100 * (1 - rises.mean() - falls.mean() - same.mean()):.0f}%",
+        "rise_lo": _fmt(grid[rises][0]) if rises.any() else "-",
+        "rise_hi": _fmt(grid[rises][-1]) if rises.any() else "-",
+        "fall_alpha": _fmt(grid[first_fall]) if first_fall is not None else "-",
+        "fall_counts": ", ".join(str(int(v)) for v in counts[:, first_fall])
+        if first_fall is not None
+        else "-",
+        "n_grid": len(grid),
+        "xi_word": ", ".join(f"{xi:g}" for xi in xis),
+    }
 
 
 def caption_data(sweep: pd.DataFrame, panel: str, fig7: dict) -> dict:
@@ -173,7 +289,20 @@ def caption_data(sweep: pd.DataFrame, panel: str, fig7: dict) -> dict:
             where = c.loc[c["n_collisions"] == peak, "alpha"]
             parts.append(f"{peak} at alpha = {_fmt(where.iloc[0])} (xi = {xi:g})")
             ends.append(str(int(c["n_collisions"].iloc[-1])))
-        data.update(peaks="; ".join(parts), ends=", ".join(ends))
+        peaks = [int(c["n_collisions"].max()) for c in by_xi.values()]
+        steps = np.diff(peaks)
+        data.update(
+            peaks="; ".join(parts),
+            ends=", ".join(ends),
+            peak_word="falls"
+            if np.all(steps < 0)
+            else "rises"
+            if np.all(steps > 0)
+            else "does not change monotonically",
+        )
+        data.update(count_order(by_xi, fig7))
+        data.update(zoom_lo=f"{ZOOM_ALPHA[0]:g}", zoom_hi=f"{ZOOM_ALPHA[1]:g}",
+                    zoom_offset=f"{ZOOM_OFFSET:g}")  # fmt: skip
     elif panel == "c":
         hi = float(fig7["alpha_max"])
         lo = hi / 10

@@ -74,12 +74,14 @@ def draw(traces: pd.DataFrame, contacts: pd.DataFrame, settings: dict, beta: flo
             if curve.empty or hist.empty:
                 raise ValueError(f"no trace for xi = {xi}, alpha = {alpha}")
             st = stats[(xi, alpha)] = trace_stats(hist)
-            colour = plotting.alpha_colour(alpha, alphas)
+            # Coloured by xi, as in Fig. 7(a)-(c); alpha is the column (named in each panel).
+            colour = plotting.xi_colour(xi, xis)
+            named = rf"_$\xi = {xi:g}$"  # hidden label: names the colour's meaning
             t = curve["omega_t"].to_numpy() / (2 * np.pi)
             ring = np.sqrt(beta * (1 + alpha) / alpha)  # ringing period, omega t / 2 pi
             lo, hi, centres = envelope(t, curve["s1"].to_numpy(), PERIODS * ring)
-            ax.fill_between(centres, lo, hi, color=colour, alpha=0.35, lw=0)
-            ax.plot(centres, hi, color=colour, lw=0.6)
+            ax.fill_between(centres, lo, hi, color=colour, alpha=0.35, lw=0, label=named)
+            ax.plot(centres, hi, color=colour, lw=0.6, label=named)
             ax.set_xlim(-0.02 * t.max(), t.max() * 1.02)
             ax.set_ylim(0, top * 1.45)
             ax.text(0.02, 0.97, rf"$\xi = {xi:g}$ ({kind}), $\alpha = {alpha:g}$"
@@ -90,10 +92,10 @@ def draw(traces: pd.DataFrame, contacts: pd.DataFrame, settings: dict, beta: flo
             t0 = st["last_start"] / (2 * np.pi) if xi < 1 else 0.0
             window = (t >= t0) & (t <= t0 + ZOOM)
             inset = ax.inset_axes([0.62, 0.55, 0.36, 0.36])
-            inset.plot(t[window], curve["s1"].to_numpy()[window], color=colour, lw=0.6)
+            inset.plot(t[window], curve["s1"].to_numpy()[window], color=colour, lw=0.6, label=named)
             inset.set_xlim(t0, t0 + ZOOM)
             inset.set_ylim(0, None)
-            inset.tick_params(labelsize=5, length=1.5, which="both")
+            inset.tick_params(labelsize=7, length=1.5, which="both")
             inset.minorticks_off()
             # Only the frame of the magnified window: connector lines would cross the trace.
             low, high = inset.get_ylim()

@@ -13,7 +13,8 @@ from types import SimpleNamespace
 import numpy as np
 import pandas as pd
 
-COLOURS = {"new": "#000000", "split": "#D55E00"}
+# Kinds of curve are none of beta, xi, alpha: black, told apart by line style (no colour of theirs).
+COLOURS = {"new": "#000000", "split": "#000000"}
 
 
 def write_caption(smk, data: dict, logger=None) -> Path:
@@ -58,7 +59,7 @@ def draw(grid: pd.DataFrame, curves: pd.DataFrame, params, logger):
     ax.set_yscale("symlog", linthresh=linthresh, linscale=0.5)
     ax.axhline(linthresh / 2, color="white", lw=0.4)
     ax.text(params.map["alpha_max"] / 1.15, linthresh / 5, r"rigid wall $\beta = 0$", color="white",
-            ha="right", va="center", fontsize="x-small")  # fmt: skip
+            ha="right", va="center", fontsize=7)  # fmt: skip
     for _, c in curves.groupby("curve"):
         kind = c["kind"].iloc[0]
         ax.plot(c["alpha"], c["beta"], color=COLOURS[kind], lw=0.9,
@@ -75,8 +76,8 @@ def draw(grid: pd.DataFrame, curves: pd.DataFrame, params, logger):
     ax.plot([], [], color=COLOURS["new"], label="new contact grazes")
     ax.plot([], [], color=COLOURS["split"], ls="--", label="contact splits")
     ax.plot([], [], color="0.5", ls=":", label="Fig. 2(a), 3(a) cuts")
-    ax.legend(loc="upper left", fontsize="small", framealpha=0.8)
-    fig.colorbar(mesh, ax=ax, label="COR", pad=0.02)
+    ax.legend(loc="upper left", fontsize=7, framealpha=0.8)
+    fig.colorbar(mesh, ax=ax, label=plotting.COR_LABEL, pad=0.02)
     return fig
 
 

@@ -7,15 +7,17 @@ written from the table by ``render_fig8a.write_caption`` (no number typed).
 
 import pandas as pd
 
+#: Design families in the order drawn, with their legend text. A family is none of beta, xi,
+#: alpha: it is drawn in greys with a marker and a line style each (restitution.plotting's rule).
 STYLE = {
-    "uniform": ("#000000", "o", "uniform chain (Fig. 6), best alpha"),
-    "tapered_decreasing": ("#0072B2", "v", "tapered, masses decreasing"),
-    "tapered_increasing": ("#56B4E9", "^", "tapered, masses increasing"),
-    "masses": ("#D55E00", "s", "free masses"),
-    "masses_springs": ("#009E73", "D", "free masses and springs"),
-    "robust": ("#CC79A7", "P", "robust (worst case)"),
+    "uniform": "uniform chain (Fig. 6), best alpha",
+    "tapered_decreasing": "tapered, masses decreasing",
+    "tapered_increasing": "tapered, masses increasing",
+    "masses": "free masses",
+    "masses_springs": "free masses and springs",
+    "robust": "robust (worst case)",
 }
-LABEL = {k: v[2] for k, v in STYLE.items()}
+LABEL = dict(STYLE)
 
 
 def draw(table: pd.DataFrame, params):
@@ -23,20 +25,21 @@ def draw(table: pd.DataFrame, params):
 
     fig = plotting.new_figure("onehalf", aspect=0.7)
     ax = fig.add_subplot()
-    for family, (colour, marker, label) in STYLE.items():
+    for index, (family, label) in enumerate(STYLE.items()):
+        style = {**plotting.marked_style(index), "ms": 4, "mfc": "white"}
         rows = table[(table["family"] == family) & (table["status"] == "ok")]
         if rows.empty:
             continue
         rows = rows.sort_values("n_masses")
         y = rows["worst_cor"] if family == "robust" else rows["cor"]
-        ax.plot(rows["n_masses"], y, color=colour, marker=marker, ms=4, lw=1.0, label=label)
+        ax.plot(rows["n_masses"], y, **{**style, "mfc": style["color"]}, lw=1.0, label=label)
         if family == "robust":
-            ax.plot(rows["n_masses"], rows["cor"], color=colour, marker=marker, ms=4, lw=0.6,
-                    ls="--", mfc="none", label="robust (nominal)")  # fmt: skip
+            ax.plot(rows["n_masses"], rows["cor"], **{**style, "ls": ":"}, lw=0.6,
+                    label="robust (nominal)")  # fmt: skip
     ax.set_ylim(0.0, 1.0)
     ax.set_xlabel("number of masses N")
-    ax.set_ylabel("smallest COR")
-    ax.legend(fontsize="x-small", loc="best")
+    ax.set_ylabel("smallest " + plotting.COR_LABEL)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0))
     return fig
 
 

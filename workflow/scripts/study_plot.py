@@ -20,6 +20,19 @@ def label(param: str, value: float) -> str:
     return f"{param} = {value:g}"
 
 
+def style(study, table, curve: float, index: int) -> dict:
+    """One colour, one meaning (restitution.plotting): a curve per beta, xi or alpha takes that
+    value's colour of every figure; any other curve a neutral line style."""
+    from restitution import plotting
+
+    param = study.axes[1].param if len(study.axes) > 1 else None
+    colour = {"beta": plotting.beta_colour, "xi": plotting.xi_colour,
+              "alpha": plotting.alpha_colour}.get(param)  # fmt: skip
+    if colour is None or math.isnan(curve):
+        return plotting.series_style(index)
+    return {"color": colour(curve, [float(v) for v in table["curve"].dropna().unique()])}
+
+
 def draw(table, study, output: str, logger):
     from restitution import plotting
     from restitution.study import OUTPUTS
@@ -34,7 +47,8 @@ def draw(table, study, output: str, logger):
             logger.warning("curve %d: %d rows not ok, not drawn", index, dropped)
         curve = float(part["curve"].iloc[0])
         text = None if math.isnan(curve) else label(study.axes[1].param, curve)
-        ax.plot(good[first.param], good[output], lw=0.9, label=text)
+        ax.plot(good[first.param], good[output], lw=0.9, label=text,
+                **style(study, table, curve, int(index)))  # fmt: skip
     if first.log:
         plotting.log_axis(ax, "x")
     ax.set_xlabel(name(first.param))
