@@ -1,5 +1,7 @@
-"""Shared helpers of the workflow tests: a scratch copy of the workflow and snakemake runs in it."""
+"""Shared helpers of the workflow tests: a scratch copy of the workflow and snakemake runs in it,
+and workflow scripts loaded as modules."""
 
+import importlib.util
 import os
 import shutil
 import subprocess
@@ -39,3 +41,13 @@ def run_snakemake(*args, cwd=REPO, timeout=600) -> subprocess.CompletedProcess:
         text=True,
         timeout=timeout,
     )
+
+
+def load_script(name: str):
+    """workflow/scripts/<name>.py as a module (its helpers importable, as in a Snakemake job)."""
+    scripts = REPO / "workflow" / "scripts"
+    sys.path.insert(0, str(scripts))
+    spec = importlib.util.spec_from_file_location(name, scripts / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module

@@ -10,27 +10,20 @@ rule fails its job; here the audit itself is checked, and render functions are r
 synthetic tables and their artists read back.
 """
 
-import importlib.util
 import logging
-import sys
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
 
+from conftest import load_script
 from restitution import plotting
 
-SCRIPTS = Path(__file__).resolve().parents[1] / "workflow" / "scripts"
 LOG = logging.getLogger("test_figure_rules")
 
 
-def _load(name):
-    sys.path.insert(0, str(SCRIPTS))
-    spec = importlib.util.spec_from_file_location(name, SCRIPTS / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+_load = load_script
 
 
 render_fig7 = _load("render_fig7")

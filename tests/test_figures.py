@@ -1,9 +1,7 @@
 """Figure helpers checked against closed forms and the solver: Fig. 2(b)'s small-alpha limit, the
 colour sets of restitution.plotting, and the caption data of Fig. 7(c) on synthetic tables."""
 
-import importlib.util
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -12,18 +10,10 @@ import pytest
 from matplotlib.colors import to_rgb
 
 import restitution
+from conftest import load_script
 from restitution import plotting
 
-REPO = Path(__file__).resolve().parents[1]
-SCRIPTS = REPO / "workflow" / "scripts"
-
-
-def _load(name):
-    sys.path.insert(0, str(SCRIPTS))
-    spec = importlib.util.spec_from_file_location(name, SCRIPTS / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+_load = load_script
 
 
 render_fig2bcd = _load("render_fig2bcd")
@@ -149,7 +139,6 @@ def test_other_quantities_take_no_colour_of_beta_xi_alpha():
 def test_paper_figure_scripts_define_no_colours_of_their_own():
     """Every colour of Figs. 2-7 comes from restitution.plotting (one place)."""
     import re
-    from pathlib import Path
 
     scripts = sorted(Path("workflow/scripts").glob("render_fig[2-7]*.py"))
     assert len(scripts) >= 8
