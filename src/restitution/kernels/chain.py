@@ -126,15 +126,7 @@ from restitution.kernels.locator import (
     _xmax,
 )
 from restitution.kernels.parallel import row_blocks
-from restitution.kernels.replica import (
-    JITTER,
-    REPLICA_SAFETY,
-    REPLICA_SEED,
-    REPLICAS,
-    combine,
-    finished,
-    weyl,
-)
+from restitution.kernels.replica import JITTER, REPLICA_SEED, REPLICAS, combine, finished, weyl
 from restitution.kernels.rigid2 import _V_STICK as V_STICK_2
 from restitution.kernels.rigid2 import XI_NEGLIGIBLE, _next_contact0, _next_contact_d, _rigid2
 
@@ -1010,8 +1002,7 @@ def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2):
     """_solve_units with the replica check (restitution.kernels.replica): a finished row's
     error estimate covers the round-off its replica reveals, or the row is ill-conditioned."""
     out = _solve_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, 0.0, 0)
-    st = out[OUT_STATUS]
-    if not (finished(st) or st == STATUS_ENERGY):
+    if not finished(out[OUT_STATUS]):
         return out
     nohist = np.zeros((0, N_HIST))
     reps = np.empty((REPLICAS, N_OUT))
@@ -1021,37 +1012,7 @@ def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2):
         reps[r] = _solve_units(
             mr, kr, cr, kcr, max_events, nohist, work_max, use_rigid2, JITTER, seed
         )
-    _close_accounts(out, reps)
     return combine(out, reps)
-
-
-@njit(cache=True)
-def _account(row):
-    return row[OUT_ETRANS] + row[OUT_EVIB] + row[OUT_EDISS] - 1.0
-
-
-@njit(cache=True)
-def _close_accounts(out, reps):
-    """An energy account open by less than its own measured round-off is closed: the account's
-    terms carry the round-off of the closed forms (in chains with ratios of 1e2, 1e-9 after a
-    few dozen contacts while the COR is right to 1e-12), and the replicas, perturbed by
-    64 ulps, scatter it by far more than the first run's. A run whose account misses 1 by less
-    than REPLICA_SAFETY times that scatter is ok (its COR then gets the replicas' estimate);
-    a systematic error moves every run alike and stays open."""
-    lo = _account(out)
-    hi = lo
-    for r in range(reps.shape[0]):
-        sr = reps[r, OUT_STATUS]
-        if not (finished(sr) or sr == STATUS_ENERGY):
-            return
-        a = _account(reps[r])
-        lo = min(lo, a)
-        hi = max(hi, a)
-    noise = max(ENERGY_TOL, REPLICA_SAFETY * (hi - lo))
-    for r in range(-1, reps.shape[0]):
-        row = out if r < 0 else reps[r]
-        if row[OUT_STATUS] == STATUS_ENERGY and abs(_account(row)) <= noise:
-            row[OUT_STATUS] = STATUS_OK
 
 
 @njit(cache=True)
