@@ -42,7 +42,6 @@ import numpy as np, pandas as pd
 import matplotlib as mpl
 import restitution
 from restitution import plotting
-
 alpha = np.array([0.05, 0.2, 0.5, 0.69])  # below alpha*_1 = 0.697...: one contact, closed form
 table = restitution.solve_many(pd.DataFrame({"alpha": alpha, "beta": 0.0}))
 expected = (1 - alpha) / (1 + alpha)

@@ -3,9 +3,10 @@ not a test).
 
 Usage: .venv/bin/python benchmarks/bench_accuracy.py [--scale 3] [--plot docs/accuracy.png]
 
-1. The random accuracy suite (restitution.bench.accuracy, ``scale`` times the test's seeds):
+1. The random accuracy suite (restitution_workflow.bench.accuracy, ``scale`` times the test's
+seeds):
    every scene solved by ``restitution.solve`` and by the independent mpmath reference
-   (restitution.precise, 30 digits checked at 50). Prints, per family, the rows that are ok,
+   (restitution.solvers.precise, 30 digits checked at 50). Prints, per family, the rows that are ok,
    refused, outside their estimate, and the largest actual error / estimate; plots the actual
    error against the estimate (every point must lie below the diagonal).
 2. The cost of the replica check: one thread, best of 5, microseconds per contact of the exact
@@ -23,8 +24,8 @@ from multiprocessing import Pool
 import numpy as np
 
 import restitution as R
-from restitution.bench.accuracy import random_chain, suite_scenes
-from restitution.precise import solve_precise
+from restitution.solvers.precise import solve_precise
+from restitution_workflow.bench.accuracy import random_chain, suite_scenes
 
 FLOOR = 1e-17  # actual errors of 0 are drawn here
 
@@ -95,7 +96,7 @@ def _time(fn, reps=5):
 def cost() -> None:
     import numba
 
-    from restitution.kernels.chain import WORK_MAX, _normalise, _solve_stiff, _solve_units
+    from restitution.kernels.exact_chain import WORK_MAX, _normalise, _solve_stiff, _solve_units
     from restitution.kernels.layout import N_HIST, OUT_NCOL
     from restitution.kernels.rigid2 import _V_STICK, _rigid2, rigid2
 

@@ -43,8 +43,8 @@ def interleaved(a, b, repeats=REPEATS, inner=1):
 
 
 def main():
-    from restitution.kernels.chain import solve_chain_batch
-    from restitution.kernels.linear import solve_linear
+    from restitution.kernels.exact_chain import solve_chain_batch
+    from restitution.kernels.paper_chain import solve_linear
     from restitution.kernels.rigid2 import rigid2, rigid2_batch
 
     print(f"restitution {restitution.__version__}; best of {REPEATS}, interleaved")

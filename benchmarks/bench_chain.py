@@ -42,7 +42,7 @@ import numba
 import numpy as np
 from numba import njit
 
-from restitution.kernels.chain import (
+from restitution.kernels.exact_chain import (
     PH_CONTACT,
     PH_FREE,
     WORK_MAX,
@@ -60,8 +60,8 @@ from restitution.kernels.layout import (
     OUT_NCOL,
     OUT_STATUS,
 )
-from restitution.kernels.linear import _paper_chain
 from restitution.kernels.locator import _locate
+from restitution.kernels.paper_chain import _paper_chain
 
 NOHIST = np.zeros((0, N_HIST))
 

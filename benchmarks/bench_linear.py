@@ -18,7 +18,7 @@ import numba
 import numpy as np
 
 from restitution.kernels.layout import N_HIST, OUT_COR, OUT_NCOL, OUT_STATUS
-from restitution.kernels.linear import solve_linear, solve_linear_batch
+from restitution.kernels.paper_chain import solve_linear, solve_linear_batch
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests"))
 from test_linear import reference  # noqa: E402

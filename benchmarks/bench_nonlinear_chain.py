@@ -12,10 +12,10 @@ import time
 import numba
 import numpy as np
 
-from restitution import laws
 from restitution.kernels.layout import OUT_NCOL, OUT_STATUS, STATUS_OK
-from restitution.kernels.nonlinear import solve_chain_scene, solve_scene
-from restitution.nonlinear import pack_chain
+from restitution.kernels.stepping import solve_chain_scene, solve_scene
+from restitution.model import laws
+from restitution.solvers.numerical import pack_chain
 
 REPEAT = 7
 H0 = np.zeros((0, 6))

@@ -26,7 +26,7 @@ import numba
 import numpy as np
 from bench_chain import general, matched_uniform, pad, paper, per_contact
 
-from restitution.kernels.chain import solve_chain_batch
+from restitution.kernels.exact_chain import solve_chain_batch
 from restitution.kernels.layout import OUT_NCOL
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -36,7 +36,7 @@ _THEN = """
 import json, sys, time
 import numba, numpy as np
 numba.set_num_threads(1)
-from restitution.kernels.linear import solve_linear_batch
+from restitution.kernels.paper_chain import solve_linear_batch
 rows = json.load(sys.stdin)
 a = np.array([1.0, 2.0])
 solve_linear_batch(a, a * 0 + 1e-3, a * 0 + 0.3, np.array([3, 2]), 1000)  # JIT warm-up

@@ -1,10 +1,11 @@
-"""Reference values of the hard scenes (``restitution.bench.scenes``), from independent methods.
+"""Reference values of the hard scenes (``restitution_workflow.bench.scenes``), from independent
+methods.
 
 Usage: .venv/bin/python benchmarks/reference_values.py [--only NAME ...] [--dps 40] [--grazing]
 
 Needs ``mpmath`` (``pip install mpmath``; only this script uses it, the tests use the pasted
 constants). Prints, per scene, the reference COR, contact count, absolute bound and source, and
-the ``Scene(...)`` reference keywords to paste into ``src/restitution/bench/scenes.py``.
+the ``Scene(...)`` reference keywords to paste into ``src/restitution_workflow/bench/scenes.py``.
 
 Methods (none of them calls the numba kernels):
 
@@ -26,7 +27,8 @@ Methods (none of them calls the numba kernels):
   fastest period) and terminal events, at rtol 1e-11, 1e-12, 1e-13 (atol 1e-2 x rtol); the value
   at 1e-13 is the reference, bound = 10 x its largest difference to the other two (a tolerance
   sweep), floored at 1e-12.
-* nonlinear laws (plastic contact, scissor spring): ``restitution.reference`` (scipy DOP853 with
+* nonlinear laws (plastic contact, scissor spring): ``restitution.solvers.reference`` (scipy DOP853
+with
   the force laws evaluated in Python, independent of the numba integrators) at rtol 1e-11, 1e-12,
   1e-13; bound as for the chain.
 """
@@ -267,7 +269,7 @@ def two_mass_reference(alpha, beta, xi, dps):
 
 def ivp_chain(alpha, beta, xi, n, rtol, max_contacts=5000):
     """(cor, contacts) of an N-mass chain by solve_ivp DOP853 with terminal events."""
-    from restitution.bench.ivp import chain_matrices
+    from restitution_workflow.bench.ivp import chain_matrices
 
     m, K, C, k1 = chain_matrices(alpha, beta, xi, n)
     mt = m.sum()
@@ -359,7 +361,7 @@ def scissor_peak_ratio(sc):
     Checks the scene's claim "near its lock angle"; a plain solve_ivp of the two-mass equations
     with the scissor force of ``laws.structure_force`` (max_step 0.02, rtol 1e-10).
     """
-    from restitution import laws
+    from restitution.model import laws
 
     law = dict(sc.law)
     k2 = sc.alpha / (1 + sc.alpha)
@@ -381,7 +383,7 @@ def scissor_peak_ratio(sc):
 
 
 def main(argv=None):
-    from restitution.bench.scenes import SCENES
+    from restitution_workflow.bench.scenes import SCENES
 
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--only", nargs="*", help="scene names (default: all)")
@@ -409,7 +411,7 @@ def main(argv=None):
             source = "scipy DOP853 per phase, rtol 1e-13, max_step 1/125 period"
         else:
             cor, n, bound, info = sweep_reference(lambda r, sc=sc: nonlinear_run(sc, r))
-            source = "restitution.reference (scipy DOP853), rtol 1e-13"
+            source = "restitution.solvers.reference (scipy DOP853), rtol 1e-13"
             if sc.law.get("structure") == "scissor":
                 info += f"; peak compression / x_lock = {scissor_peak_ratio(sc):.4f}"
         print(f"# {sc.name}: {info}", file=sys.stderr)

@@ -51,8 +51,9 @@ from IPython.display import display
 from scipy.optimize import minimize_scalar
 
 import restitution
-from restitution import plotting, special_points, sweeps
-from restitution.io import read_provenance, read_table
+from restitution import plotting
+from restitution.analysis import special_points, sweeps
+from restitution.tables.io import read_provenance, read_table
 
 plotting.use_style()
 # solve_many may show a tqdm bar; without ipywidgets tqdm falls back to text and says so.
@@ -135,7 +136,7 @@ display(
 # `restitution.solve_many` (exact methods: the impulsive map at beta = 0, closed-form piecewise
 # motion for beta > 0). The white lines separate regions of different contact counts; each COR
 # minimum sits on one of them, where one more contact just grazes the wall. The ticks on the
-# bottom axis are the exact rigid-wall minima alpha*_n (`restitution.special_points`).
+# bottom axis are the exact rigid-wall minima alpha*_n (`restitution.analysis.special_points`).
 
 # %%
 alphas = sweeps.log_grid(0.1, 10.0, HEATMAP_N_ALPHA)
@@ -177,7 +178,8 @@ print(
 # conditions for a very small COR are "not difficult to meet but easily overlooked". For each
 # contact stiffness beta and chain length N (m1 at the wall, N - 1 rear masses of alpha m1
 # each), we scan alpha on a log grid, bisect every change of the contact count (the minima are
-# cusps there, `restitution.sweeps.refined_sweep`) and polish the smallest point with a bounded
+# cusps there, `restitution.analysis.sweeps.refined_sweep`) and polish the smallest point with a
+# bounded
 # scalar minimisation between its neighbours (for smooth minima, e.g. beta = 1). The table gives
 # the minimising alpha, the total rear mass (N - 1) alpha (the axis of Fig. 6(b)) and the COR.
 

@@ -17,7 +17,8 @@
 # The paper's two-mass optimum is alpha = m2/m1 = 0.6971 with a COR of 0.178. This notebook lets
 # you ask the same for your own chain: how many masses, which bounds on the mass (and spring)
 # ratios, a rigid wall or a contact spring, and how robust the answer is to mass errors. It calls
-# `restitution.design` (the library behind Fig. 8(b)) and reads the workflow's design table when
+# `restitution.analysis.design` (the library behind Fig. 8(b)) and reads the workflow's design
+# table when
 # it exists. It never copies solver code.
 #
 # 1. optimise one chain: `minimize_cor(n_masses=N, bounds=..., beta=...)`;
@@ -47,7 +48,7 @@ import pandas as pd
 from IPython.display import display
 
 import restitution
-from restitution import design
+from restitution.analysis import design
 
 RESULTS = Path(os.environ.get("RESTITUTION_RESULTS", "results"))
 N = int(os.environ.get("NB_OPT_N", "3"))
@@ -122,7 +123,7 @@ if TOL > 0:
 # %%
 path = RESULTS / "design" / "designs.parquet"
 if path.exists():
-    table = restitution.io.read_table(path)
+    table = restitution.tables.io.read_table(path)
     display(table[["family", "n_masses", "cor", "worst_cor", "cor_resolved", "bounds_hit"]])
     fig, ax = plt.subplots(figsize=(5, 3.2))
     for family, rows in table.groupby("family"):

@@ -1,9 +1,10 @@
 """Error bars that bound: every exact result marked ok is within its ``error_estimate`` of an
-independent 40-digit reference (restitution.precise: mpmath, its own eigen-decompositions and
+independent 40-digit reference (restitution.solvers.precise: mpmath, its own eigen-decompositions
+and
 root search, nothing shared with the numba kernels), on random chains that include long, chaotic
 contact sequences and mass and spring ratios far from 1.
 
-The suite (``restitution.bench.accuracy``) is the one docs/accuracy.md plots
+The suite (``restitution_workflow.bench.accuracy``) is the one docs/accuracy.md plots
 (benchmarks/bench_accuracy.py).
 """
 
@@ -13,8 +14,8 @@ import mpmath
 import pytest
 
 import restitution as R
-from restitution.bench.accuracy import random_chain, suite_scenes
-from restitution.precise import solve_precise
+from restitution.solvers.precise import solve_precise
+from restitution_workflow.bench.accuracy import random_chain, suite_scenes
 
 
 def kernel_and_reference(family, seed, dps=30):

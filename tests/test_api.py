@@ -9,7 +9,7 @@ import pytest
 
 import restitution
 from restitution import SceneError, solve, solve_many
-from restitution.result import RESULT_COLUMNS
+from restitution.solvers.result import RESULT_COLUMNS
 
 
 @pytest.mark.parametrize(

@@ -1,11 +1,12 @@
-"""Approximate COR models and the least-squares fits (restitution.approx, restitution.fitting)."""
+"""Approximate COR models and the least-squares fits (restitution.analysis.approx,
+restitution.analysis.fitting)."""
 
 import numpy as np
 import pandas as pd
 import pytest
 
 import restitution
-from restitution import approx, fitting
+from restitution.analysis import approx, fitting
 
 
 @pytest.fixture(scope="module")

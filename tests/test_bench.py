@@ -1,4 +1,5 @@
-"""The work-precision harness (restitution.bench): records, errors, failures, config, pipeline.
+"""The work-precision harness (restitution_workflow.bench): records, errors, failures, config,
+pipeline.
 
 Reference values here are closed forms, never solver output: below the first grazing point
 alpha*_1 = 0.697 a rigid-wall chain has a single contact and COR = (1 - x)/(1 + x) with
@@ -18,15 +19,20 @@ import yaml
 
 from conftest import REPO, run_snakemake
 from restitution import solve
-from restitution.bench import harness
-from restitution.bench.harness import BenchConfigError, Setting, check_config, run_scene_family
-from restitution.bench.ivp import TIME_BUDGET_STATUS, solve_ivp_scene
-from restitution.bench.scaling import fit_exponents
-from restitution.bench.scenes import Scene
-from restitution.bench.summary import headline, summary
-from restitution.io import read_provenance, read_table
-from restitution.scene import SceneError
-from restitution.special_points import alpha_star
+from restitution.analysis.special_points import alpha_star
+from restitution.model.scene import SceneError
+from restitution.tables.io import read_provenance, read_table
+from restitution_workflow.bench import harness
+from restitution_workflow.bench.harness import (
+    BenchConfigError,
+    Setting,
+    check_config,
+    run_scene_family,
+)
+from restitution_workflow.bench.ivp import TIME_BUDGET_STATUS, solve_ivp_scene
+from restitution_workflow.bench.scaling import fit_exponents
+from restitution_workflow.bench.scenes import Scene
+from restitution_workflow.bench.summary import headline, summary
 
 SINGLE = Scene(
     "single", "one contact, alpha = 0.5", 0.5, reference_cor=1 / 3, reference_contacts=1,

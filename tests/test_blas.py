@@ -1,4 +1,5 @@
-"""Kernel calls run with one BLAS thread (restitution.blas), and the user's setting comes back."""
+"""Kernel calls run with one BLAS thread (restitution.solvers.blas), and the user's setting comes
+back."""
 
 import numpy as np
 import pandas as pd
@@ -6,8 +7,8 @@ import pytest
 from threadpoolctl import threadpool_info, threadpool_limits
 
 import restitution
-from restitution import blas, methods
-from restitution.kernels import chain as chain_kernels
+from restitution.kernels import exact_chain as chain_kernels
+from restitution.solvers import blas, methods
 
 
 def blas_threads() -> set:

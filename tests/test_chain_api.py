@@ -18,8 +18,8 @@ from scipy.integrate import solve_ivp
 
 import restitution
 from restitution import Chain, SceneError, solve, solve_many
-from restitution import methods as M
-from restitution.result import RESULT_COLUMNS
+from restitution.solvers import methods as M
+from restitution.solvers.result import RESULT_COLUMNS
 
 
 # ----------------------------------------------------------------------------------------------

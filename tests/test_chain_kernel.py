@@ -1,4 +1,5 @@
-"""The general linear-chain kernel (restitution.kernels.chain) against an independent reference.
+"""The general linear-chain kernel (restitution.kernels.exact_chain) against an independent
+reference.
 
 The reference below is a slow pure-Python solver that shares nothing with the kernel: every phase
 is propagated with scipy.linalg.expm of the phase's first-order system matrix (no eigenvectors,
@@ -19,7 +20,7 @@ import pytest
 from scipy.linalg import expm
 from scipy.optimize import brentq
 
-from restitution.kernels.chain import sample_chain, solve_chain, solve_chain_batch
+from restitution.kernels.exact_chain import sample_chain, solve_chain, solve_chain_batch
 from restitution.kernels.layout import (
     FLAG_STICKING,
     H_IMPULSE,
@@ -38,7 +39,7 @@ from restitution.kernels.layout import (
     STATUS_INVALID,
     STATUS_OK,
 )
-from restitution.kernels.linear import solve_linear
+from restitution.kernels.paper_chain import solve_linear
 
 NOHIST = np.zeros((0, N_HIST))
 GRAZE = 1e-6
@@ -372,8 +373,8 @@ def test_critically_damped_chain_stays_ok(kc):
 def test_chatter_on_a_chain_finishes_with_the_sticking_limit():
     """A rigid wall and a dashpot on link 1: Zeno-like chatter is continued by sticking, flagged,
     and the result does not depend on the cut-off."""
-    from restitution.kernels.chain import WORK_MAX, _run
-    from restitution.kernels.linear import _paper_chain
+    from restitution.kernels.exact_chain import WORK_MAX, _run
+    from restitution.kernels.paper_chain import _paper_chain
 
     m, k, c, kc = _paper_chain(50.0, 0.0, 2.0, 3)
     out, hist = _kernel(m, k, c, kc, rows=100_000)

@@ -1,5 +1,5 @@
 """Rigid-wall dashpot chatter and the sticking limit, budgets and extreme parameters of the
-exact kernels (restitution.kernels.chain, rigid2, linear).
+exact kernels (restitution.kernels.exact_chain, rigid2, linear).
 
 Chatter: a dashpot on link 1 at a rigid wall makes m1 bounce with speeds that decay only like
 1/k, so the contact sequence is unbounded; the kernels continue it with its sticking limit (m1
@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pytest
 
-from restitution.kernels.chain import (
+from restitution.kernels.exact_chain import (
     BETA_FALLBACK,
     BETA_RIGID,
     WORK_MAX,
@@ -42,7 +42,7 @@ from restitution.kernels.layout import (
     STATUS_PERMANENT_CONTACT,
     STATUS_WORK_BUDGET,
 )
-from restitution.kernels.linear import _paper_chain, solve_linear
+from restitution.kernels.paper_chain import _paper_chain, solve_linear
 from restitution.kernels.rigid2 import _rigid2, rigid2
 
 NOHIST = np.zeros((0, N_HIST))

@@ -134,7 +134,7 @@ def test_modulefinder_sees_the_kernels():
     """The independent reference is not vacuous: the issue's examples are found."""
     fig2a = reached("simulate_fig2a.py")
     assert {
-        "src/restitution/kernels/chain.py",
+        "src/restitution/kernels/exact_chain.py",
         "src/restitution/kernels/locator.py",
         "src/restitution/__init__.py",
         "workflow/scripts/_common.py",

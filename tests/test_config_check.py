@@ -1,4 +1,4 @@
-"""restitution.config_check: the workflow's configuration checks, in plain Python.
+"""restitution_workflow.config_check: the workflow's configuration checks, in plain Python.
 
 The checks run on the real schema and configurations of the workflow (no snakemake here; the
 workflow's use of them is tested in test_workflow.py).
@@ -12,7 +12,7 @@ import pytest
 import yaml
 
 from conftest import REPO
-from restitution.config_check import MAX_JOBS, ConfigError, check_config
+from restitution_workflow.config_check import MAX_JOBS, ConfigError, check_config
 
 SCHEMA = yaml.safe_load((REPO / "workflow/schemas/config.schema.yaml").read_text())
 PAPER = yaml.safe_load((REPO / "config/config.yaml").read_text())

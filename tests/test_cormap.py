@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import restitution
-from restitution import cormap, special_points
+from restitution.analysis import cormap, special_points
 
 
 @pytest.fixture(scope="module")

@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 
 import restitution
-from restitution import design, special_points
+from restitution.analysis import design, special_points
 
 
 @pytest.fixture(scope="module")

@@ -204,7 +204,7 @@ def test_study_plot_colours_a_xi_curve_by_its_xi():
     pass the audit save_outputs applies."""
     import yaml
 
-    from restitution.study import check_study
+    from restitution_workflow.study import check_study
 
     study_plot = _load("study_plot")
     example = Path(__file__).resolve().parents[1] / "config" / "study-example.yaml"

@@ -1,7 +1,8 @@
 """Declared ranges are handled ranges (issue 17): every parameter of the paper's form drawn over
-its full declared range (restitution.chain.RANGES), extreme ends and subnormals included, through
+its full declared range (restitution.model.chain.RANGES), extreme ends and subnormals included,
+through
 the public API, and the general form (masses, springs, dashpots, k_contact) over its value ranges
-and its ratio ranges (restitution.chain.RATIOS). Each row is either a finished result (ok or
+and its ratio ranges (restitution.model.chain.RATIOS). Each row is either a finished result (ok or
 permanent contact: at least one contact, a passive COR in [-1e-12, 1 + 1e-12], the energy
 account closed) or an explicit non-ok status with NaN COR; never a traceback, never unbounded
 (a general chain of extreme ratios once ran for minutes: the dissipation of a permanent contact
@@ -15,7 +16,7 @@ import pandas as pd
 import pytest
 
 import restitution
-from restitution.chain import RANGES, RATIOS
+from restitution.model.chain import RANGES, RATIOS
 
 FINISHED = {"ok", "permanent_contact"}
 

@@ -1,4 +1,5 @@
-"""The hard-case suite (issue #7 item 6): every method on every scene of restitution.bench.scenes.
+"""The hard-case suite (issue #7 item 6): every method on every scene of
+restitution_workflow.bench.scenes.
 
 Correctness only (timings are the benchmark's job): right contact count, COR error within the
 method's own stated bound plus the reference's bound, no NaN, an energy account that closes, and
@@ -19,7 +20,7 @@ Bounds per method:
 Exactly at a grazing point (scenes ``graze2``, ``graze5``, beta = 0) the exact solution of the
 float input has n contacts and misses the (n+1)-th by 4.5e-16 (n = 2) and 1.3e-15 (n = 5): a
 touch inside round-off. The exact kernels' rule (a touch within round-off does not count,
-kernels/linear.py, rigid2.py) gives n, and so must they. A numerical method may register that
+kernels/paper_chain.py, rigid2.py) gives n, and so must they. A numerical method may register that
 touch: then the count is n + 1 and the COR moves along the cusp by C sqrt(d) for a touch of depth
 d, C = 0.95 (mpmath: alpha 2 ulp above alpha*_2 has a touch of depth 1.7e-15 that moves the COR
 by 3.9e-8). A touch a float solver registers is at most ~1e-12 deep (a few thousand ulps of the
@@ -35,7 +36,7 @@ import numpy as np
 import pytest
 
 import restitution
-from restitution.bench.scenes import SCENES, Scene, scene
+from restitution_workflow.bench.scenes import SCENES, Scene, scene
 
 pytestmark = pytest.mark.hard
 
@@ -59,7 +60,8 @@ CASES = [(sc.name, m) for sc in SCENES for m in methods(sc)]
 # so every other case keeps its full check. Fixed since by two-setting error estimates
 # (nonlinear.py): adaptive on "many" (x1.45 over its old estimate), reference on "plastic"
 # (x3.6), and Verlet's |cor(h/2) - cor(h)|/3 on six scenes (x1.6-2.8); by gap-minimum events in
-# restitution.reference: the shallow contacts just past alpha*_2 and alpha*_5 it used to miss.
+# restitution.solvers.reference: the shallow contacts just past alpha*_2 and alpha*_5 it used to
+# miss.
 KNOWN_FAILURES = {
     ("xi3", "reference"): "error 6.1e-6 above its estimate 1e-9 (= rtol; x6000); 2.6e-12 at "
     "rtol 1e-11; 1e-8 and 1e-9 agree to 7e-11, so the two-setting estimate misses it (the "
@@ -143,7 +145,7 @@ def test_budget_is_checked_for_the_tiny_scene_too():
     """The one-contact scene cannot exhaust a budget; a budget of zero is refused up front."""
     sc = scene("tiny")
     for method in methods(sc):
-        with pytest.raises(restitution.scene.SceneError, match="max_events"):
+        with pytest.raises(restitution.model.scene.SceneError, match="max_events"):
             restitution.solve(**sc.solve_kwargs(), method=method, max_events=0)
 
 
@@ -191,7 +193,7 @@ def test_plastic_law_that_creates_energy_is_never_ok(method):
 def test_adaptive_estimate_covers_its_error_on_a_soft_scissor():
     """Scissor spring, alpha = 1, beta = 0.01, L = 1, ks_ratio = 0.01, default rtol 1e-9: COR
     = 1 + 4.0e-7 (an elastic system gaining energy). Reference COR = 1 - 2.684e-9
-    (restitution.reference at rtol 1e-13; 1e-11 gives 1 - 2.233e-9, adaptive at 1e-13
+    (restitution.solvers.reference at rtol 1e-13; 1e-11 gives 1 - 2.233e-9, adaptive at 1e-13
     1 - 2.641e-9)."""
     r = restitution.solve(1.0, 0.01, structure="scissor", L=1.0, ks_ratio=0.01)
     assert r.status == "ok"

@@ -17,7 +17,6 @@ import pytest
 from scipy.integrate import quad
 from scipy.special import beta as beta_fn
 
-from restitution import laws
 from restitution.kernels.layout import (
     H_XMAX,
     N_HIST,
@@ -28,8 +27,9 @@ from restitution.kernels.layout import (
     OUT_TCOL,
     STATUS_OK,
 )
-from restitution.kernels.nonlinear import METHOD_ADAPTIVE, METHOD_VERLET, solve_chain_scene
-from restitution.nonlinear import solve_nonlinear_chain
+from restitution.kernels.stepping import METHOD_ADAPTIVE, METHOD_VERLET, solve_chain_scene
+from restitution.model import laws
+from restitution.solvers.numerical import solve_nonlinear_chain
 
 I_HERTZ = 0.4 * beta_fn(0.4, 0.5)
 C_HERTZ = 2.0 * I_HERTZ * 1.25**0.4
@@ -118,7 +118,7 @@ def test_elastic_hertz_chain_conserves_energy(v0):
 
 def test_hertz_in_the_two_mass_kernel_matches_the_chain_kernel():
     # the same law id runs through the two-mass scene kernel (integrated free flight) too
-    from restitution.kernels.nonlinear import solve_scene
+    from restitution.kernels.stepping import solve_scene
 
     alpha = 1.7
     k2 = alpha / (1 + alpha)

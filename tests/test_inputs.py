@@ -3,7 +3,7 @@
 ``trajectory`` and the command line, null cells, decimal parquet columns, law cells of the wrong
 shape; and the input classes that must be read correctly (two-mass CSV tables).
 
-The edges come from the one range table (``restitution.chain.RANGES``): just inside, a scene
+The edges come from the one range table (``restitution.model.chain.RANGES``): just inside, a scene
 runs and ends finished or honestly flagged; just outside, it is refused naming the parameter.
 """
 
@@ -26,9 +26,9 @@ from hypothesis import strategies as st
 
 import restitution
 from restitution import cli
-from restitution.chain import RANGES, SceneError
-from restitution.io import read_table, write_table
-from restitution.result import MESSAGES
+from restitution.model.chain import RANGES, SceneError
+from restitution.solvers.result import MESSAGES
+from restitution.tables.io import read_table, write_table
 
 PROFILE = dict(
     derandomize=True,

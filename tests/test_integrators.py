@@ -7,10 +7,10 @@ import pytest
 from scipy.optimize import brentq
 
 from restitution.kernels.integrators import first_root
-from restitution.kernels.linear import solve_linear
-from restitution.kernels.nonlinear import METHOD_VERLET, solve_scene
+from restitution.kernels.paper_chain import solve_linear
 from restitution.kernels.rigid2 import rigid2
-from restitution.nonlinear import build_laws, solve_nonlinear
+from restitution.kernels.stepping import METHOD_VERLET, solve_scene
+from restitution.solvers.numerical import build_laws, solve_nonlinear
 
 H0 = np.zeros((0, 6))
 X1 = brentq(lambda x: math.tan(x) - x, 4.4, 4.5)  # 4.4934...

@@ -8,7 +8,7 @@ import pandas as pd
 import pyarrow.parquet as pq
 import pytest
 
-from restitution.io import TableError, config_hash, read_provenance, read_table, write_table
+from restitution.tables.io import TableError, config_hash, read_provenance, read_table, write_table
 
 
 def _run(*args):

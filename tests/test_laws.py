@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from restitution import laws
-from restitution.nonlinear import build_laws, solve_nonlinear
-from restitution.scene import SceneError
+from restitution.model import laws
+from restitution.model.scene import SceneError
+from restitution.solvers.numerical import build_laws, solve_nonlinear
 
 K2 = 2.0 / 3.0  # alpha = 2
 

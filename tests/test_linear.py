@@ -7,7 +7,6 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from restitution.bench.ivp import chain_matrices
 from restitution.kernels.layout import (
     H_TEND,
     H_TSTART,
@@ -22,7 +21,8 @@ from restitution.kernels.layout import (
     STATUS_EVENT_BUDGET,
     STATUS_OK,
 )
-from restitution.kernels.linear import sample_linear, solve_linear, solve_linear_batch
+from restitution.kernels.paper_chain import sample_linear, solve_linear, solve_linear_batch
+from restitution_workflow.bench.ivp import chain_matrices
 
 NOHIST = np.zeros((0, N_HIST))
 X1 = 4.493409457909064  # first positive root of tan x = x
@@ -389,7 +389,7 @@ def test_sample_linear_continuous_and_consistent():
 def test_permanent_contact_is_proven():
     """A strongly damped contact whose slowest (real) mode presses m1 into the wall never ends;
     the opposite creep separates. Internal locator, hand-made start states."""
-    from restitution.kernels.linear import (
+    from restitution.kernels.paper_chain import (
         LOC_EVENT,
         LOC_PERMANENT,
         _locate,
@@ -419,7 +419,7 @@ def test_history_x_max_is_the_largest_compression(alpha, beta, xi):
     # climb from the best locator sample stopped on a lower local maximum). Reference: the
     # closed-form trajectory sampled densely, then again around its best sample.
     from restitution import solve
-    from restitution.kernels.linear import sample_linear
+    from restitution.kernels.paper_chain import sample_linear
 
     history = solve(alpha, beta, xi, history=True).history
     for row in history.itertuples():

@@ -1,4 +1,4 @@
-"""The column-wise reading of general tables (restitution.linear_rows) against the row-by-row
+"""The column-wise reading of general tables (restitution.tables.linear_rows) against the row-by-row
 reading it stands in for: same Chains, plan, kernel input and results, bit for bit; every cell
 that is not plainly valid left to the row-by-row reading (which words the error)."""
 
@@ -8,9 +8,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from restitution import linear_rows, solve_many
-from restitution.chain import SceneError
-from restitution.tables import GENERAL, scene_table
+from restitution import solve_many
+from restitution.model.chain import SceneError
+from restitution.tables import linear_rows
+from restitution.tables.scene_table import GENERAL, scene_table
 
 
 @pytest.fixture

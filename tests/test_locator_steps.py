@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 from scipy.linalg import expm
 
-from restitution.kernels.chain import PH_CONTACT, _modal_model, _run
+from restitution.kernels.exact_chain import PH_CONTACT, _modal_model, _run
 from restitution.kernels.layout import N_HIST
-from restitution.kernels.linear import _paper_chain
 from restitution.kernels.locator import _locate, _safe_step
+from restitution.kernels.paper_chain import _paper_chain
 from test_modal_basis import _system
 
 

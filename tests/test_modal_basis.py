@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 from scipy.linalg import expm
 
-from restitution.kernels.chain import PH_CONTACT, _modal_model, _modal_state, _run
+from restitution.kernels.exact_chain import PH_CONTACT, _modal_model, _modal_state, _run
 from restitution.kernels.layout import N_HIST
-from restitution.kernels.linear import _paper_chain
 from restitution.kernels.locator import _locate
+from restitution.kernels.paper_chain import _paper_chain
 from test_chain_kernel import chain_mats
 
 
@@ -150,7 +150,7 @@ def test_dashpot_work_of_all_dashpots_at_once_matches_quadrature(T):
     contact phase (kg > 0)."""
     from scipy.integrate import quad
 
-    from restitution.kernels.chain import _diss_matrices, _diss_phase
+    from restitution.kernels.exact_chain import _diss_matrices, _diss_phase
 
     m = np.array([1.0, 0.4, 2.5, 0.8])
     k = np.array([0.5, 1.7, 0.9])

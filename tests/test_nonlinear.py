@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from restitution.kernels.linear import solve_linear
-from restitution.nonlinear import solve_nonlinear
+from restitution.kernels.paper_chain import solve_linear
+from restitution.solvers.numerical import solve_nonlinear
 
 PLASTIC = dict(contact="plastic")
 SCISSOR = dict(structure="scissor", ks_ratio=0.01)
@@ -140,8 +140,8 @@ def test_auto_uses_the_exact_kernels_for_linear_scenes():
 def test_many_matches_single_scenes_and_names_a_bad_row():
     import pandas as pd
 
-    from restitution.nonlinear import solve_nonlinear_many
-    from restitution.scene import SceneError
+    from restitution.model.scene import SceneError
+    from restitution.solvers.numerical import solve_nonlinear_many
 
     frame = pd.DataFrame(SCENES)
     got = solve_nonlinear_many(frame, rtol=1e-10)
@@ -172,9 +172,9 @@ def test_energy_creating_plastic_reload_is_flagged():
 def test_two_mass_batch_rows_fail_as_nan_never_unset():
     # rows the kernel cannot finish (here NaN parameters that bypassed the Python checks) come
     # back NaN with a failure status; the others are unaffected
-    from restitution import laws
     from restitution.kernels.layout import OUT_COR, OUT_STATUS, STATUS_OK
-    from restitution.kernels.nonlinear import METHOD_ADAPTIVE, solve_scene_batch
+    from restitution.kernels.stepping import METHOD_ADAPTIVE, solve_scene_batch
+    from restitution.model import laws
 
     k2 = 2.0 / 3.0
     cp = laws.contact_params(laws.C_PLASTIC, k2 / 0.1, laws.plastic_kappa(0.5, 0.5, k2 / 0.1), 0.5)

@@ -15,9 +15,13 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from restitution import laws
-from restitution.nonlinear import solve_nonlinear, solve_nonlinear_chain, solve_nonlinear_chain_many
-from restitution.scene import SceneError
+from restitution.model import laws
+from restitution.model.scene import SceneError
+from restitution.solvers.numerical import (
+    solve_nonlinear,
+    solve_nonlinear_chain,
+    solve_nonlinear_chain_many,
+)
 
 RTOL_REF = 1e-12
 
@@ -395,7 +399,7 @@ def test_full_declared_ranges_finish_or_fail_explicitly():
         else:
             contact = {"law": law, "k": _draw_range_end(rng, 1e-2, 1e6)}
         try:
-            from restitution.nonlinear import pack_chain
+            from restitution.solvers.numerical import pack_chain
 
             pack_chain(m, k, c, contact, None, v0)
         except SceneError as e:
@@ -428,7 +432,7 @@ def test_full_declared_ranges_finish_or_fail_explicitly():
 def test_kernel_batch_never_raises_and_never_leaves_a_row_unset():
     # garbage that bypassed the Python checks: the kernel's own guard makes the row invalid
     from restitution.kernels.layout import OUT_COR, OUT_STATUS, STATUS_INVALID, STATUS_OK
-    from restitution.kernels.nonlinear import solve_chain_scene_batch
+    from restitution.kernels.stepping import solve_chain_scene_batch
 
     rows = 6
     m = np.ones((rows, 3))
@@ -455,7 +459,7 @@ def test_work_budget_ends_a_scene_honestly():
         [1.0, 2.0, 1.0], [1.0, 1.0], None, {"law": "hertz", "k": 10.0}, None, 1.0, max_work=600
     )
     from restitution.kernels.layout import STATUS_WORK_BUDGET
-    from restitution.result import status_name
+    from restitution.solvers.result import status_name
 
     assert r.status == status_name(STATUS_WORK_BUDGET) and math.isnan(r.cor) and not r.success
 

@@ -2,7 +2,8 @@
 
 Each ``notebooks/*.py`` is converted with jupytext and run by nbclient in a fresh kernel, with its
 parameters (environment variables, see the notebook's first cell) set small. Its input, the
-Fig. 2(a) sweep table, is written here by the package's API and ``restitution.io.write_table``
+Fig. 2(a) sweep table, is written here by the package's API and
+``restitution.tables.io.write_table``
 into a temporary results folder, so the test needs no workflow run. The design-question cell
 must find the paper's headline minimum, checked against the closed form (paper Eqs. 10-11).
 """
@@ -17,8 +18,8 @@ import pandas as pd
 import pytest
 
 import restitution
-from restitution import sweeps
-from restitution.io import write_table
+from restitution.analysis import sweeps
+from restitution.tables.io import write_table
 
 REPO = Path(__file__).resolve().parents[1]
 NOTEBOOKS = sorted((REPO / "notebooks").glob("*.py"))

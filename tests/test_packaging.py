@@ -35,7 +35,7 @@ def _imported(node) -> set[str]:
 def _src_imports() -> tuple[set[str], set[str]]:
     """Top-level modules imported under src/restitution (parsed, not grepped): (at import time,
     only inside functions). A function-level import is an optional feature's (e.g. PyYAML for
-    restitution.study.load_study), needed only when that function runs."""
+    restitution_workflow.study.load_study), needed only when that function runs."""
     eager: set[str] = set()
     lazy: set[str] = set()
     for path in (ROOT / "src" / "restitution").rglob("*.py"):

@@ -3,7 +3,7 @@
 Properties (issue #7 item 6): energy conservation without dissipation; COR <= 1 without
 pre-stored vibration; the paper's Eq. 23 bound with plastic contact; invariance under rescaling
 of units, checked against an independent dimensional integration of the raw equations of motion
-(scipy, SI units) through ``restitution.dimensional``.
+(scipy, SI units) through ``restitution.model.dimensional``.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
 import restitution
-from restitution.dimensional import nondimensional, omega, to_dimensional
+from restitution.model.dimensional import nondimensional, omega, to_dimensional
 
 # Deterministic: derandomize (examples from a fixed seed), no example database, no deadline.
 PROFILE = dict(
@@ -235,7 +235,8 @@ def test_units_rescaling_matches_dimensional_integration(alpha, beta, xi, n, m1,
     """Masses x lam, stiffnesses x mu, V0 x nu (dashpot x sqrt(lam mu) keeps xi): same COR.
 
     Both the system and its rescaled copy are integrated in SI units by scipy and compared with
-    ``restitution.solve`` of their non-dimensional parameters (``restitution.dimensional``); the
+    ``restitution.solve`` of their non-dimensional parameters (``restitution.model.dimensional``);
+    the
     dimensional duration is ``omega_t_col / omega``.
     """
     lam, mu, nu = scale
@@ -271,11 +272,11 @@ def test_units_rescaling_matches_dimensional_integration(alpha, beta, xi, n, m1,
 
 
 def test_nondimensional_rejects_bad_input():
-    with pytest.raises(restitution.scene.SceneError, match="m1 must be a positive"):
+    with pytest.raises(restitution.model.scene.SceneError, match="m1 must be a positive"):
         nondimensional(m1=0.0, m2=1.0, k2=1.0, V0=1.0)
-    with pytest.raises(restitution.scene.SceneError, match="k1 must be a positive"):
+    with pytest.raises(restitution.model.scene.SceneError, match="k1 must be a positive"):
         nondimensional(m1=1.0, m2=1.0, k2=1.0, V0=1.0, k1=-5.0)
-    with pytest.raises(restitution.scene.SceneError, match="c .dashpot"):
+    with pytest.raises(restitution.model.scene.SceneError, match="c .dashpot"):
         nondimensional(m1=1.0, m2=1.0, k2=1.0, V0=1.0, c=-1.0)
-    with pytest.raises(restitution.scene.SceneError, match="V0 must be a positive"):
+    with pytest.raises(restitution.model.scene.SceneError, match="V0 must be a positive"):
         nondimensional(m1=1.0, m2=1.0, k2=1.0, V0=float("nan"))

@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 
 import restitution
-from restitution import special_points as sp
+from restitution.analysis import special_points as sp
 
 N_CHECK = 30
 

@@ -1,4 +1,4 @@
-"""A user's own study (restitution.study and the workflow's `study` target).
+"""A user's own study (restitution_workflow.study and the workflow's `study` target).
 
 The checks name the key, the value and what is allowed, before any work; the refinement finds
 cusps and smooth minima (against closed forms); the target runs a small study end to end in a
@@ -15,9 +15,15 @@ import pytest
 import yaml
 
 import restitution
-import restitution.study as study_module
+import restitution_workflow.study as study_module
 from conftest import REPO, copy_workflow, run_snakemake
-from restitution.study import STUDY_SCHEMA, StudyError, check_study, load_study, solve_curve
+from restitution_workflow.study import (
+    STUDY_SCHEMA,
+    StudyError,
+    check_study,
+    load_study,
+    solve_curve,
+)
 
 PAPER = {
     "name": "demo",

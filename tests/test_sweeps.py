@@ -1,4 +1,5 @@
-"""restitution.sweeps: log grids, chunks with shared boundaries, cusp refinement, status log."""
+"""restitution.analysis.sweeps: log grids, chunks with shared boundaries, cusp refinement, status
+log."""
 
 import logging
 import math
@@ -7,7 +8,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from restitution import sweeps
+from restitution.analysis import sweeps
 
 JUMPS = (0.37, 2.5, 11.0)  # where the synthetic contact count steps up
 

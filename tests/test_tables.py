@@ -13,7 +13,7 @@ import pandas as pd
 import pytest
 
 from restitution import SceneError, solve, solve_many
-from restitution.io import TableError, clean_leftovers, read_table, write_table
+from restitution.tables.io import TableError, clean_leftovers, read_table, write_table
 
 
 def _run(*args, **kw):
@@ -228,7 +228,7 @@ def test_read_only_directory(tmp_path):
 
 
 def test_interrupted_write_removes_its_temporary_file(tmp_path, monkeypatch):
-    import restitution.io as io
+    import restitution.tables.io as io
 
     def killed(*args, **kwargs):
         open(args[1], "wb").write(b"partial")

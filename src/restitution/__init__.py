@@ -3,48 +3,61 @@
 Reference implementation of *The unexpectedly small coefficient of restitution of a
 two-degree-of-freedom mass-spring system and its implications*. ``solve`` gives one scene (the
 paper's form or any chain), ``solve_many`` a table of scenes, ``trajectory`` the motion of one
-scene; ``Chain`` is the scene model and ``methods.METHODS`` the solver table.
+scene; ``Chain`` is the scene model and ``restitution.solvers.methods.METHODS`` the solver table.
+
+The package is split by layer, each importing only from the layers below it
+(tests/test_import_graph.py checks the order):
+
+1. ``restitution.model`` -- the scene (``Chain``), the range table, the contact and link laws;
+2. ``restitution.kernels`` -- the numba kernels (exact event-driven and time-stepping);
+3. ``restitution.solvers`` -- the solver table (the one place a method is chosen), its runners,
+   the ``Result``;
+4. ``restitution.tables`` -- strict scene tables, parquet/CSV input and output;
+5. ``restitution.api`` (``solve``, ``solve_many``) and ``restitution.trajectories``
+   (``trajectory``) -- the entry points;
+6. ``restitution.analysis`` -- the paper's approximate model, sweeps, the grazing map, designs;
+7. ``restitution.plotting`` and ``restitution.cli`` -- the house style and the command line.
 
 The names below are imported on first use (module ``__getattr__``), so that ``import
-restitution`` and the ``restitution`` command stay cheap until a solver is needed:
-``restitution.solve``, ``from restitution import solve`` and ``restitution.methods`` all work
-as if they had been imported here.
+restitution`` and the ``restitution`` command stay cheap until a solver is needed.
 """
 
 from __future__ import annotations
 
 import importlib
-import sys
-import types
 
-from .compiling import ensure_cache
+from restitution.kernels.compiling import ensure_cache
 
 ensure_cache()  # before any kernel is defined: a foreign or read-only NUMBA_CACHE_DIR
 
-# Public name -> the submodule defining it (imported on first access).
+# Public name -> the module defining it (imported on first access). ``design`` is a module.
 _LAZY = {
-    "Chain": "chain",
-    "Result": "result",
-    "Scene": "scene",
-    "SceneError": "chain",
-    "solve": "api",
-    "solve_many": "api",
-    "trajectory": "trajectory",
+    "Chain": "restitution.model.chain",
+    "Result": "restitution.solvers.result",
+    "Scene": "restitution.model.scene",
+    "SceneError": "restitution.model.ranges",
+    "solve": "restitution.api",
+    "solve_many": "restitution.api",
+    "trajectory": "restitution.trajectories",
 }
+_MODULES = {"design": "restitution.analysis.design"}
 
 TYPE_CHECKING = False  # (typing.TYPE_CHECKING without importing typing: 10 ms)
 if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerly
-    from .api import solve, solve_many
-    from .chain import Chain, SceneError
-    from .result import Result
-    from .scene import Scene
-    from .trajectory import trajectory
+    from restitution.analysis import design
+    from restitution.api import solve, solve_many
+    from restitution.model.chain import Chain
+    from restitution.model.ranges import SceneError
+    from restitution.model.scene import Scene
+    from restitution.solvers.result import Result
+    from restitution.trajectories import trajectory
 
 __all__ = [
     "Chain",
     "Result",
     "Scene",
     "SceneError",
+    "design",
     "solve",
     "solve_many",
     "trajectory",
@@ -63,12 +76,14 @@ def _version() -> str:
 
 def __getattr__(name: str):
     if name in _LAZY:
-        value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+        value = getattr(importlib.import_module(_LAZY[name]), name)
+    elif name in _MODULES:
+        value = importlib.import_module(_MODULES[name])
     elif name == "__version__":
         value = _version()
-    elif not name.startswith("__"):  # a submodule: restitution.methods, restitution.io, ...
+    elif not name.startswith("__"):  # a layer: restitution.model, restitution.solvers, ...
         try:
-            value = importlib.import_module(f".{name}", __name__)
+            value = importlib.import_module(f"{__name__}.{name}")
         except ModuleNotFoundError as e:
             if e.name != f"{__name__}.{name}":
                 raise  # the submodule exists but one of its imports is missing
@@ -81,21 +96,3 @@ def __getattr__(name: str):
 
 def __dir__() -> list[str]:
     return sorted({*globals(), *__all__})
-
-
-class _Package(types.ModuleType):
-    """The package module: ``restitution.trajectory`` stays the function.
-
-    The function and its submodule share a name. Importing the submodule (``import
-    restitution.trajectory``, or a first ``from restitution import trajectory``) sets the
-    package's attribute to the module; this puts the function there instead, as the eager
-    ``from .trajectory import trajectory`` did (the module stays in ``sys.modules``).
-    """
-
-    def __setattr__(self, name: str, value) -> None:
-        if isinstance(value, types.ModuleType) and name in _LAZY and _LAZY[name] == name:
-            value = getattr(value, name)
-        super().__setattr__(name, value)
-
-
-sys.modules[__name__].__class__ = _Package

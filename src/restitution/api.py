@@ -2,9 +2,10 @@
 
 Both take either the paper's form (alpha, beta, xi, n_masses) or a general chain (masses,
 springs, dashpots, k_contact, contact, links, v0; see ``restitution.Chain``), check everything
-before any work, pick the method with the solver table ``restitution.methods.METHODS`` and record
+before any work, pick the method with the solver table ``restitution.solvers.methods.METHODS`` and
+record
 it in every result. Nonlinear laws in the paper's form (two masses) are the keywords of
-``restitution.nonlinear.solve_nonlinear``: contact, eta, dr, structure, L, ks_ratio, theta0,
+``restitution.solvers.numerical.solve_nonlinear``: contact, eta, dr, structure, L, ks_ratio, theta0,
 corner, v0.
 """
 
@@ -16,14 +17,22 @@ from dataclasses import replace
 import numpy as np
 import pandas as pd
 
-from . import blas
-from . import methods as M
-from ._base import HISTORY_MAX_EVENTS
-from .chain import LAW_KEYS, RANGES, Chain, SceneError, check, make_chain, paper_with_laws
-from .compiling import announce
-from .kernels import layout as L
-from .result import RESULT_COLUMNS, STATUS, T_COL, Result, status_name
-from .tables import scene_table
+from restitution.kernels import layout as L
+from restitution.kernels.compiling import announce
+from restitution.model.chain import (
+    LAW_KEYS,
+    RANGES,
+    Chain,
+    SceneError,
+    check,
+    make_chain,
+    paper_with_laws,
+)
+from restitution.model.ranges import HISTORY_MAX_EVENTS
+from restitution.solvers import blas
+from restitution.solvers import methods as M
+from restitution.solvers.result import RESULT_COLUMNS, STATUS, T_COL, Result, status_name
+from restitution.tables.scene_table import scene_table
 
 _BLOCK = 2048  # rows per parallel batch call; the progress bar advances per block
 
@@ -78,14 +87,14 @@ def solve(
     contact, links : mapping, sequence of mapping, optional
         Contact and per-link laws (docs/general-chains.md).
     method : str
-        "auto" or a name of ``restitution.methods.METHODS``; recorded in ``Result.method``.
+        "auto" or a name of ``restitution.solvers.methods.METHODS``; recorded in ``Result.method``.
     history : bool
         Also return one row per contact (``Result.history``).
     max_events : int
         Contact budget; a longer sequence ends with status ``event_budget_exhausted``.
     **law
         Paper form only: the nonlinear laws and numerical settings of
-        ``restitution.nonlinear.solve_nonlinear`` (contact, eta, dr, structure, L, ks_ratio,
+        ``restitution.solvers.numerical.solve_nonlinear`` (contact, eta, dr, structure, L, ks_ratio,
         theta0, corner, rtol, step).
 
     Examples
@@ -207,7 +216,8 @@ def _run(ch: Chain, chosen: M.Method, opts: M.Options) -> Result:
 # Tables
 # ----------------------------------------------------------------------------------------------
 def validate_frame(frame: pd.DataFrame, keep=()) -> pd.DataFrame:
-    """The scene table checked strictly (``restitution.tables``), with the method of every row
+    """The scene table checked strictly (``restitution.tables.scene_table``), with the method of
+    every row
     in column ``method``; raises SceneError naming the first bad row and column."""
     return pd.DataFrame(scene_table(frame, keep).plan, index=frame.index)
 
@@ -326,8 +336,8 @@ def _solve_exact_paper(plan: pd.DataFrame, idx: np.ndarray, max_events: int, bar
 
 
 def _solve_exact_general(table, idx: np.ndarray, max_events: int, bar, block=_BLOCK):
-    """Kernel rows of general linear chains (padded batch of restitution.kernels.chain)."""
-    from .kernels.chain import solve_chain, solve_chain_batch
+    """Kernel rows of general linear chains (padded batch of restitution.kernels.exact_chain)."""
+    from restitution.kernels.exact_chain import solve_chain, solve_chain_batch
 
     out = np.full((len(idx), L.N_OUT), np.nan)
     errors = {}
@@ -363,7 +373,8 @@ def solve_many(
     defaults 0, 0, 2) or the general form (list columns ``masses, springs`` and optional
     ``dashpots``, scalar ``k_contact, v0``, struct columns ``contact, links``; see
     docs/general-chains.md), plus optional ``method`` and, for numerical methods, ``rtol`` and
-    ``step`` per row. Columns are read strictly (``restitution.tables``): any other column is an
+    ``step`` per row. Columns are read strictly (``restitution.tables.scene_table``): any other
+    column is an
     error unless named in ``keep`` (carried through unchanged). Every row is checked before any
     work. Returns a copy of ``frame`` with the result columns ``cor, n_collisions, omega_t_col,
     e_translational, e_vibrational, e_dissipated, method, status, error_estimate`` (and ``t_col``

@@ -59,13 +59,14 @@ def _json(text: str):
 class _MethodNames:
     """``methods.NAMES`` for argparse's ``choices``, imported when first used.
 
-    ``restitution.methods`` imports numpy and pandas; ``restitution --help`` must not wait for
+    ``restitution.solvers.methods`` imports numpy and pandas; ``restitution --help`` must not wait
+    for
     them. argparse looks into ``choices`` only when --method is given or the cor subcommand's
     help is formatted (the metavar is fixed so that ``add_argument`` does not list them).
     """
 
     def _names(self) -> tuple[str, ...]:
-        from .methods import NAMES
+        from restitution.solvers.methods import NAMES
 
         return NAMES
 
@@ -182,19 +183,19 @@ def _clean(value):
 
 
 def _cor(args) -> int:
-    from .api import solve
+    from restitution.api import solve
 
     law_keys = ("contact", "eta", "dr", "structure", "L", "ks_ratio", "theta0", "corner", "v0")
     law = {k: getattr(args, k) for k in (*law_keys, "rtol", "step") if getattr(args, k) is not None}
     common = dict(method=args.method, history=args.history, max_events=args.max_events)
     if args.masses is not None or args.springs is not None:
         if args.alpha is not None:
-            from .chain import SceneError
+            from restitution.model.chain import SceneError
 
             raise SceneError("give either --alpha (the paper's form) or --masses/--springs")
         extra = {k: law.pop(k) for k in ("v0", "rtol", "step") if k in law}
         if law:
-            from .chain import SceneError
+            from restitution.model.chain import SceneError
 
             raise SceneError(
                 f"--{', --'.join(sorted(law))}: options of the paper's form; a general chain "
@@ -212,7 +213,7 @@ def _cor(args) -> int:
         )
     else:
         if args.alpha is None:
-            from .chain import SceneError
+            from restitution.model.chain import SceneError
 
             raise SceneError("give --alpha (the paper's form) or --masses and --springs")
         r = solve(alpha=args.alpha, beta=args.beta, xi=args.xi, n_masses=args.n_masses,
@@ -259,9 +260,9 @@ def batch_summary(status, seconds: float, output: Path) -> str:
 
 
 def _batch(args) -> int:
-    from .api import solve_many
-    from .chain import SceneError
-    from .io import read_table, write_table
+    from restitution.api import solve_many
+    from restitution.model.chain import SceneError
+    from restitution.tables.io import read_table, write_table
 
     if args.output.suffix not in (".csv", ".parquet"):
         raise SceneError(f"output must end in .csv or .parquet; got {args.output}")
@@ -299,8 +300,8 @@ def _on_sigterm(signum, frame):
 
 def main(argv=None) -> int:
     args = _parser().parse_args(argv)
-    from .chain import SceneError
-    from .io import TableError
+    from restitution.model.chain import SceneError
+    from restitution.tables.io import TableError
 
     previous = signal.signal(signal.SIGTERM, _on_sigterm)
     try:

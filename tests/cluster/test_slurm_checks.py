@@ -11,7 +11,7 @@ from pathlib import Path
 import pandas as pd
 import yaml
 
-from restitution.io import write_table
+from restitution.tables.io import write_table
 
 CI = Path(__file__).resolve().parents[2] / ".ci"
 PROFILE = CI.parent / "workflow" / "profiles" / "slurm" / "config.yaml"

@@ -6,7 +6,7 @@
 # Timing jobs declare threads: 2 although they time on one numba thread: on the 2-core machine
 # they then never share the CPU with another job, so no timing competes with other work.
 
-from restitution.bench.scenes import SCENES as BENCH_SCENES
+from restitution_workflow.bench.scenes import SCENES as BENCH_SCENES
 
 BENCH = config["benchmarks"]
 # Checks the schema cannot express, before any job runs (scenes.py is cheap to import).

@@ -19,14 +19,14 @@ SCHEMA = Path(workflow.basedir) / "workflow" / "schemas" / "config.schema.yaml"
 
 # ---------------------------------------------------------------------------------------------
 # Configuration: fail before any job runs, naming the key, the value and the allowed range.
-# The checks are the package's own (restitution.config_check, plain Python); they also normalise
+# The checks are the package's own (restitution_workflow.config_check, plain Python); they also normalise
 # the values (whole-number floats of integer keys become integers, numbers that --config hands
 # over as text become numbers, defaults are filled in), so the jobs get what was checked.
 # ---------------------------------------------------------------------------------------------
 def check_config(config, schema_path=SCHEMA):
     """Check ``config`` in place; raise WorkflowError listing every problem."""
-    from restitution.config_check import ConfigError
-    from restitution.config_check import check_config as check
+    from restitution_workflow.config_check import ConfigError
+    from restitution_workflow.config_check import check_config as check
 
     schema = yaml.safe_load(Path(schema_path).read_text())
     try:
@@ -122,13 +122,16 @@ def beta_label(beta):
 # one reruns exactly the jobs that run it (Snakemake cannot see imports). The modules are found
 # statically, never imported (no numba kernel is loaded to read the workflow): every import
 # statement of the script, at module level or inside a function, is followed through the local
-# helpers in workflow/scripts/ (_common.py, render_caption.py, ...) and the package in
-# src/restitution/, and so on through what those import. Importing restitution.x runs
-# restitution/__init__.py first, so each package on the way counts with its __init__.py and
-# whatever that imports. A rule that runs package code writes `code=script_code("<script>.py")`.
+# helpers in workflow/scripts/ (_common.py, render_caption.py, ...) and the packages in src/
+# (restitution, restitution_workflow), and so on through what those import. Importing
+# restitution.x runs restitution/__init__.py first, so each package on the way counts with its
+# __init__.py and whatever that imports. A rule that runs package code writes `code=script_code("<script>.py")`.
 # ---------------------------------------------------------------------------------------------
 SCRIPTS_DIR = Path(workflow.basedir) / "workflow" / "scripts"
-PACKAGE_DIR = Path(workflow.basedir) / "src" / "restitution"
+PACKAGE_DIRS = [
+    Path(workflow.basedir) / "src" / name
+    for name in ("restitution", "restitution_workflow")
+]
 # Import statements are found without parsing whole files (ast.parse of the package takes ~0.5 s,
 # too long for every snakemake call): strings and comments are matched first, so that an import
 # written in a docstring is skipped; each statement found is then parsed on its own by ast.
@@ -150,14 +153,15 @@ _SCRIPT_CODE = {}
 
 
 def _code_index():
-    """Module name (tuple of parts) -> file, for src/restitution and workflow/scripts."""
+    """Module name (tuple of parts) -> file, for the packages in src/ and workflow/scripts."""
     if not _CODE:
-        for path in PACKAGE_DIR.rglob("*.py"):
-            parts = (
-                "restitution",
-                *path.relative_to(PACKAGE_DIR).with_suffix("").parts,
-            )
-            _CODE[parts[:-1] if parts[-1] == "__init__" else parts] = path
+        for package_dir in PACKAGE_DIRS:
+            for path in package_dir.rglob("*.py"):
+                parts = (
+                    package_dir.name,
+                    *path.relative_to(package_dir).with_suffix("").parts,
+                )
+                _CODE[parts[:-1] if parts[-1] == "__init__" else parts] = path
         # Snakemake puts the script's folder on sys.path: its modules import as top-level names.
         for path in SCRIPTS_DIR.glob("*.py"):
             _CODE.setdefault((path.stem,), path)
@@ -253,7 +257,7 @@ def fig2a_grid():
 
 def fig2a_n_chunks():
     """Chunk k holds grid indices k*chunk_size .. (k+1)*chunk_size (shared boundary point)."""
-    from restitution.config_check import n_chunks
+    from restitution_workflow.config_check import n_chunks
 
     grid = config["fig2a"]
     return n_chunks(grid["n_alpha"], grid["chunk_size"])

@@ -3,7 +3,7 @@
 # take a few seconds, less than the start-up of one job per curve), each writing the sweep table
 # and a per-curve summary CSV (minima, Eq. 23 margin, rows not ok). Renders: rules fig4a..fig5b,
 # named after the figure so that `snakemake fig4c` builds figures/fig4c.{png,pdf}.
-# Panels (a) are drawn from the force laws in restitution/laws.py (no simulation).
+# Panels (a) are drawn from the force laws in restitution/model/laws.py (no simulation).
 
 
 rule simulate_fig4b:
@@ -150,7 +150,7 @@ rule simulate_fig5b:
 rule fig4a:
     """Draw Fig. 4(a): loading-unloading curves of the plastic contact law (from laws.py)."""
     input:
-        laws="src/restitution/laws.py",
+        laws="src/restitution/model/laws.py",
         style="src/restitution/restitution.mplstyle",
         code=script_code("render_fig4.py"),
     output:
@@ -277,7 +277,7 @@ rule fig4d:
 rule fig5a:
     """Draw Fig. 5(a): scissor spring force-displacement curves (from laws.py)."""
     input:
-        laws="src/restitution/laws.py",
+        laws="src/restitution/model/laws.py",
         style="src/restitution/restitution.mplstyle",
         paper="config/paper_values.yaml",
         template="workflow/report/fig5a.rst",

@@ -2,11 +2,11 @@
 #   snakemake -c2 study --config study=my_study.yaml
 # study_simulate (one job per curve and chunk of the first axis, cusps refined) -> study_aggregate
 # (one table, minima) -> study_plot (one figure per output, in the report under "Studies").
-# The study is checked (restitution.study) while the workflow is read, before any job runs.
+# The study is checked (restitution_workflow.study) while the workflow is read, before any job runs.
 
 
 if STUDY_FILE is not None:
-    from restitution.study import StudyError, load_study
+    from restitution_workflow.study import StudyError, load_study
 
     try:
         STUDY = load_study(STUDY_FILE)

@@ -24,8 +24,8 @@ def local_minima(sweep: pd.DataFrame) -> pd.DataFrame:
 
 
 def main(chunks, output_path, minima_path, params, logger) -> pd.DataFrame:
-    from restitution.io import read_table, write_table
-    from restitution.result import RESULT_COLUMNS
+    from restitution.solvers.result import RESULT_COLUMNS
+    from restitution.tables.io import read_table, write_table
 
     tables = [read_table(path, columns=("beta", "alpha", *RESULT_COLUMNS)) for path in chunks]
     sweep = (

@@ -57,7 +57,7 @@ def check_first_branch(sweep: pd.DataFrame, logger) -> None:
 
 
 def main(tables, output_path, minima_path, params, logger) -> pd.DataFrame:
-    from restitution.io import read_table, write_table
+    from restitution.tables.io import read_table, write_table
 
     frames = [read_table(path) for path in tables]
     for path, frame in zip(tables, frames, strict=True):

@@ -83,8 +83,8 @@ def check_status(sweep: pd.DataFrame, limit: float, logger) -> None:
 
 
 def main(chunks, sweep_path, summary_path, minima_path, params, logger) -> pd.DataFrame:
-    from restitution.io import read_table, write_table
-    from restitution.result import RESULT_COLUMNS
+    from restitution.solvers.result import RESULT_COLUMNS
+    from restitution.tables.io import read_table, write_table
 
     fig7 = params.fig7
     tables = [read_table(path, columns=("xi", "beta", "alpha", *RESULT_COLUMNS)) for path in chunks]

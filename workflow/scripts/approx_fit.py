@@ -19,7 +19,7 @@ import pandas as pd
 
 def models(fits: dict, universal: tuple, table: pd.DataFrame) -> dict:
     """name -> f(alpha) for every approximate model compared."""
-    from restitution import approx
+    from restitution.analysis import approx
 
     p, q = fits["eq19_unity"].params["p"], fits["eq22_gap_n1"].params["q"]
     c = fits["minima_c_n1"].params["c"]
@@ -48,9 +48,9 @@ def cost_us(f, alpha, repeats: int = 5) -> float:
 
 
 def main(points_path, out, cfg, logger):
-    from restitution import approx, fitting
-    from restitution import special_points as sp
-    from restitution.io import read_table, write_table
+    from restitution.analysis import approx, fitting
+    from restitution.analysis import special_points as sp
+    from restitution.tables.io import read_table, write_table
 
     pts = read_table(points_path)
     lo, hi = float(cfg["alpha_min"]), float(cfg["alpha_max"])

@@ -1,7 +1,8 @@
 """Special points of the COR curve: exact beta = 0 points, and their finite-beta counterparts.
 
 Rule ``approx_points`` (beta = 0): alpha*_n, e*_n, alpha#_n for n = 1..n_max by root solving
-their defining conditions (restitution.special_points), written with provenance, plus a log of
+their defining conditions (restitution.analysis.special_points), written with provenance, plus a
+log of
 the residuals of the conditions and of the closed-form checks (alpha*_1 from tan x = x,
 alpha#_2 = 1).
 
@@ -15,7 +16,7 @@ import pandas as pd
 
 
 def exact_points(n_max: int, logger) -> pd.DataFrame:
-    from restitution import special_points as sp
+    from restitution.analysis import special_points as sp
 
     pts = sp.special_points(n_max)
     closed = sp.alpha_star_1_closed_form()
@@ -28,7 +29,7 @@ def exact_points(n_max: int, logger) -> pd.DataFrame:
 
 
 def finite_beta_points(betas, alpha_min, alpha_max, n_grid, steps, max_events, logger):
-    from restitution import special_points as sp
+    from restitution.analysis import special_points as sp
 
     frames = []
     for beta in betas:
@@ -61,7 +62,7 @@ def finite_beta_points(betas, alpha_min, alpha_max, n_grid, steps, max_events, l
 if __name__ == "__main__":
     from _common import Timer, setup
 
-    from restitution.io import write_table
+    from restitution.tables.io import write_table
 
     smk = snakemake  # noqa: F821 (injected by Snakemake)
     log = setup(smk)

@@ -9,9 +9,9 @@ within the time limit) and headline.csv (exact solvers vs the best solve_ivp set
 def main(run_paths, out, params, logger):
     import pandas as pd
 
-    from restitution.bench import harness
-    from restitution.bench.summary import headline, summary
-    from restitution.io import read_provenance, read_table, write_table
+    from restitution.tables.io import read_provenance, read_table, write_table
+    from restitution_workflow.bench import harness
+    from restitution_workflow.bench.summary import headline, summary
 
     records = pd.concat([read_table(p, require_provenance=True) for p in run_paths])
     machines = {str(p): read_provenance(p).get("machine") for p in run_paths}

@@ -88,7 +88,7 @@ def draw(table, fits):
 
 def main(table_path, fits_path, png_path, pdf_path, logger):
     from restitution import plotting
-    from restitution.io import read_table
+    from restitution.tables.io import read_table
 
     fig = draw(read_table(table_path), read_table(fits_path))
     plotting.save_outputs(fig, png_path, pdf_path, logger)

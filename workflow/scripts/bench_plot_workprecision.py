@@ -128,8 +128,8 @@ def scene_title(scene, scenes=()) -> str:
 
 def main(table_path, png_path, pdf_path, logger):
     from restitution import plotting
-    from restitution.bench.scenes import SCENES
-    from restitution.io import read_table
+    from restitution.tables.io import read_table
+    from restitution_workflow.bench.scenes import SCENES
 
     records = read_table(table_path)
     titles = {s.name: scene_title(s, SCENES) for s in SCENES}

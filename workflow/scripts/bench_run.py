@@ -1,15 +1,15 @@
 """Work-precision records of one method family on every benchmark scene (one timing job).
 
 Reads the `benchmarks` config section (params.bench) and the family (wildcard), runs
-``restitution.bench.harness.run_suite`` on one numba thread, and writes
+``restitution_workflow.bench.harness.run_suite`` on one numba thread, and writes
 results/benchmarks/runs/<family>.parquet with machine information in its provenance.
 """
 
 
 def main(family, out_path, bench, logger):
-    from restitution.bench import harness
-    from restitution.bench.scenes import SCENES
-    from restitution.io import write_table
+    from restitution.tables.io import write_table
+    from restitution_workflow.bench import harness
+    from restitution_workflow.bench.scenes import SCENES
 
     cfg = harness.check_config(bench, [s.name for s in SCENES])
     scenes = [s for s in SCENES if not cfg["scenes"] or s.name in cfg["scenes"]]

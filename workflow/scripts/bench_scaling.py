@@ -6,9 +6,9 @@
 def main(out, scaling, bench, logger):
     import numba
 
-    from restitution.bench import harness
-    from restitution.bench import scaling as sc
-    from restitution.io import write_table
+    from restitution.tables.io import write_table
+    from restitution_workflow.bench import harness
+    from restitution_workflow.bench import scaling as sc
 
     numba.set_num_threads(1)
     t, r = float(bench["min_time"]), int(bench["min_repeats"])

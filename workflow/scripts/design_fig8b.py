@@ -1,6 +1,6 @@
 """Fig. 8(b) design, one job: the minimum-COR chain of one family and one N.
 
-Families (``restitution.design``): ``uniform`` (the paper's Fig. 6 chain, best alpha),
+Families (``restitution.analysis.design``): ``uniform`` (the paper's Fig. 6 chain, best alpha),
 ``tapered_decreasing`` / ``tapered_increasing`` (geometric masses, best ratio), ``masses`` (every
 mass ratio free), ``masses_springs`` (springs k_i/k_12 free too) and ``robust`` (masses free,
 worst COR over independent mass errors of +-tolerance). Each design is re-solved by
@@ -13,7 +13,7 @@ import pandas as pd
 
 
 def run(family: str, n: int, d: dict, progress):
-    from restitution import design
+    from restitution.analysis import design
 
     common = dict(beta=d["beta"], bounds=tuple(d["bounds"]), seed=d["seed"],
                   popsize=d["popsize"], maxiter=d["maxiter"], progress=progress)  # fmt: skip
@@ -33,14 +33,14 @@ def run(family: str, n: int, d: dict, progress):
 def recheck(row: dict) -> float:
     """The design's COR from a fresh general-form restitution.solve call (user units: ratios)."""
     import restitution
-    from restitution import design
+    from restitution.analysis import design
 
     m, k, kc = design.scaled_chain(row["masses"], row["springs"], row["beta"])
     return restitution.solve(masses=list(m), springs=list(k), k_contact=kc).cor
 
 
 def main(params, output_path, family: str, n: int, logger) -> pd.DataFrame:
-    from restitution.io import write_table
+    from restitution.tables.io import write_table
 
     d = dict(params.design)
     result = run(family, n, d, progress=logger.info)

@@ -4,7 +4,7 @@ import pandas as pd
 
 
 def main(paths, output_path, logger) -> pd.DataFrame:
-    from restitution.io import read_table, write_table
+    from restitution.tables.io import read_table, write_table
 
     table = pd.concat([read_table(p) for p in paths], ignore_index=True)
     table = table.sort_values(["family", "n_masses"]).reset_index(drop=True)

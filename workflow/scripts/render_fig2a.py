@@ -69,7 +69,7 @@ def caption_data(sweep: pd.DataFrame) -> dict:
 def main(sweep_path, png_path, pdf_path, params, logger, smk=None):
 
     from restitution import plotting
-    from restitution.io import read_table
+    from restitution.tables.io import read_table
 
     sweep = read_table(sweep_path)
     missing = sorted(set(params.betas) - set(sweep["beta"].unique()))

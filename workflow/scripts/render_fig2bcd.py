@@ -171,7 +171,7 @@ def fig2d(curves, errors, plot):
 
 def caption_data(panel, inp, fit) -> dict:
     """Numbers of the caption of ``panel`` from the tables just drawn."""
-    from restitution.io import read_table
+    from restitution.tables.io import read_table
 
     fits = fit["fits"]
     if panel == "b":
@@ -193,7 +193,7 @@ def caption_data(panel, inp, fit) -> dict:
             "A_fit": f"{qs['A']:.3f}",
             "q2_fit": f"{qs['q']:.4f}",
         }
-    from restitution.approx import PAPER
+    from restitution.analysis.approx import PAPER
 
     errors = read_table(inp.errors).set_index("model")
     curves = read_table(inp.curves)
@@ -223,7 +223,7 @@ def caption_data(panel, inp, fit) -> dict:
 def main(inp, out, params, logger, smk=None):
 
     from restitution import plotting
-    from restitution.io import read_table
+    from restitution.tables.io import read_table
 
     plot = {
         "alpha_min": params.approx["plot_alpha_min"],

@@ -73,7 +73,7 @@ def draw(compression: pd.DataFrame, contacts: pd.DataFrame, marginal: pd.Series,
 def main(paths, png_path, pdf_path, params, logger, smk=None):
 
     from restitution import plotting
-    from restitution.io import read_table
+    from restitution.tables.io import read_table
 
     compression = read_table(paths.compression)
     contacts = read_table(paths.contacts)

@@ -16,7 +16,7 @@ import numpy as np
 
 def first_contact_curve(dr: float, eta: float, n: int = 400):
     """(x, F) of loading to xmax and unloading to the dent, units m1 = V0 = k1 = 1; and xp."""
-    from restitution import laws
+    from restitution.model import laws
 
     k1 = 1.0
     kappa = laws.plastic_kappa(dr, eta, k1, v0=1.0)
@@ -161,7 +161,7 @@ def caption_data(name: str, sweep, panel: dict) -> dict:
 def main(sweep_path, png_path, pdf_path, params, logger, smk=None):
 
     from restitution import plotting
-    from restitution.io import read_table
+    from restitution.tables.io import read_table
 
     # The rule passes the figure name ("fig4c"): a bare letter would be a prefix of input paths
     # such as config/paper_values.yaml, which snakemake --lint reports.

@@ -19,7 +19,7 @@ GREY = "0.55"
 
 def scissor_law(spring: dict, L: float):  # noqa: N803
     """Packed scissor law with k2 = 1 (forces in units of k2)."""
-    from restitution import laws
+    from restitution.model import laws
 
     ks_ratio = float(spring["ks_over_k1"]) / float(spring["beta"])
     theta0 = math.radians(float(spring["theta0_deg"]))
@@ -113,7 +113,8 @@ def draw_a(spring, panel, logger):
     and the corner contact pairs). Right: the same curves in Eq. 24's own units, F2/(k_s L)
     against x2/L, where the compressive force limit and the steep stiffening in tension show
     (at k_s/k2 = 0.01 they are invisible on the left's scale)."""
-    from restitution import laws, plotting
+    from restitution import plotting
+    from restitution.model import laws
 
     fig = plotting.new_figure("double", aspect=0.42)
     ax, zoom = fig.subplots(1, 2)
@@ -316,7 +317,7 @@ def caption_b(sweep, panel, scan) -> dict:
 def main(inp, png_path, pdf_path, params, logger, smk=None):
 
     from restitution import plotting
-    from restitution.io import read_table
+    from restitution.tables.io import read_table
 
     if params.name == "a":
         fig = draw_a(params.spring, params.panel, logger)

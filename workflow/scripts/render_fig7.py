@@ -356,7 +356,7 @@ def caption_data(sweep: pd.DataFrame, panel: str, fig7: dict) -> dict:
 def main(sweep_path, png_path, pdf_path, params, logger, smk=None):
 
     from restitution import plotting
-    from restitution.io import read_table
+    from restitution.tables.io import read_table
 
     # The rule passes the figure name ("fig7c"): a bare letter would be a prefix of input paths
     # such as config/paper_values.yaml, which snakemake --lint reports.

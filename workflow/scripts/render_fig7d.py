@@ -137,7 +137,7 @@ def caption_data(stats: dict) -> dict:
 def main(traces_path, contacts_path, png_path, pdf_path, params, logger, smk=None):
 
     from restitution import plotting
-    from restitution.io import read_table
+    from restitution.tables.io import read_table
 
     traces = read_table(traces_path)
     contacts = read_table(contacts_path)

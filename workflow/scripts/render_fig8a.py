@@ -113,7 +113,7 @@ def caption_data(grid, curves, coverage) -> dict:
 
 def main(smk, logger):
     from restitution import plotting
-    from restitution.io import read_provenance, read_table
+    from restitution.tables.io import read_provenance, read_table
 
     grid = pd.concat([read_table(p) for p in smk.input.maps], ignore_index=True)
     curves = read_table(smk.input.curves)

@@ -103,7 +103,7 @@ def main(smk, logger):
     from render_fig8a import write_caption
 
     from restitution import plotting
-    from restitution.io import read_table
+    from restitution.tables.io import read_table
 
     table = read_table(smk.input.table)
     fig = draw(table, smk.params)

@@ -189,7 +189,7 @@ def write_page(table: pd.DataFrame, path) -> None:
 
 
 def main(inputs, output_path, logger, page_path=None) -> pd.DataFrame:
-    from restitution.io import read_table
+    from restitution.tables.io import read_table
 
     special = read_table(inputs.special)
     finite = read_table(inputs.finite)

@@ -115,8 +115,8 @@ def local_minima(sweep: pd.DataFrame) -> pd.DataFrame:
 
 
 def main_sweep(params, sweep_path, minima_path, logger, progress=False) -> pd.DataFrame:
-    from restitution import sweeps
-    from restitution.io import write_table
+    from restitution.analysis import sweeps
+    from restitution.tables.io import write_table
 
     sweep, solver = dict(params.sweep), dict(params.solver)
     grid = sweeps.log_grid(sweep["beta_min"], sweep["beta_max"], sweep["n_beta"])
@@ -235,7 +235,7 @@ def marginal_beta(alpha: float, bracket, steps: int, solver: dict, logger) -> di
 
 def main_compression(params, paths, logger) -> pd.DataFrame:
     import restitution
-    from restitution.io import write_table
+    from restitution.tables.io import write_table
 
     comp, solver = dict(params.compression), dict(params.solver)
     alpha = float(comp["alpha"])

@@ -2,14 +2,14 @@
 
 Each curve of a panel is one plastic contact law (power-law loading F1 = kappa*x**eta, linear
 unloading with slope k1 = k2/beta; kappa follows from the nominal dissipation ratio DR, see
-``restitution.laws``), solved by the adaptive DP5(4) kernel (``solve_nonlinear_many``) on a
+``restitution.model.laws``), solved by the adaptive DP5(4) kernel (``solve_nonlinear_many``) on a
 log-spaced alpha grid. The elastic linear contact at the same beta (the Fig. 2(a) curve, exact
 closed-form solver ``restitution.solve_many``) is added as a reference curve.
 
 Cusps: between grid neighbours whose contact counts differ, the alpha bracket is bisected
 ``refine_steps`` times on the count (all brackets of a curve at once, one batch call per step) and
 every evaluated point is kept, so the cusp-shaped minima are drawn to their depth
-(``restitution.sweeps``).
+(``restitution.analysis.sweeps``).
 
 Eq. 23 check: no COR may exceed e_pmax = sqrt(1 - DR/(1 + alpha)). Rows above it are counted in
 the log (warning); a row above it by more than its own error estimate fails the job. A per-curve
@@ -71,7 +71,7 @@ def curves(panel: dict) -> list[dict]:
 def evaluator(law: dict, sweep: dict, solver: dict):
     """alphas -> result table for one curve's law."""
     import restitution
-    from restitution.nonlinear import solve_nonlinear_many
+    from restitution.solvers.numerical import solve_nonlinear_many
 
     def evaluate(alphas):
         alphas = np.asarray(alphas, dtype=np.float64)
@@ -117,8 +117,8 @@ def check_bound(curve: pd.DataFrame, logger, label: str) -> dict:
 
 
 def main(params, output_path, summary_path, logger) -> pd.DataFrame:
-    from restitution import sweeps
-    from restitution.io import write_table
+    from restitution.analysis import sweeps
+    from restitution.tables.io import write_table
 
     sweep, panel, solver = params.sweep, params.panel, params.solver
     alphas = sweeps.log_grid(sweep["alpha_min"], sweep["alpha_max"], sweep["n_alpha"])

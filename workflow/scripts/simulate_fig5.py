@@ -5,10 +5,10 @@ velocity dependence the paper stresses; ``fig5.b.velocity``), beta = k2/k1 and k
 from the config (the paper:
 beta = 1, ks = k1/100, so ks_ratio = ks/k2 = ks_over_k1/beta = 0.01), impact speed v0 (the
 scissor law makes the response velocity dependent), rest half angle theta0 and the corner
-stiffening parameter (both left open by the paper; see ``restitution.laws``). Solved by the
+stiffening parameter (both left open by the paper; see ``restitution.model.laws``). Solved by the
 adaptive DP5(4) kernel; the linear structural spring at the same beta (the exact closed-form
 solver) is added as the reference curve. Cusps refined on the contact count as in Fig. 4
-(``restitution.sweeps.refined_sweep``); per-curve minima written as a CSV summary.
+(``restitution.analysis.sweeps.refined_sweep``); per-curve minima written as a CSV summary.
 """
 
 import math
@@ -46,7 +46,7 @@ def curves(spring: dict, panel: dict) -> list[dict]:
 
 def evaluator(law: dict, panel: dict, solver: dict):
     import restitution
-    from restitution.nonlinear import solve_nonlinear_many
+    from restitution.solvers.numerical import solve_nonlinear_many
 
     def evaluate(alphas):
         alphas = np.asarray(alphas, dtype=np.float64)
@@ -81,7 +81,7 @@ def free_choice_scan(spring: dict, panel: dict, logger) -> pd.DataFrame:
     trend check, not a figure), and for each (theta0, corner) whether the mean COR falls as L
     grows. Runs whose status is not ok are left out of the means and counted.
     """
-    from restitution.nonlinear import solve_nonlinear_many
+    from restitution.solvers.numerical import solve_nonlinear_many
 
     scan = panel["scan"]
     alphas = np.geomspace(panel["alpha_min"], panel["alpha_max"], int(scan["n_alpha"]))
@@ -113,8 +113,8 @@ def free_choice_scan(spring: dict, panel: dict, logger) -> pd.DataFrame:
 def main(params, output_path, summary_path, logger, scan_path=None) -> pd.DataFrame:
     from simulate_fig4 import minima_columns
 
-    from restitution import sweeps
-    from restitution.io import write_table
+    from restitution.analysis import sweeps
+    from restitution.tables.io import write_table
 
     spring, panel, solver = params.spring, params.panel, params.solver
     alphas = sweeps.log_grid(panel["alpha_min"], panel["alpha_max"], panel["n_alpha"])

@@ -35,8 +35,8 @@ def solve_x(x, n: int, beta: float, solver: dict, progress: bool = False) -> pd.
 
 
 def main(params, output_path, n: int, logger, progress=False) -> pd.DataFrame:
-    from restitution import sweeps
-    from restitution.io import write_table
+    from restitution.analysis import sweeps
+    from restitution.tables.io import write_table
 
     sweep, solver = dict(params.sweep), dict(params.solver)
     if n < 2:

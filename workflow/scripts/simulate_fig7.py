@@ -21,7 +21,7 @@ import pandas as pd
 
 def chunk_alphas(grid: dict, chunk: int) -> np.ndarray:
     """Grid alphas of one chunk of config['fig7'], the boundary point shared with the next."""
-    from restitution import sweeps
+    from restitution.analysis import sweeps
 
     alphas = sweeps.log_grid(grid["alpha_min"], grid["alpha_max"], grid["n_alpha"])
     return sweeps.chunk(alphas, grid["chunk_size"], chunk)
@@ -43,8 +43,8 @@ def solve(alphas, beta: float, xi: float, solver: dict, progress: bool = False) 
 
 
 def main(params, output_path, xi: float, chunk: int, logger, progress=False) -> pd.DataFrame:
-    from restitution import sweeps
-    from restitution.io import write_table
+    from restitution.analysis import sweeps
+    from restitution.tables.io import write_table
 
     grid, solver = params.grid, params.solver
     beta = float(grid["beta"])

@@ -110,7 +110,7 @@ def trace(alpha, beta, xi, settings, solver, logger):
 
 
 def main(params, outputs, logger):
-    from restitution.io import write_table
+    from restitution.tables.io import write_table
 
     beta, settings, solver = float(params.beta), params.traces, params.solver
     if solver["method"] == "impulsive":

@@ -1,7 +1,8 @@
 """Fig. 8(a) curves: where the contact count steps in the (alpha, beta) plane, traced exactly.
 
 Seeds: the exact rigid-wall grazing points alpha*_1..alpha*_n_max (``special_points``); from each,
-``restitution.cormap.trace_all`` follows the grazing condition by pseudo-arclength continuation
+``restitution.analysis.cormap.trace_all`` follows the grazing condition by pseudo-arclength
+continuation
 and, where a curve ends on another, follows the conditions that vanish there (contact splits).
 Then the map's grid is checked: every step of the count between grid neighbours along alpha that
 no traced curve crosses is bisected on the count and traced from there too (components not
@@ -51,8 +52,8 @@ def unexplained_steps(steps, curves) -> list:
 
 
 def main(params, map_paths, output_path, logger) -> pd.DataFrame:
-    from restitution import cormap, special_points
-    from restitution.io import read_table, write_table
+    from restitution.analysis import cormap, special_points
+    from restitution.tables.io import read_table, write_table
 
     cfg = dict(params.curves)
     stars = special_points.special_points(cfg["n_max"])["alpha_star"].to_numpy()

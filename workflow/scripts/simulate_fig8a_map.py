@@ -18,7 +18,7 @@ def grid(m: dict):
 
 def main(params, output_path, chunk: int, logger, progress=False) -> pd.DataFrame:
     import restitution
-    from restitution.io import write_table
+    from restitution.tables.io import write_table
 
     m, solver = dict(params.map), dict(params.solver)
     alphas, betas = grid(m)

@@ -34,9 +34,9 @@ def minima(table: pd.DataFrame, column: str) -> pd.DataFrame:
 
 
 def main(chunk_paths, sweep_path, minima_path, study_mapping, logger):
-    from restitution.io import read_table, write_table
-    from restitution.study import check_study
-    from restitution.sweeps import log_not_ok
+    from restitution.analysis.sweeps import log_not_ok
+    from restitution.tables.io import read_table, write_table
+    from restitution_workflow.study import check_study
 
     study = check_study(study_mapping)
     column = study.axes[0].param

@@ -35,7 +35,7 @@ def style(study, table, curve: float, index: int) -> dict:
 
 def draw(table, study, output: str, logger):
     from restitution import plotting
-    from restitution.study import OUTPUTS
+    from restitution_workflow.study import OUTPUTS
 
     first = study.axes[0]
     fig = plotting.new_figure("single", aspect=0.72)
@@ -63,8 +63,8 @@ def draw(table, study, output: str, logger):
 
 def main(sweep_path, pngs, pdfs, study_mapping, logger):
     from restitution import plotting
-    from restitution.io import read_table
-    from restitution.study import check_study
+    from restitution.tables.io import read_table
+    from restitution_workflow.study import check_study
 
     study = check_study(study_mapping)
     table = read_table(sweep_path)

@@ -6,8 +6,8 @@ The study comes as the rule's params (the checked study mapping); it is checked 
 
 
 def main(study_mapping: dict, curve_index: int, chunk: int, output_path, logger):
-    from restitution.io import write_table
-    from restitution.study import check_study, solve_curve
+    from restitution.tables.io import write_table
+    from restitution_workflow.study import check_study, solve_curve
 
     study = check_study(study_mapping)
     curve = float(study.curves[curve_index])

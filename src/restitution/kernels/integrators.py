@@ -2,7 +2,8 @@
 
 The force laws enter only through their packed parameters ``cp`` (contact) and ``sp`` (structure)
 and the mutable contact memory ``mem``: ``rhs`` / ``accel_verlet`` below dispatch on the law codes
-of ``restitution.laws``, so any law added there is integrated by the same code. (Passing the law
+of ``restitution.model.laws``, so any law added there is integrated by the same code. (Passing the
+law
 as a numba function argument would defeat numba's on-disk cache: a minute of compilation per
 process.)
 
@@ -32,7 +33,7 @@ import math
 import numpy as np
 from numba import njit
 
-from restitution.laws import (
+from restitution.model.laws import (
     C_PLASTIC,
     C_RIGID,
     contact_force,

@@ -27,7 +27,7 @@ H_XMAX = 4  # largest penetration x = -u1 during the contact, in V0/omega units 
 H_IMPULSE = 5  # momentum given by the wall during the contact / (m1 V0)
 N_HIST = 6
 
-# Status codes (restitution.result.STATUS names them).
+# Status codes (restitution.solvers.result.STATUS names them).
 STATUS_OK = 0
 STATUS_EVENT_BUDGET = 1  # more contacts than max_events: the sequence was NOT finished
 STATUS_ENERGY = 2  # the independent energy account does not close within tolerance

@@ -13,7 +13,8 @@ B3 h^3/6 (f strictly decreasing up to the root, then safeguarded Newton). Where 
 present differ by more than SPLIT_RATIO (a contact spring much stiffer than the chain), it also
 steps on the slow part g of f, with the fast modes bounded by their amplitude A (f >= g - A),
 and takes the longer of the two safe steps: a long contact ringing at the contact frequency is
-crossed in a few steps, not ten per ringing period. See restitution.kernels.chain for the model
+crossed in a few steps, not ten per ringing period. See restitution.kernels.exact_chain for the
+model
 that uses it.
 """
 

@@ -17,7 +17,8 @@ at a smaller size, so
 and a result whose replicas land more than ``ILL_TOL`` away (or end otherwise: permanent contact
 against separation)
 is ``STATUS_ILL_CONDITIONED``: double precision cannot resolve the scene (the ``precise`` method
-can). Checked against an independent 40-digit reference (restitution.precise) on random chains,
+can). Checked against an independent 40-digit reference (restitution.solvers.precise) on random
+chains,
 long sequences included (tests/test_accuracy.py, docs/accuracy.md).
 
 The perturbations come from a Weyl sequence (deterministic: a result never depends on the run or

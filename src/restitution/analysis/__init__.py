@@ -1,0 +1,3 @@
+"""Analyses built on the solvers: the paper's approximate COR model and its fit (``approx``,
+``fitting``, ``special_points``), parameter sweeps with refined cusps (``sweeps``), the
+(alpha, beta) grazing map (``cormap``) and the design optimiser (``design``)."""

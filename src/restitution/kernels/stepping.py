@@ -1,0 +1,906 @@
+"""Nonlinear scene kernels: DP5(4) with guaranteed events, or the paper's velocity Verlet.
+
+``solve_scene`` (two masses, free flight closed form for a linear structure) and
+``solve_chain_scene`` / ``solve_chain_scene_batch`` (any chain: masses m[n], a link law and a
+dashpot per neighbouring pair, any contact law of ``restitution.model.laws``; every phase
+integrated,
+the same phase machine and event location). Both count their work in right-hand-side
+evaluations (STATUS_WORK_BUDGET, the same on every machine and thread count), return a NaN COR
+for any unfinished sequence, and never raise for finite input (compiled with
+``error_model="numpy"``); batch rows start as NaN with STATUS_NOT_RUN. The two-mass kernel is
+described below; the chain kernel differs only in the state y = [u_1..u_n, v_1..v_n, W, D] and
+in ending free flight by ``integrators.no_contact_possible_chain``.
+
+State y and contact memory mem as in integrators.py.
+
+Adaptive method: only phases whose force law is nonlinear are integrated. Free flight with a linear
+structure is closed form: the centre of mass X moves at constant V and r = u2 - u1 solves
+r'' + 2 xi r' + r = 0 (omega = 1), so the gap g = u1 + xp = X + xp - mu r has |g''| <= G =
+mu*sqrt(1 + 4 xi**2)*sqrt(r0**2 + r0'**2) (r**2 + r'**2 never grows). The next contact is found
+by a scan whose intervals are skipped only when min(g(a), g(b)) - G h**2/8 > 0 (the linear
+interpolation error bound): no sampling gamble, shallow dips are subdivided until resolved.
+With ``integrate_free`` (tests) free flight is integrated by DP5(4) too.
+
+Contact phases are two-branch machines whose switches are all linear events (integrators.py):
+plastic: loading --(x' = 0)--> elastic --(x = xmax)--> loading, elastic --(x = xp)--> separated;
+linear: rising --(x' = 0)--> falling --(x' = 0)--> rising, falling --(x = 0)--> separated.
+Each switch projects the state exactly onto the event surface (error O(tolerance)).
+History x_max is exact for linear contacts and for plastic contacts that reach the power law; a
+plastic contact that stays on the elastic line (no reload) records its entry penetration (the
+dent), a lower bound: its turn is not an event since the force law does not change there.
+
+Energy account (fractions of E0 = (1 + alpha) v0**2/2, at the final separation): e_trans = cor**2,
+e_vib = relative kinetic + structural energy, e_diss = W + D (contact + dashpot, integrated as
+extra ODE components, independent of the other two). |sum - 1| > etol -> STATUS_ENERGY, and so
+does a negative net contact work (a passive contact cannot create energy; see solve_scene).
+"""
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from restitution.kernels.integrators import (
+    EV_FAIL,
+    EV_STOP,
+    M_ALPHA,
+    M_BRANCH,
+    M_C,
+    M_FMAX,
+    M_PHASE,
+    M_XMAX,
+    M_XP,
+    N_MEM,
+    N_Y,
+    STOP_NEVER,
+    STOP_NO_CONTACT,
+    accel_verlet,
+    accel_verlet_chain,
+    dent,
+    no_contact_possible,
+    no_contact_possible_chain,
+    rk_phase,
+    rk_phase_chain,
+    verlet_step,
+    verlet_step_chain,
+)
+from restitution.kernels.layout import (
+    H_IMPULSE,
+    H_TEND,
+    H_TSTART,
+    H_VIN,
+    H_VOUT,
+    H_XMAX,
+    N_OUT,
+    OUT_COR,
+    OUT_EDISS,
+    OUT_ERR,
+    OUT_ETRANS,
+    OUT_EVIB,
+    OUT_NCOL,
+    OUT_NEVENTS,
+    OUT_STATUS,
+    OUT_TCOL,
+    STATUS_ENERGY,
+    STATUS_EVENT_BUDGET,
+    STATUS_INVALID,
+    STATUS_NONCONVERGED,
+    STATUS_NOT_RUN,
+    STATUS_OK,
+    STATUS_WORK_BUDGET,
+)
+from restitution.kernels.parallel import row_blocks
+from restitution.model.laws import (
+    C_PLASTIC,
+    C_RIGID,
+    S_LINEAR,
+    SP_K2,
+    contact_elastic,
+    contact_params_ok,
+    structure_energy,
+)
+
+N_ACCT = 5  # kinetic, elastic, dissipated in contact, dissipated in dashpot, residual
+METHOD_ADAPTIVE = 0
+METHOD_VERLET = 1
+# Work budget of a two-mass scene in right-hand-side evaluations (about 5-10 s; the slowest
+# in-range scene of the test suite needs far less): ends a scene with STATUS_WORK_BUDGET.
+MAX_WORK_TWO_MASS = 50_000_000.0
+
+
+# ---------------------------------------------------------------- closed-form free flight --
+@njit(cache=True, error_model="numpy")
+def _osc(s, xi, r0, w0):
+    """r(s), r'(s) of r'' + 2 xi r' + r = 0 (all damping regimes, overflow-free)."""
+    if xi < 1.0:
+        wd = math.sqrt(1.0 - xi * xi)
+        e = math.exp(-xi * s)
+        c = e * math.cos(wd * s)
+        sn = e * (math.sin(wd * s) / wd if wd * s > 1e-300 else s)
+    elif xi == 1.0:
+        e = math.exp(-s)
+        c = e
+        sn = e * s
+    else:
+        wh = math.sqrt(xi * xi - 1.0)
+        ep = math.exp((wh - xi) * s)
+        em = math.exp(-(wh + xi) * s)
+        c = 0.5 * (ep + em)
+        sn = 0.5 * (ep - em) / wh
+    r = r0 * c + (w0 + xi * r0) * sn
+    w = w0 * c - (r0 + xi * w0) * sn
+    return r, w
+
+
+@njit(cache=True, error_model="numpy")
+def _gap(s, x0, v, mu, xi, r0, w0):
+    r, _ = _osc(s, xi, r0, w0)
+    return x0 + v * s - mu * r
+
+
+@njit(cache=True, error_model="numpy")
+def free_flight_linear(y, xp, xi, alpha):
+    """Advance y (linear structure, no contact) to the next contact; return its local time or -1.
+
+    On a contact, y is the state there with u1 = -xp exactly, and y[5] gains the dashpot loss.
+    """
+    m = 1.0 + alpha
+    mu = alpha / m
+    x0 = (y[0] + alpha * y[1]) / m + xp
+    v = (y[2] + alpha * y[3]) / m
+    r0 = y[1] - y[0]
+    w0 = y[3] - y[2]
+    amp = math.sqrt(r0 * r0 + w0 * w0)
+    gbound = mu * math.sqrt(1.0 + 4.0 * xi * xi) * amp
+    g0 = x0 - mu * r0
+    dg0 = v - mu * w0
+    s = 0.0
+    if g0 <= 0.0:
+        g0 = 0.0
+    if g0 == 0.0:
+        if dg0 <= 0.0:
+            return 0.0  # leaving along the surface: touching again at once
+        s = dg0 / gbound if gbound > 0.0 else 1.0
+    gs = _gap(s, x0, v, mu, xi, r0, w0)
+    h = 0.25
+    hit = -1.0
+    for _ in range(100_000_000):
+        if v > 0.0 and x0 + v * s - mu * amp > 0.0:
+            break  # the gap can never close again
+        if v <= 0.0 and s > 1e9:
+            break
+        gb = _gap(s + h, x0, v, mu, xi, r0, w0)
+        if gb <= 0.0:
+            lo, hi = s, s + h
+            for _ in range(200):
+                mid = 0.5 * (lo + hi)
+                if mid <= lo or mid >= hi:
+                    break
+                if _gap(mid, x0, v, mu, xi, r0, w0) > 0.0:
+                    lo = mid
+                else:
+                    hi = mid
+            hit = hi
+            break
+        if min(gs, gb) - gbound * h * h / 8.0 > 0.0 or h < 1e-12 * max(1.0, s):
+            s += h
+            gs = gb
+            h *= 2.0  # the bound test itself limits h where the gap is small
+        else:
+            h *= 0.5
+    if hit < 0.0:
+        return -1.0
+    r, w = _osc(hit, xi, r0, w0)
+    e_before = 0.5 * mu * (r0 * r0 + w0 * w0)
+    e_after = 0.5 * mu * (r * r + w * w)
+    y[0] = -xp
+    y[1] = -xp + r
+    y[2] = v - mu * w
+    y[3] = v + w / m
+    y[5] += e_before - e_after
+    return hit
+
+
+# ------------------------------------------------------------------------------ the scene --
+ENTER = 0  # the branch starts at the contact surface (or at t = 0)
+AFTER_TURN = 1  # the branch starts at a turn: v1 = 0 projected, x at a local maximum
+AFTER_RISE = 2  # the branch starts at a reload (plastic, x = xmax) or a rise (linear, v1 = 0)
+
+
+@njit(cache=True, error_model="numpy")
+def _setup_contact_events(cp, mem, W, B, strip, how, nm=2):
+    """Event rows of the current contact branch; returns their number.
+
+    ``strip`` counts the leading zeros of an event that starts on its own surface (exactly, since
+    the state is projected there): the separation when entering, the reload (double zero: x at
+    its maximum with v1 = 0) or the rise (v1 = 0) after a turn, the turn after a linear rise.
+    ``nm`` is the number of masses (v1 is y[nm]); W has as many columns as the state.
+    """
+    for k in range(2):
+        for i in range(W.shape[1]):
+            W[k, i] = 0.0
+        B[k] = 0.0
+        strip[k] = 0
+    plastic = cp[0] == C_PLASTIC
+    if mem[M_BRANCH] == 1.0:
+        # turn: x' = -v1 falls to 0
+        W[0, nm] = -1.0
+        strip[0] = 1 if (how == AFTER_RISE and not plastic) else 0
+        return 1
+    # separation: x - xp = -u1 - xp falls to 0
+    W[0, 0] = -1.0
+    B[0] = -mem[M_XP]
+    strip[0] = 1 if how == ENTER else 0
+    if plastic:
+        # reload past the maximum: xmax - x = xmax + u1 falls to 0
+        W[1, 0] = 1.0
+        B[1] = mem[M_XMAX]
+        strip[1] = 2 if how == AFTER_TURN else 0
+    else:
+        # elastic contact, x rising again: v1 falls to 0
+        W[1, nm] = 1.0
+        strip[1] = 1 if how == AFTER_TURN else 0
+    return 2
+
+
+@njit(cache=True, error_model="numpy")
+def _contact_switch(code, y, iv, kind, cp, mem, how, xmax_c):
+    """The law's switch at an event of a contact phase, the same for two masses and for chains:
+    y[0] = u1, y[iv] = v1. At the deepest point the loading branch turns (the plastic law
+    records its largest force and its dent); a reload past xmax (plastic) or a rise again
+    (elastic) returns to loading; else m1 separates at the dent. Returns (how, xmax_c,
+    separated)."""
+    if mem[M_BRANCH] == 1.0:  # turn at the deepest point
+        y[iv] = 0.0
+        x = -y[0]
+        xmax_c = max(xmax_c, x)
+        mem[M_BRANCH] = 0.0
+        if kind == C_PLASTIC and x >= mem[M_XMAX]:
+            mem[M_XMAX] = x
+            mem[M_FMAX] = cp[2] * x ** cp[3]
+            mem[M_XP] = dent(cp, mem)
+        return AFTER_TURN, xmax_c, False
+    if code == 1:  # reload past xmax (plastic) / rising again (elastic)
+        if kind == C_PLASTIC:
+            y[0] = -mem[M_XMAX]
+        else:
+            y[iv] = 0.0
+        mem[M_BRANCH] = 1.0
+        return AFTER_RISE, xmax_c, False
+    y[0] = -mem[M_XP]  # separation
+    mem[M_PHASE] = 0.0
+    return how, xmax_c, True
+
+
+@njit(cache=True, error_model="numpy")
+def _energies(y, sp, alpha, v0, out, acct):
+    m = 1.0 + alpha
+    e0 = 0.5 * m * v0 * v0
+    vc = (y[2] + alpha * y[3]) / m
+    w = y[3] - y[2]
+    ekin = 0.5 * (y[2] * y[2] + alpha * y[3] * y[3])
+    eel = structure_energy(sp, y[1] - y[0])
+    out[OUT_COR] = vc / v0
+    out[OUT_ETRANS] = vc * vc / (v0 * v0)
+    out[OUT_EVIB] = (0.5 * (alpha / m) * w * w + eel) / e0
+    out[OUT_EDISS] = (y[4] + y[5]) / e0
+    acct[0] = ekin / e0
+    acct[1] = eel / e0
+    acct[2] = y[4] / e0
+    acct[3] = y[5] / e0
+    acct[4] = out[OUT_ETRANS] + out[OUT_EVIB] + out[OUT_EDISS] - 1.0
+
+
+@njit(cache=True, error_model="numpy")
+def _record(hist, n, col, value):
+    if n < hist.shape[0]:
+        hist[n, col] = value
+
+
+@njit(cache=True, error_model="numpy")
+def solve_scene(
+    alpha, v0, xi, cp, sp, method, rtol, step_frac, integrate_free, etol, max_events, hist, acct
+):
+    """COR of one two-mass scene; ``out`` in the layout of kernels/layout.py.
+
+    method 0 = adaptive DP5(4) (rtol; atol = rtol*v0), 1 = velocity Verlet (step = step_frac of
+    the shortest local period). ``acct`` receives the energy account (N_ACCT entries).
+    """
+    out = np.zeros(N_OUT)
+    y = np.zeros(N_Y)
+    y[2] = -v0
+    y[3] = -v0
+    mem = np.zeros(N_MEM)
+    mem[M_C] = 2.0 * xi * sp[SP_K2]
+    mem[M_ALPHA] = alpha
+    m = 1.0 + alpha
+    ysep = y.copy()  # state at the latest separation: the energies are taken there
+    work = np.full(1, MAX_WORK_TWO_MASS)
+    if method == METHOD_VERLET:
+        status, ncol, tcol = _verlet(y, ysep, cp, sp, mem, step_frac, max_events, work, hist, v0)
+        err = 0.0
+    else:
+        status, ncol, tcol, err = _adaptive(
+            y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, work, hist, v0
+        )
+    _energies(ysep, sp, alpha, v0, out, acct)
+    out[OUT_NCOL] = ncol
+    out[OUT_TCOL] = tcol
+    out[OUT_NEVENTS] = ncol
+    out[OUT_ERR] = err / (m * v0)
+    if status == STATUS_OK and not abs(acct[4]) <= etol:
+        status = STATUS_ENERGY
+    # A passive contact returns at most what it absorbed: net contact work < 0 means the law
+    # created energy (the paper's plastic law can, when eta > 1 makes the loading tangent at a
+    # reload steeper than the unloading slope k1), so the result must not pass as good.
+    if status == STATUS_OK and acct[2] < -etol:
+        status = STATUS_ENERGY
+    if status == STATUS_OK and not (math.isfinite(out[OUT_COR]) and math.isfinite(out[OUT_TCOL])):
+        status = STATUS_NONCONVERGED  # never a non-finite number marked ok
+    if status != STATUS_OK and status != STATUS_ENERGY:
+        out[OUT_COR] = np.nan  # an unfinished sequence has no COR
+    out[OUT_STATUS] = status
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def _adaptive(y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, work, hist, v0):
+    alpha = mem[M_ALPHA]
+    atol = rtol * v0
+    kind = int(cp[0])
+    linear_free = sp[0] == S_LINEAR and not integrate_free
+    W = np.zeros((2, N_Y))
+    B = np.zeros(2)
+    strip = np.zeros(2, dtype=np.int64)
+    err_acc = np.zeros(1)
+    t = 0.0
+    tcol = 0.0
+    ncol = 1
+    # contact-scale step guess and cap: k1 sets the contact period
+    k1 = cp[1] if kind != C_RIGID else 1.0
+    hc = 0.05 / math.sqrt(k1 + 1.0)
+    hf = 0.05
+    h = hc
+    p_in = y[2] + alpha * y[3]
+    _record(hist, 0, H_TSTART, 0.0)
+    _record(hist, 0, H_VIN, y[2] / v0)
+    xmax_c = 0.0
+    if kind == C_RIGID:
+        y[2] = -y[2]
+        ysep[:] = y
+        _record(hist, 0, H_TEND, 0.0)
+        _record(hist, 0, H_VOUT, y[2] / v0)
+        _record(hist, 0, H_IMPULSE, (y[2] + alpha * y[3] - p_in) / v0)
+        mem[M_PHASE] = 0.0
+    else:
+        mem[M_PHASE] = 1.0
+        mem[M_BRANCH] = 1.0
+    entering = True
+    how = ENTER
+    while work[0] > 0.0:
+        work[0] -= 1.0  # a phase switch costs at least one evaluation
+        if mem[M_PHASE] == 1.0:
+            nev = _setup_contact_events(cp, mem, W, B, strip, how)
+            code, t, h = rk_phase(
+                y,
+                t,
+                h,
+                1e300,
+                rtol,
+                atol,
+                cp,
+                sp,
+                mem,
+                W,
+                B,
+                strip,
+                nev,
+                STOP_NEVER,
+                work,
+                err_acc,
+            )
+            if code == EV_FAIL or code == EV_STOP:
+                return _fail(work), ncol, tcol, err_acc[0]
+            how, xmax_c, separated = _contact_switch(code, y, 2, kind, cp, mem, how, xmax_c)
+            if separated:
+                tcol = t
+                ysep[:] = y
+                n = ncol - 1
+                _record(hist, n, H_TEND, t)
+                _record(hist, n, H_VOUT, y[2] / v0)
+                _record(hist, n, H_XMAX, xmax_c)
+                _record(hist, n, H_IMPULSE, (y[2] + alpha * y[3] - p_in) / v0)
+                entering = True
+                h = hf
+        else:
+            if linear_free:
+                s = free_flight_linear(y, mem[M_XP], xi, alpha)
+                if s < 0.0:
+                    return STATUS_OK, ncol, tcol, err_acc[0]
+                t += s
+                h = hc
+                work[0] -= 100.0  # a closed-form free flight: about 100 gap evaluations
+            else:
+                W[0, :] = 0.0
+                W[0, 0] = 1.0
+                B[0] = mem[M_XP]
+                strip[0] = 1 if entering else 0
+                code, t, h = rk_phase(
+                    y,
+                    t,
+                    h,
+                    0.5,
+                    rtol,
+                    atol,
+                    cp,
+                    sp,
+                    mem,
+                    W,
+                    B,
+                    strip,
+                    1,
+                    STOP_NO_CONTACT,
+                    work,
+                    err_acc,
+                )
+                if code == EV_STOP:
+                    return STATUS_OK, ncol, tcol, err_acc[0]
+                if code == EV_FAIL:
+                    return _fail(work), ncol, tcol, err_acc[0]
+                y[0] = -mem[M_XP]
+                h = hc
+            # a new contact starts
+            if ncol >= max_events:
+                return STATUS_EVENT_BUDGET, ncol, tcol, err_acc[0]
+            n = ncol
+            ncol += 1
+            xmax_c = -y[0]
+            p_in = y[2] + alpha * y[3]
+            _record(hist, n, H_TSTART, t)
+            _record(hist, n, H_VIN, y[2] / v0)
+            if kind == C_RIGID:
+                y[2] = -y[2]
+                tcol = t
+                ysep[:] = y
+                _record(hist, n, H_TEND, t)
+                _record(hist, n, H_VOUT, y[2] / v0)
+                _record(hist, n, H_IMPULSE, (y[2] + alpha * y[3] - p_in) / v0)
+                entering = True
+                h = hf
+            else:
+                mem[M_PHASE] = 1.0
+                if contact_elastic(cp) or mem[M_FMAX] == 0.0:
+                    mem[M_BRANCH] = 1.0
+                else:
+                    mem[M_BRANCH] = 0.0
+                how = ENTER
+    return STATUS_WORK_BUDGET, ncol, tcol, err_acc[0]
+
+
+@njit(cache=True, error_model="numpy")
+def _verlet(y, ysep, cp, sp, mem, step_frac, max_events, work, hist, v0):
+    """The paper's scheme: fixed step = step_frac * shortest local period of the scene.
+
+    The shortest period is that of the stiffest linearisation (contact spring k1 engaged, which
+    also bounds the plastic unloading and the scissor's capped slope). One step for the whole
+    scene: switching steps at state-dependent times would add its own O(h) jitter.
+    """
+    alpha = mem[M_ALPHA]
+    k2 = sp[SP_K2]
+    k1 = cp[1]
+    # highest eigenfrequency with the contact spring engaged (k1 bounds the plastic slopes)
+    tr = k1 + k2 + k2 / alpha
+    det = k1 * k2 / alpha
+    lam = 0.5 * tr + math.sqrt(max(0.25 * tr * tr - det, 0.0))
+    h_contact = step_frac * 2.0 * math.pi / math.sqrt(lam)
+    acc = np.zeros(4)
+    fc, pw = accel_verlet(y, cp, sp, mem, acc)
+    acc[2], acc[3] = fc, pw
+    t = 0.0
+    ncol = 1
+    tcol = 0.0
+    in_contact = True
+    xmax_c = 0.0
+    p_in = y[2] + alpha * y[3]
+    _record(hist, 0, H_TSTART, 0.0)
+    _record(hist, 0, H_VIN, y[2] / v0)
+    it = 0
+    while work[0] > 0.0:
+        work[0] -= 2.0
+        it += 1
+        h = h_contact
+        verlet_step(y, acc, h, cp, sp, mem)
+        t += h
+        now = acc[2] > 0.0
+        if now and not in_contact:
+            if ncol >= max_events:
+                return STATUS_EVENT_BUDGET, ncol, tcol
+            _record(hist, ncol, H_TSTART, t)
+            _record(hist, ncol, H_VIN, y[2] / v0)
+            p_in = y[2] + alpha * y[3]
+            xmax_c = 0.0
+            ncol += 1
+        if now:
+            xmax_c = max(xmax_c, -y[0])
+        if in_contact and not now:
+            tcol = t
+            ysep[:] = y
+            n = ncol - 1
+            _record(hist, n, H_TEND, t)
+            _record(hist, n, H_VOUT, y[2] / v0)
+            _record(hist, n, H_XMAX, xmax_c)
+            _record(hist, n, H_IMPULSE, (y[2] + alpha * y[3] - p_in) / v0)
+        in_contact = now
+        if not now:
+            mem[M_XP] = dent(cp, mem)
+            # the test costs a bisection for the scissor: every 8th free step is enough
+            if (it & 7) == 0 and no_contact_possible(y, cp, sp, mem):
+                return STATUS_OK, ncol, tcol
+    return STATUS_WORK_BUDGET, ncol, tcol
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def solve_scene_batch(alpha, v0, xi, cp, sp, method, rtol, step_frac, etol, max_events):
+    """``solve_scene`` over rows (alpha[i], v0[i], xi[i], cp[i], sp[i]); returns (n, N_OUT).
+
+    Rows are independent, so results are bit-identical for any number of threads.
+    """
+    n = alpha.shape[0]
+    out = np.full((n, N_OUT), np.nan)  # rows start unfinished: NaN, STATUS_NOT_RUN
+    for i in range(n):
+        out[i, OUT_STATUS] = STATUS_NOT_RUN
+    nb, size, p = row_blocks(n)  # rows spread over the threads (kernels.parallel)
+    for j in prange(nb):
+        b = (j * p) % nb
+        hist = np.zeros((0, 6))
+        for i in range(b * size, min(n, b * size + size)):
+            acct = np.zeros(N_ACCT)
+            out[i] = solve_scene(
+                alpha[i],
+                v0[i],
+                xi[i],
+                cp[i],
+                sp[i],
+                method,
+                rtol,
+                step_frac,
+                False,
+                etol,
+                max_events,
+                hist,
+                acct,
+            )
+    return out
+
+
+# ================================================================================================
+# General chains: masses m[n], link laws lk[n-1] (structure_params rows), dashpots c[n-1], any
+# contact law cp. Both phases are integrated by DP5(4) (the closed-form free flight of a linear
+# chain belongs to the exact chain kernel; here free flight is integrated with the same
+# guaranteed event location, and its end is the proof of integrators.no_contact_possible_chain).
+# ================================================================================================
+
+MAX_WORK_DEFAULT = 4_000_000  # right-hand-side evaluations per scene (about a second for N = 8)
+
+
+@njit(cache=True, error_model="numpy")
+def chain_frequency_bound(m, lk, kc):
+    """Gershgorin bound on the highest angular frequency (links at their largest slope, SP_K2;
+    a contact slope kc on m1)."""
+    n = m.shape[0]
+    lam = 0.0
+    for i in range(n):
+        row = 0.0
+        if i > 0:
+            row += 2.0 * lk[i - 1, SP_K2]
+        if i < n - 1:
+            row += 2.0 * lk[i, SP_K2]
+        if i == 0:
+            row += kc
+        lam = max(lam, row / m[i])
+    return math.sqrt(lam)
+
+
+@njit(cache=True, error_model="numpy")
+def _momentum(y, m):
+    n = m.shape[0]
+    p = 0.0
+    for i in range(n):
+        p += m[i] * y[n + i]
+    return p
+
+
+@njit(cache=True, error_model="numpy")
+def _energies_chain(y, m, lk, v0, out, acct):
+    n = m.shape[0]
+    mt = 0.0
+    ek = 0.0
+    for i in range(n):
+        mt += m[i]
+        ek += 0.5 * m[i] * y[n + i] * y[n + i]
+    e0 = 0.5 * mt * v0 * v0
+    vc = _momentum(y, m) / mt
+    eel = 0.0
+    for i in range(n - 1):
+        eel += structure_energy(lk[i], y[i + 1] - y[i])
+    erel = ek - 0.5 * mt * vc * vc
+    out[OUT_COR] = vc / v0
+    out[OUT_ETRANS] = vc * vc / (v0 * v0)
+    out[OUT_EVIB] = (erel + eel) / e0
+    out[OUT_EDISS] = (y[2 * n] + y[2 * n + 1]) / e0
+    acct[0] = ek / e0
+    acct[1] = eel / e0
+    acct[2] = y[2 * n] / e0
+    acct[3] = y[2 * n + 1] / e0
+    acct[4] = out[OUT_ETRANS] + out[OUT_EVIB] + out[OUT_EDISS] - 1.0
+
+
+@njit(cache=True, error_model="numpy")
+def chain_input_ok(m, lk, c, cp, v0):
+    """The kernel's own guard (the Python entry checks and names every parameter first)."""
+    n = m.shape[0]
+    if n < 1 or lk.shape[0] < n - 1 or c.shape[0] < n - 1:
+        return False
+    if not (v0 > 0.0 and v0 < math.inf):
+        return False
+    for i in range(n):
+        if not (m[i] > 0.0 and m[i] < math.inf):
+            return False
+    for i in range(n - 1):
+        if not (lk[i, SP_K2] > 0.0 and lk[i, SP_K2] < math.inf):
+            return False
+        if not (c[i] >= 0.0 and c[i] < math.inf):
+            return False
+    return contact_params_ok(cp)
+
+
+@njit(cache=True, error_model="numpy")
+def solve_chain_scene(
+    m, lk, c, cp, v0, method, rtol, step_frac, etol, max_events, max_work, hist, acct
+):
+    """COR of one general chain with any contact and link laws; ``out`` as kernels/layout.py.
+
+    m[n] (m[0] = 1 in kernel units), lk[n-1] link laws, c[n-1] dashpots, cp the contact law; all
+    masses start at -v0 with m1 on the wall surface. method 0 = adaptive DP5(4) (rtol, atol =
+    rtol*v0), 1 = velocity Verlet (step = step_frac * 2 pi / the Gershgorin frequency bound).
+    ``max_work`` bounds the right-hand-side evaluations (STATUS_WORK_BUDGET). Never raises for
+    finite input: a failure is a NaN COR with its status.
+    """
+    out = np.full(N_OUT, np.nan)
+    out[OUT_STATUS] = STATUS_INVALID
+    out[OUT_NCOL] = 0.0
+    out[OUT_NEVENTS] = 0.0
+    for i in range(acct.shape[0]):
+        acct[i] = np.nan
+    if not chain_input_ok(m, lk, c, cp, v0):
+        return out
+    n = m.shape[0]
+    y = np.zeros(2 * n + 2)
+    for i in range(n):
+        y[n + i] = -v0
+    mem = np.zeros(N_MEM)
+    ysep = y.copy()
+    work = np.zeros(1)
+    work[0] = max_work
+    mt = 0.0
+    for i in range(n):
+        mt += m[i]
+    if method == METHOD_VERLET:
+        status, ncol, tcol = _verlet_chain(
+            y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist, v0
+        )
+        err = 0.0
+    else:
+        status, ncol, tcol, err = _adaptive_chain(
+            y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0
+        )
+    out[OUT_NCOL] = ncol
+    out[OUT_NEVENTS] = ncol
+    out[OUT_TCOL] = tcol
+    _energies_chain(ysep, m, lk, v0, out, acct)
+    out[OUT_ERR] = err / (mt * v0)
+    if status == STATUS_OK and not abs(acct[4]) <= etol:
+        status = STATUS_ENERGY
+    if status == STATUS_OK and acct[2] < -etol:
+        status = STATUS_ENERGY  # net contact work < 0: the law created energy (see solve_scene)
+    if status == STATUS_OK and not (
+        math.isfinite(out[OUT_COR]) and math.isfinite(out[OUT_TCOL]) and math.isfinite(out[OUT_ERR])
+    ):
+        status = STATUS_NONCONVERGED  # never a non-finite number marked ok
+    if status != STATUS_OK and status != STATUS_ENERGY:
+        out[OUT_COR] = np.nan  # an unfinished sequence has no COR
+    out[OUT_STATUS] = status
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def _adaptive_chain(y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0):
+    n = m.shape[0]
+    ny = 2 * n + 2
+    atol = rtol * v0
+    kind = int(cp[0])
+    W = np.zeros((2, ny))
+    B = np.zeros(2)
+    strip = np.zeros(2, dtype=np.int64)
+    err_acc = np.zeros(1)
+    t = 0.0
+    tcol = 0.0
+    ncol = 1
+    # step scales from the highest frequency, free and with the contact's slope scale cp[1]
+    w_cont = chain_frequency_bound(m, lk, cp[1] if kind != C_RIGID else 0.0)
+    w_free = chain_frequency_bound(m, lk, 0.0)
+    if not w_free > 0.0:  # a single mass: no free-flight scale, take the contact's
+        w_free = w_cont if w_cont > 0.0 else 1.0
+    if not w_cont > 0.0:
+        w_cont = w_free
+    hc = 0.05 / w_cont
+    hf = 0.05 / w_free
+    hmax_free = 0.5 / w_free
+    h = hc
+    p_in = _momentum(y, m)
+    _record(hist, 0, H_TSTART, 0.0)
+    _record(hist, 0, H_VIN, y[n] / v0)
+    xmax_c = 0.0
+    if kind == C_RIGID:
+        y[n] = -y[n]
+        ysep[:] = y
+        _record(hist, 0, H_TEND, 0.0)
+        _record(hist, 0, H_VOUT, y[n] / v0)
+        _record(hist, 0, H_IMPULSE, (_momentum(y, m) - p_in) / v0)
+        mem[M_PHASE] = 0.0
+    else:
+        mem[M_PHASE] = 1.0
+        mem[M_BRANCH] = 1.0
+    entering = True
+    how = ENTER
+    while True:
+        if mem[M_PHASE] == 1.0:
+            nev = _setup_contact_events(cp, mem, W, B, strip, how, n)
+            code, t, h = rk_phase_chain(
+                y, t, h, 1e300, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev,
+                STOP_NEVER, work, err_acc,
+            )  # fmt: skip
+            if code == EV_FAIL or code == EV_STOP:
+                return _fail(work), ncol, tcol, err_acc[0]
+            how, xmax_c, separated = _contact_switch(code, y, n, kind, cp, mem, how, xmax_c)
+            if separated:
+                tcol = t
+                ysep[:] = y
+                k = ncol - 1
+                _record(hist, k, H_TEND, t)
+                _record(hist, k, H_VOUT, y[n] / v0)
+                _record(hist, k, H_XMAX, xmax_c)
+                _record(hist, k, H_IMPULSE, (_momentum(y, m) - p_in) / v0)
+                entering = True
+                h = hf
+        else:
+            W[0, :] = 0.0
+            W[0, 0] = 1.0
+            B[0] = mem[M_XP]
+            strip[0] = 1 if entering else 0
+            code, t, h = rk_phase_chain(
+                y, t, h, hmax_free, rtol, atol, m, lk, c, cp, mem, W, B, strip, 1,
+                STOP_NO_CONTACT, work, err_acc,
+            )  # fmt: skip
+            if code == EV_STOP:
+                return STATUS_OK, ncol, tcol, err_acc[0]
+            if code == EV_FAIL:
+                return _fail(work), ncol, tcol, err_acc[0]
+            y[0] = -mem[M_XP]
+            h = hc
+            # a new contact starts
+            if ncol >= max_events:
+                return STATUS_EVENT_BUDGET, ncol, tcol, err_acc[0]
+            k = ncol
+            ncol += 1
+            xmax_c = -y[0]
+            p_in = _momentum(y, m)
+            _record(hist, k, H_TSTART, t)
+            _record(hist, k, H_VIN, y[n] / v0)
+            if kind == C_RIGID:
+                y[n] = -y[n]
+                tcol = t
+                ysep[:] = y
+                _record(hist, k, H_TEND, t)
+                _record(hist, k, H_VOUT, y[n] / v0)
+                _record(hist, k, H_IMPULSE, (_momentum(y, m) - p_in) / v0)
+                entering = True
+                h = hf
+            else:
+                mem[M_PHASE] = 1.0
+                if contact_elastic(cp) or mem[M_FMAX] == 0.0:
+                    mem[M_BRANCH] = 1.0
+                else:
+                    mem[M_BRANCH] = 0.0
+                how = ENTER
+
+
+@njit(cache=True, error_model="numpy")
+def _fail(work):
+    """Status of a failed phase: the work budget if it ran out, else a step-size underflow."""
+    return STATUS_WORK_BUDGET if work[0] <= 0.0 else STATUS_NONCONVERGED
+
+
+@njit(cache=True, error_model="numpy")
+def _verlet_chain(y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist, v0):
+    """The paper's fixed-step velocity Verlet for a general chain (see ``_verlet``): the step is
+    step_frac * 2 pi / w, w the Gershgorin bound on the highest frequency with the contact's
+    slope scale cp[1] engaged."""
+    n = m.shape[0]
+    h = step_frac * 2.0 * math.pi / chain_frequency_bound(m, lk, cp[1])
+    damped = False
+    for i in range(n - 1):
+        damped = damped or c[i] != 0.0
+    acc = np.zeros(n + 2)
+    fc, pw = accel_verlet_chain(y, m, lk, c, cp, mem, acc)
+    acc[n], acc[n + 1] = fc, pw
+    t = 0.0
+    ncol = 1
+    tcol = 0.0
+    in_contact = True
+    xmax_c = 0.0
+    p_in = _momentum(y, m)
+    _record(hist, 0, H_TSTART, 0.0)
+    _record(hist, 0, H_VIN, y[n] / v0)
+    it = 0
+    while work[0] > 0.0:
+        work[0] -= 2.0 if damped else 1.0
+        it += 1
+        verlet_step_chain(y, acc, h, m, lk, c, cp, mem, damped)
+        t += h
+        now = acc[n] > 0.0
+        if now and not in_contact:
+            if ncol >= max_events:
+                return STATUS_EVENT_BUDGET, ncol, tcol
+            _record(hist, ncol, H_TSTART, t)
+            _record(hist, ncol, H_VIN, y[n] / v0)
+            p_in = _momentum(y, m)
+            xmax_c = 0.0
+            ncol += 1
+        if now:
+            xmax_c = max(xmax_c, -y[0])
+        if in_contact and not now:
+            tcol = t
+            ysep[:] = y
+            k = ncol - 1
+            _record(hist, k, H_TEND, t)
+            _record(hist, k, H_VOUT, y[n] / v0)
+            _record(hist, k, H_XMAX, xmax_c)
+            _record(hist, k, H_IMPULSE, (_momentum(y, m) - p_in) / v0)
+        in_contact = now
+        if not now:
+            mem[M_XP] = dent(cp, mem)
+            if (it & 7) == 0 and no_contact_possible_chain(y, m, lk, mem[M_XP]):
+                return STATUS_OK, ncol, tcol
+    return STATUS_WORK_BUDGET, ncol, tcol
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def solve_chain_scene_batch(
+    m, lk, c, n, cp, v0, method, rtol, step_frac, etol, max_events, max_work
+):
+    """``solve_chain_scene`` over padded rows: m (rows, nmax), lk (rows, nmax-1, N_SP),
+    c (rows, nmax-1), n (rows,) int64 masses per row, cp (rows, N_CP), v0 (rows,).
+
+    Every row starts as NaN with STATUS_NOT_RUN before any work, so a row the kernel did not
+    finish can never pass as a result. Rows are independent: bit-identical for any thread count.
+    """
+    rows = m.shape[0]
+    out = np.full((rows, N_OUT), np.nan)
+    for i in range(rows):
+        out[i, OUT_STATUS] = STATUS_NOT_RUN
+    nb, size, p = row_blocks(rows)  # rows spread over the threads (kernels.parallel)
+    for j in prange(nb):
+        b = (j * p) % nb
+        hist = np.zeros((0, 6))
+        for i in range(b * size, min(rows, b * size + size)):
+            k = n[i]
+            if k < 2 or k > m.shape[1]:
+                out[i, OUT_STATUS] = STATUS_INVALID
+                continue
+            acct = np.zeros(N_ACCT)
+            out[i] = solve_chain_scene(
+                m[i, :k], lk[i, : k - 1], c[i, : k - 1], cp[i], v0[i], method, rtol, step_frac,
+                etol, max_events, max_work, hist, acct,
+            )  # fmt: skip
+    return out

@@ -1,0 +1,367 @@
+"""The solver table: every method, the scenes it applies to, its cost rank and its runner.
+
+Shaped like the ``METHODS`` dict of scipy's ``integrate/_ivp/ivp.py``: a method is one entry of
+``METHODS``; ``choose`` is the only dispatcher (``auto`` takes the cheapest exact method that
+applies, else the cheapest numerical one; a forced method is checked against the scene here and
+nowhere else). docs/guides/adding-a-method.md shows how to add one.
+
+========== ===================================================================================
+impulsive  rigid wall, linear links and dashpots: impulsive reversal of m1's velocity at each
+           contact, closed-form motion between contacts (exact)
+piecewise  linear contact spring, linear links and dashpots: closed form per phase, exact
+           switching times (exact)
+adaptive   embedded Dormand-Prince 5(4) with guaranteed event location, for the phases whose
+           force law is nonlinear (any law)
+verlet     the paper's velocity Verlet, fixed step (finite contact stiffness, any chain)
+reference  scipy ``solve_ivp`` DOP853 with events: slow, for checks (two masses)
+precise    linear contact and links: the exact event sequence at 40 digits (mpmath; 80 or 160
+           where 40 do not agree with 20 more); for scenes double precision cannot resolve
+           (``ill_conditioned``); never chosen by ``auto`` (seconds per scene)
+========== ===================================================================================
+
+A runner takes a validated ``Chain`` and ``Options`` and returns ``(out, hist)``: the kernel's
+output row (``restitution.kernels.layout``; times are omega * t) and the contact history (or
+None). ``label`` names what was used: ``impulsive+sticking`` when the kernel continued a Zeno
+chatter by its sticking limit (bit 0 of ``OUT_FLAGS``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from restitution.kernels import layout as L
+from restitution.kernels.compiling import announce
+from restitution.model.chain import Chain, SceneError, check
+from restitution.model.ranges import HISTORY_MAX_EVENTS, _show
+from restitution.solvers import blas
+from restitution.solvers.result import label
+
+# Bit of out[OUT_FLAGS] set by the chain kernel when it used the sticking limit.
+FLAG_STICKING = L.FLAG_STICKING
+# Bit set by the chain kernel when a very stiff contact was solved as its rigid limit.
+FLAG_RIGID_LIMIT = L.FLAG_RIGID_LIMIT
+
+
+@dataclass(frozen=True)
+class Options:
+    """Settings of one solve (checked by ``options``)."""
+
+    history: bool = False
+    max_events: int = 100_000
+    rtol: float = 1e-9
+    step: float = 0.01
+
+
+def check_history(history) -> bool:
+    """``history`` as a bool: True or False (numpy's too); anything else is an error (the text
+    "no" would be true)."""
+    if not isinstance(history, (bool, np.bool_)):
+        raise SceneError(f"history must be True or False; got {_show(history)}")
+    return bool(history)
+
+
+def check_events(max_events, history: bool) -> int:
+    """The contact budget: RANGES["max_events"], and with a history at most
+    HISTORY_MAX_EVENTS (its rows are allocated before the solve: 48 bytes per contact)."""
+    n = check("max_events", max_events)
+    if history and n > HISTORY_MAX_EVENTS:
+        raise SceneError(
+            f"max_events must be at most {HISTORY_MAX_EVENTS:,} with a history (one 48-byte "
+            f"row per contact is allocated before the solve); got {_show(max_events)}"
+        )
+    return n
+
+
+def options(history=False, max_events=100_000, rtol=1e-9, step=0.01) -> Options:
+    history = check_history(history)
+    return Options(
+        history, check_events(max_events, history), check("rtol", rtol), check("step", step)
+    )
+
+
+@dataclass(frozen=True)
+class Method:
+    """One row of the solver table.
+
+    ``applies(chain)`` returns None when the method can solve the scene, else the reason (shown
+    to the user when the method was forced). ``cost`` orders methods for ``auto`` (lower first);
+    only ``exact`` methods or, when none applies, numerical ones are picked by ``auto``.
+    """
+
+    name: str
+    exact: bool
+    cost: int
+    applies: Callable[[Chain], str | None]
+    run: Callable[[Chain, Options], tuple]
+    doc: str
+
+
+# ----------------------------------------------------------------------------------------------
+# Applicability
+# ----------------------------------------------------------------------------------------------
+def _impulsive_applies(ch: Chain) -> str | None:
+    if not ch.linear:
+        return "it needs linear contact and links; use 'adaptive' for nonlinear laws"
+    if not ch.rigid:
+        return "'impulsive' needs beta = 0 (a rigid wall, k_contact = inf); use 'piecewise'"
+    return None
+
+
+def _piecewise_applies(ch: Chain) -> str | None:
+    if not ch.linear:
+        return "it needs linear contact and links; use 'adaptive' for nonlinear laws"
+    if ch.rigid:
+        return "'piecewise' needs beta > 0 (a finite k_contact); use 'impulsive'"
+    return None
+
+
+def _adaptive_applies(ch: Chain) -> str | None:
+    return None  # any chain, any law
+
+
+def _verlet_applies(ch: Chain) -> str | None:
+    if ch.rigid:
+        return "it needs a finite contact law (beta > 0), not a rigid wall"
+    return None
+
+
+def _precise_applies(ch: Chain) -> str | None:
+    if not ch.linear:
+        return "it needs linear contact and links (the event sequence is solved in closed form)"
+    return None
+
+
+def _reference_applies(ch: Chain) -> str | None:
+    if ch.n_masses != 2:
+        return "it is implemented for two masses only (n_masses must be 2)"
+    if ch.contact is not None and ch.contact["law"] == "hertz":
+        return "it does not implement the 'hertz' contact law"
+    return None
+
+
+# ----------------------------------------------------------------------------------------------
+# Runners
+# ----------------------------------------------------------------------------------------------
+def _hist(opts: Options) -> np.ndarray:
+    return np.zeros((opts.max_events if opts.history else 0, L.N_HIST))
+
+
+def _general_kernel():
+    try:
+        from restitution.kernels.exact_chain import solve_chain
+    except ImportError:  # pragma: no cover - only before the chain kernel is installed
+        raise SceneError(
+            "this chain is not one of the paper's scenes and the general chain kernel "
+            "(restitution.kernels.exact_chain) is not installed"
+        ) from None
+    return solve_chain
+
+
+def paper_kernels():
+    """The paper's kernels (rigid2, rigid2_batch, solve_linear, solve_linear_batch), imported on
+    first use so that ``import restitution`` stays cheap for the CLI's --help and snakemake."""
+    global _PAPER_KERNELS
+    if _PAPER_KERNELS is None:
+        from restitution.kernels.paper_chain import solve_linear, solve_linear_batch
+        from restitution.kernels.rigid2 import rigid2, rigid2_batch
+
+        _PAPER_KERNELS = rigid2, rigid2_batch, solve_linear, solve_linear_batch
+    return _PAPER_KERNELS
+
+
+_PAPER_KERNELS = None
+
+
+def _exact_out(ch: Chain, max_events: int, hist: np.ndarray, beta: float | None = None):
+    """Kernel row of a linear chain; ``beta`` replaces its k_12/k_contact (0: rigid wall)."""
+    paper = ch.paper_form
+    if paper is not None:
+        rigid2, _, solve_linear, _ = paper_kernels()
+        alpha, b, xi, n = paper
+        b = b if beta is None else beta
+        kernel = rigid2 if b == 0.0 and n == 2 else solve_linear
+        announce(kernel)
+        if kernel is rigid2:
+            return rigid2(alpha, xi, max_events, hist)
+        return solve_linear(alpha, b, xi, n, max_events, hist)
+    m, k, c, kc = ch.scaled()
+    if beta is not None:
+        kc = math.inf if beta == 0.0 else k[0] / beta
+    kernel = _general_kernel()
+    announce(kernel)
+    return kernel(m, k, c, kc, max_events, hist)
+
+
+def _run_exact(ch: Chain, opts: Options):
+    """Paper-form scenes on the paper's kernels (bit for bit as before); any other chain on
+    the general chain kernel. A contact stiffer than the kernels' rigid limit (beta below
+    kernels.chain.BETA_RIGID) comes back flagged FLAG_RIGID_LIMIT, with its error bound."""
+    hist = _hist(opts)
+    with blas.one_thread(ch.n_masses):
+        out = _exact_out(ch, opts.max_events, hist)
+    return out, (hist if opts.history else None)
+
+
+def legacy_laws(ch: Chain) -> dict:
+    """A two-mass chain's laws as keywords of ``restitution.solvers.numerical.solve_nonlinear`` (the
+    scene in its units m1 = 1, omega = 1 with lengths kept: stiffnesses / (m1 omega**2), speeds
+    / omega)."""
+    w = ch.omega
+    law = {"v0": ch.v0 / w}
+    contact = ch.contact
+    if contact is not None:
+        law["contact"] = contact["law"]
+        law.update({k: v for k, v in contact.items() if k in ("eta", "dr")})
+    if ch.links is not None:
+        (spec,) = ch.links
+        if spec["law"] == "scissor":
+            k2 = float(ch.springs[0])
+            law.update(structure="scissor", ks_ratio=spec["ks"] / k2)
+            law.update({k: spec[k] for k in ("L", "theta0", "corner") if k in spec})
+    return law
+
+
+def _two_mass_paper_laws(ch: Chain) -> bool:
+    """Two masses with the laws of the paper's Section 3 (linear, plastic, scissor): solved by
+    ``solve_nonlinear`` as before, so the paper's results are unchanged."""
+    return ch.n_masses == 2 and (ch.contact is None or ch.contact["law"] == "plastic")
+
+
+def _run_numerical(name: str):
+    def run(ch: Chain, opts: Options):
+        from restitution.solvers import numerical as nonlinear
+
+        if name == "reference" or _two_mass_paper_laws(ch):
+            r = nonlinear.solve_nonlinear(
+                ch.alpha,
+                ch.beta,
+                ch.xi,
+                method=name,
+                rtol=opts.rtol,
+                step=opts.step,
+                max_events=opts.max_events,
+                history=opts.history,
+                **legacy_laws(ch),
+            )
+        else:
+            r = nonlinear.solve_nonlinear_chain(
+                ch.masses,
+                ch.springs,
+                ch.dashpots,
+                ch.contact_law,
+                ch.link_laws,
+                ch.v0,
+                name,
+                opts.rtol,
+                opts.max_events,
+                opts.history,
+                step=opts.step,
+            )
+        return r, None
+
+    return run
+
+
+# Digits of the 'precise' method: each run is checked at 20 more; where the two disagree (a
+# sequence chaotic enough to need more) the next, up to the last.
+PRECISE_DPS = (40, 80, 160)
+
+
+def _run_precise(ch: Chain, opts: Options):
+    """The linear chain as given (user units, every float exact in mpmath) at the first of
+    PRECISE_DPS whose run agrees with one at 20 more digits. The error estimate is their
+    difference (at least half an ulp of the COR, the rounding to float); e_dissipated is the
+    remainder of the energy account, not an independent integral (the two runs are the check)."""
+
+    from restitution.solvers.precise import solve_precise
+
+    if opts.history:
+        raise SceneError("history is not recorded by the 'precise' method; use history=False")
+    out = np.full(L.N_OUT, math.nan)
+    out[L.OUT_FLAGS] = 0.0
+    m, k, c = ch.masses, ch.springs, ch.dashpots
+    try:
+        for dps in PRECISE_DPS:
+            r = solve_precise(m, k, c, ch.k_contact, dps=dps, max_events=opts.max_events)
+            if r.status != "ill_conditioned":
+                break
+    except RuntimeError:  # a phase whose end its root search did not reach (never ending)
+        out[L.OUT_STATUS] = L.STATUS_NONCONVERGED
+        return out, None
+    out[L.OUT_NCOL] = out[L.OUT_NEVENTS] = r.n_collisions
+    if r.status == "event_budget_exhausted":
+        out[L.OUT_STATUS] = L.STATUS_EVENT_BUDGET
+        return out, None
+    out[L.OUT_STATUS] = L.STATUS_OK if r.status == "ok" else L.STATUS_ILL_CONDITIONED
+    out[L.OUT_COR] = r.cor
+    out[L.OUT_TCOL] = r.t_col * ch.omega
+    out[L.OUT_ETRANS] = r.e_translational
+    out[L.OUT_EVIB] = r.e_vibrational
+    out[L.OUT_EDISS] = 1.0 - r.e_translational - r.e_vibrational
+    out[L.OUT_ERR] = max(r.error_estimate, 0.5 * math.ulp(r.cor))
+    return out, None
+
+
+METHODS: dict[str, Method] = {
+    "impulsive": Method("impulsive", True, 0, _impulsive_applies, _run_exact, "rigid wall, exact"),
+    "piecewise": Method(
+        "piecewise", True, 1, _piecewise_applies, _run_exact, "linear contact spring, exact"
+    ),
+    "adaptive": Method(
+        "adaptive", False, 10, _adaptive_applies, _run_numerical("adaptive"), "DP5(4), any chain"
+    ),
+    "verlet": Method(
+        "verlet", False, 20, _verlet_applies, _run_numerical("verlet"), "velocity Verlet"
+    ),
+    "reference": Method(
+        "reference", False, 30, _reference_applies, _run_numerical("reference"), "scipy DOP853"
+    ),
+    # exact=False and the highest cost: 'auto' never picks it (seconds per scene).
+    "precise": Method(
+        "precise", False, 40, _precise_applies, _run_precise, "exact at 40+ digits (mpmath)"
+    ),
+}
+NAMES = ("auto", *METHODS)
+
+
+def check_method(value) -> str:
+    """``value`` if it names a method (or 'auto'); else SceneError listing them."""
+    if not isinstance(value, str) or (value != "auto" and value not in METHODS):
+        raise SceneError(f"method must be one of {', '.join(NAMES)}; got {value!r}")
+    return value
+
+
+def choose(ch: Chain, method: str = "auto") -> Method:
+    """The method that solves ``ch``: the forced one if it applies, else the cheapest exact
+    one, else the cheapest numerical one. The one place a method is chosen or checked."""
+    check_method(method)
+    if method != "auto":
+        m = METHODS[method]
+        reason = m.applies(ch)
+        if reason is not None:
+            raise SceneError(f"method {method!r} does not fit this scene: {reason}")
+        return m
+    ranked = sorted(METHODS.values(), key=lambda m: (not m.exact, m.cost))
+    reasons = []
+    for m in ranked:
+        reason = m.applies(ch)
+        if reason is None:
+            return m
+        reasons.append(f"{m.name}: {reason}")
+    raise SceneError("no method applies to this scene (" + "; ".join(reasons) + ")")
+
+
+__all__ = [
+    "METHODS",
+    "NAMES",
+    "Method",
+    "Options",
+    "check_method",
+    "choose",
+    "label",
+    "options",
+]

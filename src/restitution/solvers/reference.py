@@ -1,0 +1,282 @@
+"""Slow checking method: scipy ``solve_ivp`` (DOP853) with terminal events that switch the law.
+
+Independent of the numba integrators: every phase, free flight included, is integrated by scipy
+with the force laws of ``laws.py`` evaluated in Python. scipy checks event signs only at step
+ends, so a contact shallower than one step would be stepped over (max_step = 1/50 of the shortest
+local period did not prevent it just past alpha*_2): the gap's minima in free flight are events
+too, and a minimum below the wall is a contact, located by a bracketed root (likewise a
+compression minimum past the wall while unloading is a separation). Same phase machine and
+projections as ``kernels/stepping.py``; same output layout.
+
+The benchmark harness (``restitution_workflow.bench.ivp``) reuses ``solve_reference`` with another
+scipy
+``method``, its own ``atol``, no ``max_step`` (``steps_per_period=None``), plain sign-change event
+detection (``minima=False``, as a researcher would first write it) and a wall-clock ``deadline``.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+from restitution.kernels import layout as LY
+from restitution.model import laws
+
+
+class DeadlineExceeded(RuntimeError):
+    """Raised from inside the right-hand side when a run passes its wall-clock deadline."""
+
+
+def _rhs_factory(cp, sp, mem, deadline=None):
+    alpha, c = mem["alpha"], mem["c"]
+
+    def rhs(t, y):
+        # Checked at every evaluation: one solve_ivp call can otherwise run for minutes.
+        if deadline is not None and time.perf_counter() > deadline:
+            raise DeadlineExceeded("wall-clock budget exhausted")
+        x = -y[0]
+        fc = 0.0
+        if mem["phase"] == 1:
+            fc = laws.contact_force(cp, mem["branch"], mem["xmax"], mem["fmax"], x)
+        f2 = laws.structure_force(sp, y[1] - y[0])
+        dv = y[3] - y[2]
+        fd = c * dv
+        return [y[2], y[3], fc + f2 + fd, -(f2 + fd) / alpha, -fc * y[2], c * dv * dv]
+
+    return rhs
+
+
+def _event(fun):
+    fun.terminal = True
+    fun.direction = -1
+    return fun
+
+
+def _minimum(fun):
+    """Non-terminal event at the minima of a coordinate whose velocity is ``fun``."""
+    fun.terminal = False
+    fun.direction = 1
+    return fun
+
+
+def _first_root(gap, t0, t1, samples=64):
+    """First zero of ``gap`` in [t0, t1] where gap(t0) >= 0 > gap(t1): bracketed on samples."""
+    ts = np.linspace(t0, t1, samples + 1)
+    values = [gap(s) for s in ts]
+    for k in range(samples):
+        if values[k] >= 0.0 > values[k + 1]:
+            return brentq(gap, ts[k], ts[k + 1], xtol=1e-15, rtol=4 * np.finfo(float).eps)
+    return t1
+
+
+def _no_contact_possible(y, sp, mem):
+    a = mem["alpha"]
+    m = 1.0 + a
+    mu = a / m
+    vcom = (y[2] + a * y[3]) / m
+    if vcom <= 0.0:
+        return False
+    e = 0.5 * mu * (y[3] - y[2]) ** 2 + laws.structure_energy(sp, y[1] - y[0])
+    rhi = laws.structure_extent(sp, e, 1.0)
+    return (y[0] + a * y[1]) / m + mem["xp"] - mu * rhi > 0.0
+
+
+def solve_reference(
+    alpha,
+    v0,
+    xi,
+    cp,
+    sp,
+    rtol,
+    max_events,
+    acct,
+    etol,
+    t_max=1e5,
+    *,
+    method="DOP853",
+    atol=None,
+    steps_per_period=50,
+    deadline=None,
+    minima=True,
+):
+    """Reference solution of one two-mass scene; returns (out, hist) in the kernel layout.
+
+    ``method`` is any ``solve_ivp`` method; ``atol`` defaults to ``rtol * v0``; ``max_step`` is
+    the shortest local period / ``steps_per_period`` (``None``: no max_step); ``deadline`` (a
+    ``time.perf_counter()`` value) makes the run raise ``DeadlineExceeded`` once passed.
+    ``minima`` (default) also stops at every minimum of the gap in free flight and of the
+    compression while unloading, so that a contact or separation shallower than one step is not
+    stepped over; ``False`` keeps scipy's plain sign-change detection (the benchmark's view of
+    how solve_ivp is usually used).
+    """
+    kind = int(cp[0])
+    k1, k2 = cp[1], sp[laws.SP_K2]
+    mem = dict(phase=1, branch=1, xmax=0.0, fmax=0.0, xp=0.0, c=2.0 * xi * k2, alpha=alpha)
+    rhs = _rhs_factory(cp, sp, mem, deadline)
+    atol = rtol * v0 if atol is None else atol
+    tr = k1 + k2 + k2 / alpha
+    lam = 0.5 * tr + math.sqrt(max(0.25 * tr * tr - k1 * k2 / alpha, 0.0))
+    dt_contact, dt_free = math.inf, math.inf  # solve_ivp's default max_step
+    if steps_per_period is not None:
+        if kind != laws.C_RIGID:
+            dt_contact = 2 * math.pi / math.sqrt(lam) / steps_per_period
+        dt_free = 2 * math.pi / math.sqrt(k2 + k2 / alpha) / steps_per_period
+    y = np.array([0.0, 0.0, -v0, -v0, 0.0, 0.0])
+    t, tcol, ncol = 0.0, 0.0, 1
+    hist = [[0.0, 0.0, -1.0, 0.0, 0.0, 0.0]]
+    p_in = y[2] + alpha * y[3]
+    ysep = y.copy()
+    status = LY.STATUS_OK
+    if kind == laws.C_RIGID:
+        y[2] = -y[2]
+        hist[0][LY.H_VOUT] = y[2] / v0
+        hist[0][LY.H_IMPULSE] = (y[2] + alpha * y[3] - p_in) / v0
+        ysep = y.copy()
+        mem["phase"] = 0
+    xmax_c = 0.0
+    while True:
+        if t > t_max:
+            status = LY.STATUS_NONCONVERGED
+            break
+        if mem["phase"] == 1:
+            if mem["branch"] == 1:
+                events = [_event(lambda t, y: -y[2])]
+            else:
+                xp, xm = mem["xp"], mem["xmax"]
+                second = (
+                    (lambda t, y, xm=xm: xm + y[0])
+                    if kind == laws.C_PLASTIC
+                    else (lambda t, y: y[2])
+                )
+                events = [_event(lambda t, y, xp=xp: -y[0] - xp), _event(second)]
+            sol = solve_ivp(
+                rhs,
+                (t, t + 1e4),
+                y,
+                method=method,
+                rtol=rtol,
+                atol=atol,
+                events=events,
+                max_step=dt_contact,
+                dense_output=True,
+            )
+            hit = [i for i, te in enumerate(sol.t_events) if len(te)]
+            if not hit:
+                status = LY.STATUS_NONCONVERGED
+                break
+            i = min(hit, key=lambda j: sol.t_events[j][0])
+            t, y = sol.t_events[i][0], sol.y_events[i][0].copy()
+            xp = mem["xp"]
+            if minima and mem["branch"] == 0 and i == 1 and kind != laws.C_PLASTIC and -y[0] < xp:
+                # The compression's minimum is past the wall: a separation shorter than one step
+                # (x back above xp at both step ends) was stepped over. It starts at the root
+                # between the turn (x > xp) and this minimum, where x decreases throughout.
+                t = brentq(lambda s, f=sol.sol, xp=xp: -f(s)[0] - xp, sol.t[0], t, xtol=1e-15)
+                y, i = sol.sol(t).copy(), 0
+            if mem["branch"] == 1:  # turn
+                y[2] = 0.0
+                x = -y[0]
+                xmax_c = max(xmax_c, x)
+                mem["branch"] = 0
+                if kind == laws.C_PLASTIC and x >= mem["xmax"]:
+                    mem["xmax"], mem["fmax"] = x, cp[2] * x ** cp[3]
+                    mem["xp"] = x - mem["fmax"] / k1
+            elif i == 1:
+                if kind == laws.C_PLASTIC:
+                    y[0] = -mem["xmax"]
+                else:
+                    y[2] = 0.0
+                mem["branch"] = 1
+            else:
+                y[0] = -mem["xp"]
+                mem["phase"] = 0
+                tcol = t
+                ysep = y.copy()
+                hist[-1][LY.H_TEND] = t
+                hist[-1][LY.H_VOUT] = y[2] / v0
+                hist[-1][LY.H_XMAX] = xmax_c
+                hist[-1][LY.H_IMPULSE] = (y[2] + alpha * y[3] - p_in) / v0
+        else:
+            xp = mem["xp"]
+            # Besides the sign change of the gap u1 + xp, record its minima (v1 rising through
+            # 0): a contact shallower than one step has the gap positive at both step ends, so
+            # sign-change detection alone steps over it (measured: the 5e-6 deep contact just
+            # past alpha*_2 was missed at max_step = period/50). A minimum below the wall is such
+            # a contact; it starts at the first root after the previous minimum.
+            sol = solve_ivp(
+                rhs,
+                (t, t + 2 * math.pi),
+                y,
+                method=method,
+                rtol=rtol,
+                atol=atol,
+                events=[_event(lambda t, y, xp=xp: y[0] + xp), _minimum(lambda t, y: y[2])]
+                if minima
+                else [_event(lambda t, y, xp=xp: y[0] + xp)],
+                max_step=dt_free,
+                dense_output=True,
+            )
+            hit, lows = sol.t_events if minima else (sol.t_events[0], [])
+            end = hit[0] if len(hit) else sol.t[-1]
+            below = [
+                k for k in range(len(lows)) if lows[k] < end and sol.y_events[1][k][0] + xp < 0
+            ]
+            if below:
+                k = below[0]
+                start = lows[k - 1] if k > 0 else sol.t[0]
+                t_hit = _first_root(lambda s, f=sol.sol, xp=xp: f(s)[0] + xp, start, lows[k])
+                sol.t_events[0] = np.array([t_hit])
+                sol.y_events[0] = np.array([sol.sol(t_hit)])
+            elif not len(hit):
+                t, y = sol.t[-1], sol.y[:, -1].copy()
+                if _no_contact_possible(y, sp, mem):
+                    break
+                continue
+            t, y = sol.t_events[0][0], sol.y_events[0][0].copy()
+            y[0] = -xp
+            if ncol >= max_events:
+                status = LY.STATUS_EVENT_BUDGET
+                break
+            ncol += 1
+            xmax_c = -y[0]
+            p_in = y[2] + alpha * y[3]
+            hist.append([t, t, y[2] / v0, 0.0, 0.0, 0.0])
+            if kind == laws.C_RIGID:
+                y[2] = -y[2]
+                tcol = t
+                ysep = y.copy()
+                hist[-1][LY.H_VOUT] = y[2] / v0
+                hist[-1][LY.H_IMPULSE] = (y[2] + alpha * y[3] - p_in) / v0
+            else:
+                mem["phase"] = 1
+                mem["branch"] = 1 if (kind == laws.C_LINEAR or mem["fmax"] == 0.0) else 0
+    out = np.zeros(LY.N_OUT)
+    m = 1.0 + alpha
+    e0 = 0.5 * m * v0 * v0
+    vc = (ysep[2] + alpha * ysep[3]) / m
+    w = ysep[3] - ysep[2]
+    eel = laws.structure_energy(sp, ysep[1] - ysep[0])
+    out[LY.OUT_COR] = vc / v0
+    out[LY.OUT_NCOL] = ncol
+    out[LY.OUT_TCOL] = tcol
+    out[LY.OUT_ETRANS] = vc * vc / (v0 * v0)
+    out[LY.OUT_EVIB] = (0.5 * alpha / m * w * w + eel) / e0
+    out[LY.OUT_EDISS] = (ysep[4] + ysep[5]) / e0
+    out[LY.OUT_NEVENTS] = ncol
+    out[LY.OUT_ERR] = rtol
+    acct[0] = 0.5 * (ysep[2] ** 2 + alpha * ysep[3] ** 2) / e0
+    acct[1] = eel / e0
+    acct[2] = ysep[4] / e0
+    acct[3] = ysep[5] / e0
+    acct[4] = out[LY.OUT_ETRANS] + out[LY.OUT_EVIB] + out[LY.OUT_EDISS] - 1.0
+    if status == LY.STATUS_OK and not abs(acct[4]) <= etol:
+        status = LY.STATUS_ENERGY
+    # As in kernels/stepping.py: negative net contact work means the law created energy.
+    if status == LY.STATUS_OK and acct[2] < -etol:
+        status = LY.STATUS_ENERGY
+    out[LY.OUT_STATUS] = status
+    return out, np.array(hist[: max(ncol, 0)], dtype=float).reshape(-1, LY.N_HIST)

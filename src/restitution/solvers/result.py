@@ -1,0 +1,185 @@
+"""The result of one scene, and the names of the kernels' status codes."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, fields
+
+import numpy as np
+import pandas as pd
+
+from restitution.kernels import layout as L
+
+# Status names by the layout constant that holds their code (a code the installed kernels do not
+# define is simply absent).
+_STATUS_NAMES = (
+    ("STATUS_OK", "ok"),
+    ("STATUS_EVENT_BUDGET", "event_budget_exhausted"),
+    ("STATUS_ENERGY", "energy_account_open"),
+    ("STATUS_ILL_CONDITIONED", "ill_conditioned"),
+    ("STATUS_NONCONVERGED", "event_not_converged"),
+    ("STATUS_PERMANENT_CONTACT", "permanent_contact"),
+    ("STATUS_WORK_BUDGET", "work_budget_exhausted"),
+    ("STATUS_INVALID", "invalid_parameters"),
+    ("STATUS_NOT_RUN", "not_run"),
+)
+STATUS = {getattr(L, attr): name for attr, name in _STATUS_NAMES if hasattr(L, attr)}
+
+MESSAGES = {
+    "ok": "The contact sequence finished: no further contact is possible.",
+    "event_budget_exhausted": "Stopped after max_events contacts; the sequence was NOT finished. "
+    "Raise max_events.",
+    "energy_account_open": "The independent energy account does not add up to 1: do not trust "
+    "this result.",
+    "ill_conditioned": (
+        "Double precision cannot resolve this scene: an eigenbasis too ill-conditioned for a"
+        " closed form, or round-off moves the result by more than 1e-4 (its replica check);"
+        " method='precise' solves it at high precision."
+    ),
+    "event_not_converged": "An event root search did not converge.",
+    "permanent_contact": "m1 never leaves the wall (proven): the chain comes to rest against it "
+    "(cor 0, omega_t_col inf).",
+    "work_budget_exhausted": "Stopped after the scene's work budget (counted in operations); the "
+    "sequence was NOT finished.",
+    "invalid_parameters": "The kernel refused parameters outside the range it handles.",
+    "not_run": "The kernel did not finish this row.",
+    "kernel_error": "The kernel raised an error on this row (its message is logged); no result.",
+}
+
+RESULT_COLUMNS = (
+    "cor",
+    "n_collisions",
+    "omega_t_col",
+    "e_translational",
+    "e_vibrational",
+    "e_dissipated",
+    "method",
+    "status",
+    "error_estimate",  # the method's own estimate of its COR error (0: exact up to round-off)
+)
+# Added to general-chain tables (user units; equal to omega_t_col for the paper's scenes).
+T_COL = "t_col"
+
+HISTORY_COLUMNS = ("omega_t_start", "omega_t_end", "v1_in", "v1_out", "x_max", "impulse")
+
+
+_NOT_IN_DICT = ("history", "scene")
+
+
+def status_name(code: float) -> str:
+    name = STATUS.get(code)  # float codes hash like their ints
+    if name is not None:
+        return name
+    if not math.isfinite(code):
+        return "not_run"
+    return STATUS.get(int(code), f"unknown_status_{int(code)}")
+
+
+@dataclass(frozen=True)
+class Result:
+    """COR and energy account of one scene.
+
+    ``alpha, beta, xi`` summarise the scene (m2/m1, k_12/k_contact, c_12 omega/(2 k_12));
+    ``omega_t_col`` is unit-free and ``t_col`` the same duration in the user's time unit
+    (omega_t_col / omega). ``success`` is True when ``status == "ok"``; ``history`` (when
+    requested) has one row per contact interval with the columns of ``HISTORY_COLUMNS`` (times
+    omega*t, speeds / V0). ``scene`` is the ``restitution.Chain`` that was solved.
+    """
+
+    alpha: float
+    beta: float
+    xi: float
+    n_masses: int
+    cor: float
+    n_collisions: int
+    omega_t_col: float
+    e_translational: float
+    e_vibrational: float
+    e_dissipated: float
+    method: str
+    status: str
+    error_estimate: float = 0.0
+    history: pd.DataFrame | None = field(default=None, repr=False, compare=False)
+    t_col: float = math.nan
+    scene: object = field(default=None, repr=False, compare=False)
+
+    @property
+    def success(self) -> bool:
+        return self.status == "ok"
+
+    @property
+    def message(self) -> str:
+        return MESSAGES.get(self.status, self.status)
+
+    def to_dict(self, history: bool = False) -> dict:
+        d = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in _NOT_IN_DICT}
+        d["success"] = self.success
+        d["message"] = self.message
+        if self.scene is not None:
+            d["scene"] = self.scene.to_dict()
+        if history and self.history is not None:
+            d["history"] = self.history.to_dict(orient="list")
+        return d
+
+    @classmethod
+    def from_row(
+        cls,
+        scene,
+        out: np.ndarray,
+        method: str,
+        hist: np.ndarray | None = None,
+        passive: bool = False,
+    ):
+        """The Result of a kernel row; ``method`` is completed from the row's OUT_FLAGS
+        (``+sticking``, ``+rigid-limit``) by ``restitution.solvers.methods.label``. An unfinished
+        row
+        (``layout.UNFINISHED``; with ``passive``, a linear scene, an open energy account too)
+        has NaN COR, duration and energies."""
+        history = None
+        if hist is not None:
+            n = min(int(out[L.OUT_NEVENTS]), hist.shape[0])
+            history = pd.DataFrame(hist[:n], columns=list(HISTORY_COLUMNS))
+        row = out.tolist()  # Python floats, once
+        unfinished = L.UNFINISHED_PASSIVE if passive else L.UNFINISHED
+        if row[L.OUT_STATUS] in unfinished or row[L.OUT_STATUS] != row[L.OUT_STATUS]:
+            for k in L.VOIDED:  # not a finished result: no COR, duration or energies
+                row[k] = math.nan
+        ncol, tcol = row[L.OUT_NCOL], row[L.OUT_TCOL]
+        if len(row) > L.OUT_FLAGS and row[L.OUT_FLAGS]:  # NaN or a flag: let the table say
+            method = label(method, out)
+        # Built without the frozen dataclass's per-field __setattr__ (this is on the path of
+        # every solve call, where the API's overhead is measured in microseconds).
+        self = object.__new__(cls)
+        self.__dict__.update(
+            alpha=scene.alpha,
+            beta=scene.beta,
+            xi=scene.xi,
+            n_masses=scene.n_masses,
+            cor=row[L.OUT_COR],
+            n_collisions=int(ncol) if ncol == ncol else 0,
+            omega_t_col=tcol,
+            e_translational=row[L.OUT_ETRANS],
+            e_vibrational=row[L.OUT_EVIB],
+            e_dissipated=row[L.OUT_EDISS],
+            method=method,
+            status=status_name(row[L.OUT_STATUS]),
+            error_estimate=row[L.OUT_ERR],
+            history=history,
+            t_col=tcol / getattr(scene, "omega", 1.0),
+            scene=scene if hasattr(scene, "to_dict") else None,
+        )
+        return self
+
+
+def label(name: str, out) -> str:
+    """The method recorded in a result: ``name``, plus ``+sticking`` when the kernel used the
+    sticking limit (bit 0 of OUT_FLAGS), or ``impulsive+rigid-limit`` for a contact solved as
+    its rigid limit."""
+    flags_at = getattr(L, "OUT_FLAGS", None)
+    if flags_at is not None and len(out) > flags_at and math.isfinite(out[flags_at]):
+        f = int(out[flags_at])
+        if f & L.FLAG_RIGID_LIMIT:
+            name = "impulsive+rigid-limit"
+        if f & L.FLAG_STICKING:
+            name += "+sticking"
+    return name
