@@ -8,7 +8,7 @@ from threadpoolctl import threadpool_info, threadpool_limits
 
 import restitution
 from restitution.kernels import exact_chain as chain_kernels
-from restitution.solvers import blas, methods
+from restitution.solvers import blas
 
 
 def blas_threads() -> set:
@@ -34,13 +34,13 @@ def test_one_thread_inside_and_restored_after(two_threads):
 
 def test_a_long_chain_solves_under_the_limit(two_threads, monkeypatch):
     seen = []
-    real = methods._exact_out
+    real = chain_kernels.solve_chain
 
     def spy(*args, **kwargs):
         seen.append(blas_threads())
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(methods, "_exact_out", spy)
+    monkeypatch.setattr(chain_kernels, "solve_chain", spy)
     n = blas.SMALL_N + 4
     masses = np.linspace(1.0, 2.0, n).tolist()
     r = restitution.solve(masses=masses, springs=[1.0] * (n - 1))

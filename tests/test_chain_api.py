@@ -18,6 +18,7 @@ from scipy.integrate import solve_ivp
 
 import restitution
 from restitution import Chain, SceneError, solve, solve_many
+from restitution.solvers import exact
 from restitution.solvers import methods as M
 from restitution.solvers.result import RESULT_COLUMNS
 
@@ -287,7 +288,7 @@ def test_solve_many_struct_law_columns():
 
 
 def test_failed_kernel_rows_are_nan_with_a_status(monkeypatch):
-    rigid2, rigid2_batch, solve_linear, solve_linear_batch = M.paper_kernels()
+    rigid2, rigid2_batch, solve_linear, solve_linear_batch = exact.paper_kernels()
 
     def broken_batch(alpha, xi, max_events):
         raise ZeroDivisionError("division by zero in a parallel loop")
@@ -297,7 +298,7 @@ def test_failed_kernel_rows_are_nan_with_a_status(monkeypatch):
             raise ZeroDivisionError("division by zero")
         return rigid2(alpha, xi, max_events, hist)
 
-    monkeypatch.setattr(M, "_PAPER_KERNELS", (single, broken_batch, solve_linear,
+    monkeypatch.setattr(exact, "_PAPER_KERNELS", (single, broken_batch, solve_linear,
                                               solve_linear_batch))  # fmt: skip
     out = solve_many(pd.DataFrame({"alpha": [0.3, 2.0, 5.0]}))
     assert out["status"].iat[0] == "ok" and out["status"].iat[2] == "ok"

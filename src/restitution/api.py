@@ -18,7 +18,6 @@ import numpy as np
 import pandas as pd
 
 from restitution.kernels import layout as L
-from restitution.kernels.compiling import announce
 from restitution.model.chain import (
     LAW_KEYS,
     RANGES,
@@ -29,7 +28,7 @@ from restitution.model.chain import (
     paper_with_laws,
 )
 from restitution.model.ranges import HISTORY_MAX_EVENTS
-from restitution.solvers import blas
+from restitution.solvers import exact
 from restitution.solvers import methods as M
 from restitution.solvers.result import RESULT_COLUMNS, STATUS, T_COL, Result, status_name
 from restitution.tables.scene_table import scene_table
@@ -42,12 +41,6 @@ def _block(rows: int, progress: bool) -> int:
     with one about 100 updates (so its ETA follows the real rate), each large enough to keep
     every thread busy. Results do not depend on it."""
     return max(64, min(_BLOCK, rows // 100)) if progress else max(rows, 1)
-
-
-_EXACT_NAME = {True: "impulsive", False: "piecewise"}  # rigid wall -> method (paper fast path)
-
-
-_kernels = M.paper_kernels
 
 
 def solve(
@@ -147,7 +140,6 @@ def solve(
 _R = RANGES  # the one range table, read once here for the fast path below
 _A_LO, _A_HI, _B_HI, _X_HI = _R["alpha"].low, _R["alpha"].high, _R["beta"].high, _R["xi"].high
 _N_HI, _E_HI = _R["n_masses"].high, _R["max_events"].high
-_NO_HIST = np.zeros((0, L.N_HIST))  # kernels write no history rows into it
 
 
 def _solve_paper(alpha, beta, xi, n_masses, method, history, max_events):
@@ -171,44 +163,19 @@ def _solve_paper(alpha, beta, xi, n_masses, method, history, max_events):
     else:  # anything else through the full checks (and their messages)
         a, b, x = check("alpha", alpha), check("beta", beta), check("xi", xi)
         n, max_events = check("n_masses", n_masses), M.options(history, max_events).max_events
-    rigid = b == 0.0
-    name = _EXACT_NAME[rigid]
-    if method != name and method != "auto":
-        M.choose(Chain._paper(a, b, x, n), method)  # raises for a misfit, else numerical
-        return None
-    rigid2, _, solve_linear, _ = _kernels()
-    hist = np.zeros((max_events, L.N_HIST)) if history else _NO_HIST
-    if rigid and n == 2:
-        announce(rigid2)
-        out = rigid2(a, x, max_events, hist)
-    else:
-        announce(solve_linear)
-        if n < blas.SMALL_N:  # (no context manager: this path is timed per call)
-            out = solve_linear(a, b, x, n, max_events, hist)
-        else:
-            with blas.one_thread():
-                out = solve_linear(a, b, x, n, max_events, hist)
+    chosen = M.choose_paper(b, n, method)  # raises for a misfit
+    if not chosen.exact:
+        return None  # a numerical method forced: the general path
+    hist = np.zeros((max_events, L.N_HIST)) if history else exact.NO_HIST
+    out = exact.run_paper(a, b, x, n, max_events, hist)
     hist = hist if history else None
-    return Result.from_row(_PaperScene(a, b, x, n), out, name, hist, passive=True)
-
-
-class _PaperScene:
-    """The summary of a paper-form scene a Result needs (the Chain is built only on demand)."""
-
-    __slots__ = ("alpha", "beta", "xi", "n_masses")
-    omega = 1.0
-
-    def __init__(self, alpha, beta, xi, n):
-        self.alpha, self.beta, self.xi, self.n_masses = alpha, beta, xi, n
-
-    def to_dict(self) -> dict:
-        return Chain._paper(self.alpha, self.beta, self.xi, self.n_masses).to_dict()
+    return Result.from_row((a, b, x, n), out, chosen.name, hist, passive=True)
 
 
 def _run(ch: Chain, chosen: M.Method, opts: M.Options) -> Result:
     out, hist = chosen.run(ch, opts)
     if isinstance(out, Result):  # numerical runners return a Result of their own
-        return replace(out, t_col=out.omega_t_col / ch.omega, scene=ch)
+        return replace(out, t_col=out.omega_t_col / ch.omega).with_scene(ch)
     return Result.from_row(ch, out, chosen.name, hist, passive=True)  # exact: linear laws
 
 
@@ -268,98 +235,6 @@ def _status_codes(status: np.ndarray, labels: _Labels) -> np.ndarray:
     return out
 
 
-def _guarded(batch, args, sel, single, uses_blas=True):
-    """``batch(*args)`` (announcing a compilation if it is cold); if the kernel raises, run the
-    block row by row so that only the failing rows are lost (NaN with status ``kernel_error``),
-    never an uninitialised row."""
-    announce(batch)
-    try:
-        if not uses_blas:  # (the limit costs 10-20 us: a tenth of a 100-row table's kernel)
-            return batch(*args), None
-        with blas.one_thread():  # numba's parallel rows must not each start BLAS threads
-            return batch(*args), None
-    except Exception:  # noqa: BLE001 - a kernel failure must not lose the whole table
-        out = np.full((len(sel), L.N_OUT), np.nan)
-        errors = {}
-        for j in range(len(sel)):
-            try:
-                out[j] = single(j)
-            except Exception as e:  # noqa: BLE001
-                errors[j] = f"kernel_error ({type(e).__name__}: {e})"
-        return out, errors
-
-
-def _solve_exact_paper(plan: pd.DataFrame, idx: np.ndarray, max_events: int, bar, block=_BLOCK):
-    """Kernel rows of paper-form rows, in parallel blocks (the progress bar moves per block)."""
-    rigid2, rigid2_batch, solve_linear, solve_linear_batch = _kernels()
-    every = len(idx) == len(plan["alpha"])  # all rows, in order (idx is sorted): no copies
-    pick = (lambda a: a) if every else (lambda a: a[idx])
-    alpha = pick(plan["alpha"].astype(np.float64, copy=False))
-    beta = pick(plan["beta"].astype(np.float64, copy=False))
-    xi = pick(plan["xi"].astype(np.float64, copy=False))
-    nm = pick(plan["n_masses"].astype(np.int64, copy=False))
-    out = None  # allocated unless one block covers every row
-    errors = {}
-    no_hist = np.zeros((0, L.N_HIST))
-    fast = (beta == 0.0) & (nm == 2)  # the closed-form two-mass rigid-wall kernel
-    for group, is_fast in ((np.flatnonzero(fast), True), (np.flatnonzero(~fast), False)):
-        for start in range(0, len(group), block):
-            sel = group[start : start + block]
-            whole = len(sel) == len(idx)
-            if is_fast:
-                done, err = _guarded(
-                    rigid2_batch,
-                    (alpha, xi, max_events) if whole else (alpha[sel], xi[sel], max_events),
-                    sel,
-                    lambda j, s=sel: rigid2(alpha[s[j]], xi[s[j]], max_events, no_hist),
-                    uses_blas=False,  # closed form, no linear algebra
-                )
-            else:
-                done, err = _guarded(
-                    solve_linear_batch,
-                    (alpha[sel], beta[sel], xi[sel], nm[sel], max_events),
-                    sel,
-                    lambda j, s=sel: solve_linear(
-                        alpha[s[j]], beta[s[j]], xi[s[j]], nm[s[j]], max_events, no_hist
-                    ),
-                )
-            if whole and done.shape[1] == L.N_OUT:
-                out = done  # one block of every row, in order: no copy
-            else:
-                if out is None:
-                    out = np.full((len(idx), L.N_OUT), np.nan)
-                out[sel, : done.shape[1]] = done
-            if err:
-                errors.update({int(sel[j]): msg for j, msg in err.items()})
-            bar.update(len(sel))
-    return (np.full((0, L.N_OUT), np.nan) if out is None else out), errors
-
-
-def _solve_exact_general(table, idx: np.ndarray, max_events: int, bar, block=_BLOCK):
-    """Kernel rows of general linear chains (padded batch of restitution.kernels.exact_chain)."""
-    from restitution.kernels.exact_chain import solve_chain, solve_chain_batch
-
-    out = np.full((len(idx), L.N_OUT), np.nan)
-    errors = {}
-    no_hist = np.zeros((0, L.N_HIST))
-    for start in range(0, len(idx), block):
-        sel = np.arange(start, min(start + block, len(idx)))
-        m, k, c, n, kc = table.scaled(idx[sel])
-
-        def single(j, m=m, k=k, c=c, n=n, kc=kc):
-            a, b = np.ascontiguousarray, n[j]
-            return solve_chain(
-                a(m[j, :b]), a(k[j, : b - 1]), a(c[j, : b - 1]), kc[j], max_events, no_hist
-            )
-
-        done, err = _guarded(solve_chain_batch, (m, k, c, n, kc, max_events), sel, single)
-        out[sel, : done.shape[1]] = done
-        if err:
-            errors.update({int(sel[j]): msg for j, msg in err.items()})
-        bar.update(len(sel))
-    return out, errors
-
-
 def solve_many(
     frame: pd.DataFrame,
     *,
@@ -374,20 +249,18 @@ def solve_many(
     ``dashpots``, scalar ``k_contact, v0``, struct columns ``contact, links``; see
     docs/general-chains.md), plus optional ``method`` and, for numerical methods, ``rtol`` and
     ``step`` per row. Columns are read strictly (``restitution.tables.scene_table``): any other
-    column is an
-    error unless named in ``keep`` (carried through unchanged). Every row is checked before any
-    work. Returns a copy of ``frame`` with the result columns ``cor, n_collisions, omega_t_col,
-    e_translational, e_vibrational, e_dissipated, method, status, error_estimate`` (and ``t_col``
-    in the user's time unit for general tables). A row whose kernel failed is NaN with a status
-    naming the failure. Rows are independent: results are bit-identical for any thread count.
+    column is an error unless named in ``keep`` (carried through unchanged). Every row is checked
+    before any work. Returns a copy of ``frame`` with the result columns ``cor, n_collisions,
+    omega_t_col, e_translational, e_vibrational, e_dissipated, method, status, error_estimate``
+    (and ``t_col`` in the user's time unit for general tables). A row whose kernel failed is NaN
+    with a status naming the failure. Rows are independent: results are bit-identical for any
+    thread count.
     """
     max_events = check("max_events", max_events)
     table = scene_table(frame, keep)
     plan = table.plan
     n = len(frame)
-    # Exact rows in parallel batches, numerical rows one by one.
     method = _Labels(table.method_codes.copy(), table.method_names)
-    exact = (method.codes == method.code("impulsive")) | (method.codes == method.code("piecewise"))
     cols = {
         "cor": np.full(n, np.nan),
         "n_collisions": np.zeros(n, dtype=np.int64),
@@ -401,33 +274,22 @@ def solve_many(
     }
     block = _block(n, progress)
     with _bar(n, progress) as bar:
-        idx = np.flatnonzero(exact)
-        if table.chains is None:
-            out, errors = _solve_exact_paper(plan, idx, max_events, bar, block)
-        else:
-            paper = idx[plan["paper"][idx]]
-            general = idx[~plan["paper"][idx]]
-            out = np.full((len(idx), L.N_OUT), np.nan)
-            errors = {}
-            for part, solver in ((paper, "paper"), (general, "general")):
-                if len(part) == 0:
-                    continue
-                if solver == "paper":
-                    o, e = _solve_exact_paper(plan, part, max_events, bar, block)
-                else:
-                    o, e = _solve_exact_general(table, part, max_events, bar, block)
-                where = np.searchsorted(idx, part)  # positions in idx (both sorted)
-                out[where] = o
-                errors.update({int(where[j]): msg for j, msg in e.items()})
-        _fill(cols, idx, out, errors)
-        for i in np.flatnonzero(~exact):
-            r = _solve_row(table, int(i), max_events)
-            for c in RESULT_COLUMNS:
-                if isinstance(cols[c], _Labels):
-                    cols[c].set(i, getattr(r, c))
-                else:
-                    cols[c][i] = getattr(r, c)
-            bar.update(1)
+        # Each method's batch runner on its rows (methods.METHODS: the exact ones in parallel
+        # blocks), in the table's order of methods.
+        codes = method.codes.copy()  # (_fill adds labels such as "+sticking" as it goes)
+        names = list(method.names)
+        for code in np.unique(codes):
+            rows = np.arange(n) if len(names) == 1 else np.flatnonzero(codes == code)
+            chosen = M.METHODS[names[code]]
+            out, errors, results = chosen.run_many(table, rows, max_events, bar, block)
+            _fill(cols, rows, out, errors, passive=chosen.exact)
+            for j, r in results.items():
+                i = int(rows[j])
+                for c in RESULT_COLUMNS:
+                    if isinstance(cols[c], _Labels):
+                        cols[c].set(i, getattr(r, c))
+                    else:
+                        cols[c][i] = getattr(r, c)
     # One DataFrame construction (column-by-column insertion is slow on large tables), without
     # copies: the result columns are fresh arrays of ours; the user's columns enter as Series
     # (copy-on-write: the result never writes into the user's frame).
@@ -479,13 +341,16 @@ def _bar(n: int, progress: bool):
     return tqdm(total=n, unit="scene", desc="solve_many")
 
 
-def _fill(cols: dict, idx: np.ndarray, out: np.ndarray, errors: dict) -> None:
-    """Result columns of the exact rows from their kernel rows."""
+def _fill(cols: dict, idx: np.ndarray, out: np.ndarray, errors: dict, passive=True) -> None:
+    """Result columns of the rows ``idx`` from their kernel rows (``passive``: a linear scene's,
+    whose open energy account also voids a row)."""
+    if len(idx) == 0 or not len(out):
+        return
     at = slice(None) if len(idx) == len(cols["cor"]) else idx  # (a slice writes 5x faster)
     status_col = out[:, L.OUT_STATUS]
     all_ok = bool((status_col == L.STATUS_OK).all())  # the common case: no masks needed
     if not all_ok:
-        out = L.void_unfinished(out, passive=True)
+        out = L.void_unfinished(out, passive=passive)
     cols["cor"][at] = out[:, L.OUT_COR]
     ncol = out[:, L.OUT_NCOL]
     cols["n_collisions"][at] = ncol if all_ok else np.where(np.isfinite(ncol), ncol, 0)
@@ -512,13 +377,6 @@ def _fill(cols: dict, idx: np.ndarray, out: np.ndarray, errors: dict) -> None:
     for code in np.unique(method.codes[stick]):
         rows = stick[method.codes[stick] == code]
         method.set(rows, method.names[code] + "+sticking")
-
-
-def _solve_row(table, i: int, max_events: int) -> Result:
-    """One numerical row (nonlinear law or a forced numerical method) through ``solve``."""
-    ch = table.chain(i)
-    opts = M.options(False, max_events, **table.settings(i))
-    return _run(ch, M.METHODS[table.plan["method"][i]], opts)
 
 
 __all__ = ["LAW_KEYS", "solve", "solve_many", "validate_frame"]

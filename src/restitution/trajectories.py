@@ -18,7 +18,7 @@ import pandas as pd
 
 from restitution.model.chain import Chain, SceneError
 from restitution.model.ranges import _real, _show
-from restitution.solvers import blas
+from restitution.solvers import blas, exact
 from restitution.solvers.methods import check_events, choose
 
 
@@ -62,7 +62,7 @@ def _sample(ch: Chain, wt: np.ndarray, max_events: int):
 
 def _sample_kernels(ch: Chain, wt: np.ndarray, max_events: int):
     paper = ch.paper_form
-    if paper is not None and (ch.preset is not None or _no_chain_kernel()):
+    if exact.linear_kernel(paper) != exact.GENERAL:  # the kernels solve() runs, their sampler
         from restitution.api import solve
         from restitution.kernels.paper_chain import sample_linear
 
@@ -79,14 +79,6 @@ def _sample_kernels(ch: Chain, wt: np.ndarray, max_events: int):
 
     m, k, c, kc = ch.scaled()
     return sample_chain(m, k, c, kc, wt, max_events)
-
-
-def _no_chain_kernel() -> bool:
-    try:
-        import restitution.kernels.exact_chain  # noqa: F401
-    except ImportError:  # pragma: no cover - only before the chain kernel is installed
-        return True
-    return False
 
 
 def _times(times) -> np.ndarray:
@@ -145,11 +137,11 @@ def trajectory(scene=None, times=None, *, max_events: int = 10_000, **keywords) 
         wall's impulse. Rows are sorted by time; requested times have ``event == "sample"``.
     """
     ch = _scene(scene, dict(keywords))
-    name = choose(ch).name
-    if name not in ("impulsive", "piecewise"):
+    chosen = choose(ch)
+    if not chosen.exact:
         raise SceneError(
             "trajectory samples the exact closed-form motion of linear chains; this scene needs "
-            f"the numerical method {name!r}"
+            f"the numerical method {chosen.name!r}"
         )
     max_events = check_events(max_events, history=True)  # impacts are read from a history
     t = _times(times)

@@ -32,8 +32,9 @@ import difflib
 import math
 import re
 from collections.abc import Callable, Mapping
+from functools import partial
 
-from restitution.model.scene import SceneError, check_alpha, check_beta, check_n_masses, check_xi
+from restitution.model.chain import SceneError, check
 
 __all__ = ["MAX_JOBS", "ConfigError", "allowed_text", "check_config", "check_value"]
 
@@ -265,26 +266,26 @@ def _real(x) -> bool:
 # Scene parameters of the configuration, checked with the package's own scene checks so that
 # the workflow never admits a value the solver refuses.
 SCENE_KEYS: dict[tuple, Callable] = {
-    ("fig2a", "alpha_min"): check_alpha,
-    ("fig2a", "alpha_max"): check_alpha,
-    ("fig2a", "betas"): check_beta,
-    ("fig3", "sweep", "alphas"): check_alpha,
-    ("fig3", "sweep", "beta_min"): check_beta,
-    ("fig3", "sweep", "beta_max"): check_beta,
-    ("fig3", "compression", "alpha"): check_alpha,
-    ("fig3", "compression", "betas"): check_beta,
-    ("fig4", "sweep", "alpha_min"): check_alpha,
-    ("fig4", "sweep", "alpha_max"): check_alpha,
-    ("fig5", "b", "alpha_min"): check_alpha,
-    ("fig5", "b", "alpha_max"): check_alpha,
-    ("fig6", "n_masses"): check_n_masses,
-    ("fig6", "sweep", "beta"): check_beta,
-    ("fig7", "beta"): check_beta,
-    ("fig7", "xis"): check_xi,
-    ("fig7", "alpha_min"): check_alpha,
-    ("fig7", "alpha_max"): check_alpha,
-    ("fig7", "traces", "xis"): check_xi,
-    ("fig7", "traces", "alphas"): check_alpha,
+    ("fig2a", "alpha_min"): partial(check, "alpha"),
+    ("fig2a", "alpha_max"): partial(check, "alpha"),
+    ("fig2a", "betas"): partial(check, "beta"),
+    ("fig3", "sweep", "alphas"): partial(check, "alpha"),
+    ("fig3", "sweep", "beta_min"): partial(check, "beta"),
+    ("fig3", "sweep", "beta_max"): partial(check, "beta"),
+    ("fig3", "compression", "alpha"): partial(check, "alpha"),
+    ("fig3", "compression", "betas"): partial(check, "beta"),
+    ("fig4", "sweep", "alpha_min"): partial(check, "alpha"),
+    ("fig4", "sweep", "alpha_max"): partial(check, "alpha"),
+    ("fig5", "b", "alpha_min"): partial(check, "alpha"),
+    ("fig5", "b", "alpha_max"): partial(check, "alpha"),
+    ("fig6", "n_masses"): partial(check, "n_masses"),
+    ("fig6", "sweep", "beta"): partial(check, "beta"),
+    ("fig7", "beta"): partial(check, "beta"),
+    ("fig7", "xis"): partial(check, "xi"),
+    ("fig7", "alpha_min"): partial(check, "alpha"),
+    ("fig7", "alpha_max"): partial(check, "alpha"),
+    ("fig7", "traces", "xis"): partial(check, "xi"),
+    ("fig7", "traces", "alphas"): partial(check, "alpha"),
 }
 
 # Ranges that must be increasing: (section, low key, high key).
@@ -314,13 +315,13 @@ def n_chunks(n_points: int, chunk_size: int) -> int:
 
 
 def _scene_checks(config, problems):
-    for path, check in SCENE_KEYS.items():
+    for path, check_one in SCENE_KEYS.items():
         value = _get(config, path)
         for item in value if isinstance(value, list) else [value]:
             if item is None:
                 continue
             try:
-                check(item)
+                check_one(item)
             except SceneError as error:
                 problems.append(f"{key_text(path)} = {value!r}: {error}")
                 break

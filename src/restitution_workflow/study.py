@@ -26,12 +26,13 @@ import math
 import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from restitution.model.scene import SceneError, check_alpha, check_beta, check_n_masses, check_xi
+from restitution.model.chain import SceneError, check
 from restitution_workflow.config_check import MAX_JOBS, ConfigError, check_value, n_chunks
 
 __all__ = [
@@ -53,7 +54,11 @@ OUTPUTS = {
     "e_vibrational": "vibrational energy fraction",
     "e_dissipated": "dissipated energy fraction",
 }
-PAPER_PARAMS = {"alpha": check_alpha, "beta": check_beta, "xi": check_xi}
+PAPER_PARAMS = {
+    "alpha": partial(check, "alpha"),
+    "beta": partial(check, "beta"),
+    "xi": partial(check, "xi"),
+}
 CHAIN_LISTS = ("masses", "springs", "dashpots")
 PARAM = re.compile(r"^(alpha|beta|xi|n_masses|k_contact|(masses|springs|dashpots)\[(\d+)\])$")
 MAX_POINTS = 100_000  # grid points of one axis
@@ -376,7 +381,7 @@ def _check_scene_values(study_scene, axes, general, problems):
         return
     if "alpha" not in study_scene and "alpha" not in [a.param for a in axes]:
         problems.append("scene.alpha: required (in scene or as an axis) for the paper's scene")
-    checks = {**PAPER_PARAMS, "n_masses": check_n_masses}
+    checks = {**PAPER_PARAMS, "n_masses": partial(check, "n_masses")}
     for name, value in study_scene.items():
         try:
             checks[name](value)

@@ -25,9 +25,8 @@ chain length, damping ratio); these are the inputs of the table after them and a
 
 Parquet tables carry their provenance (package version, git commit, configuration and its hash,
 library versions) in the file's metadata under the key `restitution`:
-`restitution.tables.io.read_provenance(path)` returns it. Tables are written atomically (a complete
-file
-or none).
+`restitution.tables.io.read_provenance(path)` returns it. Tables are written atomically (a
+complete file or none).
 
 | table | made by rule | contents |
 |---|---|---|

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 
-from restitution.model.scene import SceneError
+from restitution.model.ranges import SceneError
 
 
 def _positive(name: str, value) -> float:

@@ -27,6 +27,7 @@ chatter by its sticking limit (bit 0 of ``OUT_FLAGS``).
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -34,10 +35,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from restitution.kernels import layout as L
-from restitution.kernels.compiling import announce
 from restitution.model.chain import Chain, SceneError, check
 from restitution.model.ranges import HISTORY_MAX_EVENTS, _show
-from restitution.solvers import blas
+from restitution.solvers import exact
 from restitution.solvers.result import label
 
 # Bit of out[OUT_FLAGS] set by the chain kernel when it used the sticking limit.
@@ -88,8 +88,13 @@ class Method:
     """One row of the solver table.
 
     ``applies(chain)`` returns None when the method can solve the scene, else the reason (shown
-    to the user when the method was forced). ``cost`` orders methods for ``auto`` (lower first);
-    only ``exact`` methods or, when none applies, numerical ones are picked by ``auto``.
+    to the user when the method was forced); it reads only the scene's kind (linear or not, rigid
+    wall or not, two masses or more, the contact law), so a choice holds for every scene of a kind.
+    ``cost`` orders methods for ``auto`` (lower first); only ``exact`` methods or, when none
+    applies, numerical ones are picked by ``auto``. ``run(chain, options)`` solves one scene and
+    ``run_many(table, rows, max_events, bar, block)`` the rows of a checked scene table
+    (``restitution.tables.scene_table``); both return kernel rows (``run_many``: and {position in
+    rows: error message} of rows whose kernel raised).
     """
 
     name: str
@@ -97,6 +102,7 @@ class Method:
     cost: int
     applies: Callable[[Chain], str | None]
     run: Callable[[Chain, Options], tuple]
+    run_many: Callable
     doc: str
 
 
@@ -146,66 +152,6 @@ def _reference_applies(ch: Chain) -> str | None:
 # ----------------------------------------------------------------------------------------------
 # Runners
 # ----------------------------------------------------------------------------------------------
-def _hist(opts: Options) -> np.ndarray:
-    return np.zeros((opts.max_events if opts.history else 0, L.N_HIST))
-
-
-def _general_kernel():
-    try:
-        from restitution.kernels.exact_chain import solve_chain
-    except ImportError:  # pragma: no cover - only before the chain kernel is installed
-        raise SceneError(
-            "this chain is not one of the paper's scenes and the general chain kernel "
-            "(restitution.kernels.exact_chain) is not installed"
-        ) from None
-    return solve_chain
-
-
-def paper_kernels():
-    """The paper's kernels (rigid2, rigid2_batch, solve_linear, solve_linear_batch), imported on
-    first use so that ``import restitution`` stays cheap for the CLI's --help and snakemake."""
-    global _PAPER_KERNELS
-    if _PAPER_KERNELS is None:
-        from restitution.kernels.paper_chain import solve_linear, solve_linear_batch
-        from restitution.kernels.rigid2 import rigid2, rigid2_batch
-
-        _PAPER_KERNELS = rigid2, rigid2_batch, solve_linear, solve_linear_batch
-    return _PAPER_KERNELS
-
-
-_PAPER_KERNELS = None
-
-
-def _exact_out(ch: Chain, max_events: int, hist: np.ndarray, beta: float | None = None):
-    """Kernel row of a linear chain; ``beta`` replaces its k_12/k_contact (0: rigid wall)."""
-    paper = ch.paper_form
-    if paper is not None:
-        rigid2, _, solve_linear, _ = paper_kernels()
-        alpha, b, xi, n = paper
-        b = b if beta is None else beta
-        kernel = rigid2 if b == 0.0 and n == 2 else solve_linear
-        announce(kernel)
-        if kernel is rigid2:
-            return rigid2(alpha, xi, max_events, hist)
-        return solve_linear(alpha, b, xi, n, max_events, hist)
-    m, k, c, kc = ch.scaled()
-    if beta is not None:
-        kc = math.inf if beta == 0.0 else k[0] / beta
-    kernel = _general_kernel()
-    announce(kernel)
-    return kernel(m, k, c, kc, max_events, hist)
-
-
-def _run_exact(ch: Chain, opts: Options):
-    """Paper-form scenes on the paper's kernels (bit for bit as before); any other chain on
-    the general chain kernel. A contact stiffer than the kernels' rigid limit (beta below
-    kernels.chain.BETA_RIGID) comes back flagged FLAG_RIGID_LIMIT, with its error bound."""
-    hist = _hist(opts)
-    with blas.one_thread(ch.n_masses):
-        out = _exact_out(ch, opts.max_events, hist)
-    return out, (hist if opts.history else None)
-
-
 def legacy_laws(ch: Chain) -> dict:
     """A two-mass chain's laws as keywords of ``restitution.solvers.numerical.solve_nonlinear`` (the
     scene in its units m1 = 1, omega = 1 with lengths kept: stiffnesses / (m1 omega**2), speeds
@@ -266,6 +212,26 @@ def _run_numerical(name: str):
     return run
 
 
+def _one_by_one(name: str):
+    """A batch runner that solves the rows one at a time with the method's single runner."""
+
+    def run_many(table, rows, max_events, bar, block):
+        out = np.full((len(rows), L.N_OUT), np.nan)
+        results = {}
+        for j, i in enumerate(rows):
+            ch = table.chain(int(i))
+            opts = options(False, max_events, **table.settings(int(i)))
+            row, _ = METHODS[name].run(ch, opts)
+            if isinstance(row, np.ndarray):
+                out[j] = row
+            else:  # a Result (the numerical runners)
+                results[j] = row.with_scene(ch)
+            bar.update(1)
+        return out, {}, results
+
+    return run_many
+
+
 # Digits of the 'precise' method: each run is checked at 20 more; where the two disagree (a
 # sequence chaotic enough to need more) the next, up to the last.
 PRECISE_DPS = (40, 80, 160)
@@ -306,24 +272,61 @@ def _run_precise(ch: Chain, opts: Options):
     return out, None
 
 
+def _exact_many(table, rows, max_events, bar, block):
+    out, errors = exact.run_many(table, rows, max_events, bar, block)
+    return out, errors, {}
+
+
 METHODS: dict[str, Method] = {
-    "impulsive": Method("impulsive", True, 0, _impulsive_applies, _run_exact, "rigid wall, exact"),
+    "impulsive": Method(
+        "impulsive", True, 0, _impulsive_applies, exact.run, _exact_many, "rigid wall, exact"
+    ),
     "piecewise": Method(
-        "piecewise", True, 1, _piecewise_applies, _run_exact, "linear contact spring, exact"
-    ),
+        "piecewise",
+        True,
+        1,
+        _piecewise_applies,
+        exact.run,
+        _exact_many,
+        "linear contact spring, exact",
+    ),  # fmt: skip
     "adaptive": Method(
-        "adaptive", False, 10, _adaptive_applies, _run_numerical("adaptive"), "DP5(4), any chain"
-    ),
+        "adaptive",
+        False,
+        10,
+        _adaptive_applies,
+        _run_numerical("adaptive"),
+        _one_by_one("adaptive"),
+        "DP5(4), any chain",
+    ),  # fmt: skip
     "verlet": Method(
-        "verlet", False, 20, _verlet_applies, _run_numerical("verlet"), "velocity Verlet"
-    ),
+        "verlet",
+        False,
+        20,
+        _verlet_applies,
+        _run_numerical("verlet"),
+        _one_by_one("verlet"),
+        "velocity Verlet",
+    ),  # fmt: skip
     "reference": Method(
-        "reference", False, 30, _reference_applies, _run_numerical("reference"), "scipy DOP853"
-    ),
+        "reference",
+        False,
+        30,
+        _reference_applies,
+        _run_numerical("reference"),
+        _one_by_one("reference"),
+        "scipy DOP853",
+    ),  # fmt: skip
     # exact=False and the highest cost: 'auto' never picks it (seconds per scene).
     "precise": Method(
-        "precise", False, 40, _precise_applies, _run_precise, "exact at 40+ digits (mpmath)"
-    ),
+        "precise",
+        False,
+        40,
+        _precise_applies,
+        _run_precise,
+        _one_by_one("precise"),
+        "exact at 40+ digits (mpmath)",
+    ),  # fmt: skip
 }
 NAMES = ("auto", *METHODS)
 
@@ -355,6 +358,20 @@ def choose(ch: Chain, method: str = "auto") -> Method:
     raise SceneError("no method applies to this scene (" + "; ".join(reasons) + ")")
 
 
+def choose_paper(beta: float, n_masses: int, method: str = "auto") -> Method:
+    """``choose`` for a checked linear scene of the paper's form, without building its Chain
+    (the per-call overhead of ``solve`` matters): ``choose`` asked once per kind (rigid wall or
+    not, two masses or more) and method, with a representative Chain of that kind."""
+    if type(method) is not str:
+        check_method(method)  # raises: not a method's name (and not hashable for the cache)
+    return _choose_kind(beta == 0.0, n_masses == 2, method)
+
+
+@functools.cache
+def _choose_kind(rigid: bool, two: bool, method: str) -> Method:
+    return choose(Chain._paper(1.0, 0.0 if rigid else 1.0, 0.0, 2 if two else 3), method)
+
+
 __all__ = [
     "METHODS",
     "NAMES",
@@ -362,6 +379,7 @@ __all__ = [
     "Options",
     "check_method",
     "choose",
+    "choose_paper",
     "label",
     "options",
 ]

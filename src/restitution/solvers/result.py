@@ -63,7 +63,7 @@ T_COL = "t_col"
 HISTORY_COLUMNS = ("omega_t_start", "omega_t_end", "v1_in", "v1_out", "x_max", "impulse")
 
 
-_NOT_IN_DICT = ("history", "scene")
+_NOT_IN_DICT = ("history",)
 
 
 def status_name(code: float) -> str:
@@ -83,7 +83,8 @@ class Result:
     ``omega_t_col`` is unit-free and ``t_col`` the same duration in the user's time unit
     (omega_t_col / omega). ``success`` is True when ``status == "ok"``; ``history`` (when
     requested) has one row per contact interval with the columns of ``HISTORY_COLUMNS`` (times
-    omega*t, speeds / V0). ``scene`` is the ``restitution.Chain`` that was solved.
+    omega*t, speeds / V0). ``scene`` is the ``restitution.Chain`` that was solved (for a
+    paper-form solve built on first access: the paper's fast path builds no Chain).
     """
 
     alpha: float
@@ -101,7 +102,23 @@ class Result:
     error_estimate: float = 0.0
     history: pd.DataFrame | None = field(default=None, repr=False, compare=False)
     t_col: float = math.nan
-    scene: object = field(default=None, repr=False, compare=False)
+
+    @property
+    def scene(self):
+        """The ``restitution.Chain`` that was solved (None for a row of no chain)."""
+        d = self.__dict__
+        ch = d.get("_scene")
+        if ch is None and d.get("_paper"):  # a paper-form result: its Chain.paper, once
+            from restitution.model.chain import Chain
+
+            ch = d["_scene"] = Chain._paper(self.alpha, self.beta, self.xi, self.n_masses)
+        return ch
+
+    def with_scene(self, scene) -> Result:
+        """This result with ``scene`` (a ``restitution.Chain``) attached."""
+        self.__dict__["_scene"] = scene
+        self.__dict__["_paper"] = False
+        return self
 
     @property
     def success(self) -> bool:
@@ -130,7 +147,9 @@ class Result:
         hist: np.ndarray | None = None,
         passive: bool = False,
     ):
-        """The Result of a kernel row; ``method`` is completed from the row's OUT_FLAGS
+        """The Result of a kernel row of ``scene``: a ``restitution.Chain``, or the checked
+        paper form (alpha, beta, xi, n_masses) of the fast path (its Chain is built only when
+        ``Result.scene`` is read). ``method`` is completed from the row's OUT_FLAGS
         (``+sticking``, ``+rigid-limit``) by ``restitution.solvers.methods.label``. An unfinished
         row
         (``layout.UNFINISHED``; with ``passive``, a linear scene, an open energy account too)
@@ -150,11 +169,18 @@ class Result:
         # Built without the frozen dataclass's per-field __setattr__ (this is on the path of
         # every solve call, where the API's overhead is measured in microseconds).
         self = object.__new__(cls)
+        paper = type(scene) is tuple
+        if paper:
+            (alpha, beta, xi, n_masses), omega, chain = scene, 1.0, None
+        else:
+            alpha, beta, xi, n_masses = scene.alpha, scene.beta, scene.xi, scene.n_masses
+            omega = getattr(scene, "omega", 1.0)
+            chain = scene if hasattr(scene, "to_dict") else None
         self.__dict__.update(
-            alpha=scene.alpha,
-            beta=scene.beta,
-            xi=scene.xi,
-            n_masses=scene.n_masses,
+            alpha=alpha,
+            beta=beta,
+            xi=xi,
+            n_masses=n_masses,
             cor=row[L.OUT_COR],
             n_collisions=int(ncol) if ncol == ncol else 0,
             omega_t_col=tcol,
@@ -165,8 +191,9 @@ class Result:
             status=status_name(row[L.OUT_STATUS]),
             error_estimate=row[L.OUT_ERR],
             history=history,
-            t_col=tcol / getattr(scene, "omega", 1.0),
-            scene=scene if hasattr(scene, "to_dict") else None,
+            t_col=tcol / omega,
+            _scene=chain,
+            _paper=paper,
         )
         return self
 

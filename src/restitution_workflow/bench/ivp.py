@@ -28,7 +28,7 @@ from scipy.integrate import solve_ivp
 
 from restitution.kernels import layout as LY
 from restitution.model import laws
-from restitution.model.scene import Scene, SceneError, check_xi
+from restitution.model.chain import Chain, SceneError
 from restitution.solvers.numerical import LAW_DEFAULTS, build_laws
 from restitution.solvers.reference import DeadlineExceeded, solve_reference
 from restitution.solvers.result import Result
@@ -80,7 +80,7 @@ def solve_ivp_scene(
     if unknown:
         raise SceneError(f"unknown law parameter(s) {unknown}; allowed: {', '.join(_LAW_KEYS)}")
     _check(method, rtol, atol, steps_per_period, time_budget, max_events)
-    scene = Scene(alpha, beta, check_xi(xi), n_masses)
+    scene = Chain.paper(alpha, beta, xi, n_masses)
     atol = rtol if atol is None else atol
     nonlinear = law.get("contact", "linear") != "linear" or law.get("structure") == "scissor"
     if nonlinear and scene.n_masses != 2:

@@ -1,0 +1,197 @@
+"""Runners of the exact methods (``impulsive``, ``piecewise``): one scene or a block of rows.
+
+Which kernel solves a linear chain is decided here and nowhere else (``linear_kernel``): the
+paper's two-mass rigid-wall scenes by the closed form ``kernels.rigid2``, the paper's other scenes
+(equal masses m_2..m_N, equal springs, a dashpot on the first link) by ``kernels.paper_chain``, bit
+for bit the paper's results, and every other linear chain by ``kernels.exact_chain``. A contact
+stiffer than the kernels' rigid limit comes back flagged ``FLAG_RIGID_LIMIT`` with its error bound.
+
+Kernel rows follow ``restitution.kernels.layout``; times are omega * t.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from restitution.kernels import layout as L
+from restitution.kernels.compiling import announce
+from restitution.model.chain import Chain
+from restitution.solvers import blas
+
+NO_HIST = np.zeros((0, L.N_HIST))  # kernels write no history rows into it
+
+# Kernels of linear chains (see the module docstring), imported on first use so that ``import
+# restitution`` stays cheap for the CLI's --help and snakemake.
+RIGID2, PAPER, GENERAL = "rigid2", "paper_chain", "exact_chain"
+
+
+def linear_kernel(paper_form: tuple | None) -> str:
+    """The kernel of a linear chain: its paper form (alpha, beta, xi, n_masses) or None."""
+    if paper_form is None:
+        return GENERAL
+    return RIGID2 if paper_form[1] == 0.0 and paper_form[3] == 2 else PAPER
+
+
+def paper_kernels():
+    """(rigid2, rigid2_batch, solve_linear, solve_linear_batch), imported on first use."""
+    global _PAPER_KERNELS
+    if _PAPER_KERNELS is None:
+        from restitution.kernels.paper_chain import solve_linear, solve_linear_batch
+        from restitution.kernels.rigid2 import rigid2, rigid2_batch
+
+        _PAPER_KERNELS = rigid2, rigid2_batch, solve_linear, solve_linear_batch
+    return _PAPER_KERNELS
+
+
+_PAPER_KERNELS = None
+
+
+def run_paper(alpha: float, beta: float, xi: float, n: int, max_events: int, hist) -> np.ndarray:
+    """Kernel row of a paper scene whose values are already checked (the per-call overhead
+    matters for sweeps written as loops: no Chain is built)."""
+    rigid2, _, solve_linear, _ = paper_kernels()
+    if linear_kernel((alpha, beta, xi, n)) == RIGID2:
+        announce(rigid2)
+        return rigid2(alpha, xi, max_events, hist)
+    announce(solve_linear)
+    if n < blas.SMALL_N:  # (no context manager: this path is timed per call)
+        return solve_linear(alpha, beta, xi, n, max_events, hist)
+    with blas.one_thread():
+        return solve_linear(alpha, beta, xi, n, max_events, hist)
+
+
+def exact_row(ch: Chain, max_events: int, hist: np.ndarray, beta: float | None = None):
+    """Kernel row of a linear chain; ``beta`` replaces its k_12/k_contact (0: rigid wall)."""
+    paper = ch.paper_form
+    if paper is not None:
+        alpha, b, xi, n = paper
+        return run_paper(alpha, b if beta is None else beta, xi, n, max_events, hist)
+    from restitution.kernels.exact_chain import solve_chain
+
+    m, k, c, kc = ch.scaled()
+    if beta is not None:
+        kc = math.inf if beta == 0.0 else k[0] / beta
+    announce(solve_chain)
+    with blas.one_thread(ch.n_masses):
+        return solve_chain(m, k, c, kc, max_events, hist)
+
+
+def run(ch: Chain, opts) -> tuple:
+    """The single runner of the exact methods: (kernel row, history or None)."""
+    hist = np.zeros((opts.max_events if opts.history else 0, L.N_HIST))
+    out = exact_row(ch, opts.max_events, hist)
+    return out, (hist if opts.history else None)
+
+
+# ----------------------------------------------------------------------------------------------
+# Blocks of table rows
+# ----------------------------------------------------------------------------------------------
+def guarded(batch, args, sel, single, uses_blas=True):
+    """``batch(*args)`` (announcing a compilation if it is cold); if the kernel raises, run the
+    block row by row so that only the failing rows are lost (NaN with status ``kernel_error``),
+    never an uninitialised row."""
+    announce(batch)
+    try:
+        if not uses_blas:  # (the limit costs 10-20 us: a tenth of a 100-row table's kernel)
+            return batch(*args), None
+        with blas.one_thread():  # numba's parallel rows must not each start BLAS threads
+            return batch(*args), None
+    except Exception:  # noqa: BLE001 - a kernel failure must not lose the whole table
+        out = np.full((len(sel), L.N_OUT), np.nan)
+        errors = {}
+        for j in range(len(sel)):
+            try:
+                out[j] = single(j)
+            except Exception as e:  # noqa: BLE001
+                errors[j] = f"kernel_error ({type(e).__name__}: {e})"
+        return out, errors
+
+
+def _paper_rows(table, idx: np.ndarray, max_events: int, bar, block: int):
+    """Kernel rows of paper-form rows, in parallel blocks (the progress bar moves per block)."""
+    plan = table.plan
+    rigid2, rigid2_batch, solve_linear, solve_linear_batch = paper_kernels()
+    every = len(idx) == len(plan["alpha"])  # all rows, in order (idx is sorted): no copies
+    pick = (lambda a: a) if every else (lambda a: a[idx])
+    alpha = pick(plan["alpha"].astype(np.float64, copy=False))
+    beta = pick(plan["beta"].astype(np.float64, copy=False))
+    xi = pick(plan["xi"].astype(np.float64, copy=False))
+    nm = pick(plan["n_masses"].astype(np.int64, copy=False))
+    out = None  # allocated unless one block covers every row
+    errors = {}
+    fast = (beta == 0.0) & (nm == 2)  # linear_kernel's RIGID2 rows, column-wise
+    for group, is_fast in ((np.flatnonzero(fast), True), (np.flatnonzero(~fast), False)):
+        for start in range(0, len(group), block):
+            sel = group[start : start + block]
+            whole = len(sel) == len(idx)
+            if is_fast:
+                done, err = guarded(
+                    rigid2_batch,
+                    (alpha, xi, max_events) if whole else (alpha[sel], xi[sel], max_events),
+                    sel,
+                    lambda j, s=sel: rigid2(alpha[s[j]], xi[s[j]], max_events, NO_HIST),
+                    uses_blas=False,  # closed form, no linear algebra
+                )
+            else:
+                done, err = guarded(
+                    solve_linear_batch,
+                    (alpha[sel], beta[sel], xi[sel], nm[sel], max_events),
+                    sel,
+                    lambda j, s=sel: solve_linear(
+                        alpha[s[j]], beta[s[j]], xi[s[j]], nm[s[j]], max_events, NO_HIST
+                    ),
+                )
+            if whole and done.shape[1] == L.N_OUT:
+                out = done  # one block of every row, in order: no copy
+            else:
+                if out is None:
+                    out = np.full((len(idx), L.N_OUT), np.nan)
+                out[sel, : done.shape[1]] = done
+            if err:
+                errors.update({int(sel[j]): msg for j, msg in err.items()})
+            bar.update(len(sel))
+    return (np.full((0, L.N_OUT), np.nan) if out is None else out), errors
+
+
+def _general_rows(table, idx: np.ndarray, max_events: int, bar, block: int):
+    """Kernel rows of general linear chains (padded batch of restitution.kernels.exact_chain)."""
+    from restitution.kernels.exact_chain import solve_chain, solve_chain_batch
+
+    out = np.full((len(idx), L.N_OUT), np.nan)
+    errors = {}
+    for start in range(0, len(idx), block):
+        sel = np.arange(start, min(start + block, len(idx)))
+        m, k, c, n, kc = table.scaled(idx[sel])
+
+        def single(j, m=m, k=k, c=c, n=n, kc=kc):
+            a, b = np.ascontiguousarray, n[j]
+            return solve_chain(
+                a(m[j, :b]), a(k[j, : b - 1]), a(c[j, : b - 1]), kc[j], max_events, NO_HIST
+            )
+
+        done, err = guarded(solve_chain_batch, (m, k, c, n, kc, max_events), sel, single)
+        out[sel, : done.shape[1]] = done
+        if err:
+            errors.update({int(sel[j]): msg for j, msg in err.items()})
+        bar.update(len(sel))
+    return out, errors
+
+
+def run_many(table, idx: np.ndarray, max_events: int, bar, block: int):
+    """The batch runner of the exact methods: kernel rows of the table rows ``idx`` (sorted)
+    and {position in idx: error message} of rows whose kernel raised."""
+    if table.chains is None:
+        return _paper_rows(table, idx, max_events, bar, block)
+    paper = table.plan["paper"][idx]
+    out = np.full((len(idx), L.N_OUT), np.nan)
+    errors = {}
+    for part, rows in ((idx[paper], _paper_rows), (idx[~paper], _general_rows)):
+        if len(part) == 0:
+            continue
+        o, e = rows(table, part, max_events, bar, block)
+        where = np.searchsorted(idx, part)  # positions in idx (both sorted)
+        out[where] = o
+        errors.update({int(where[j]): msg for j, msg in e.items()})
+    return out, errors
