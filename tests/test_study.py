@@ -114,6 +114,70 @@ def test_every_problem_at_once_and_missing_keys():
     assert any(p.startswith("colour = 'red': unknown key") for p in found), found
 
 
+def test_every_problem_at_once_across_the_stages():
+    """A schema problem (unknown key), a grid problem (log axis from 0), a scene value out of
+    range, a bad axis text and a job count too large: one StudyError lists them all (each stage
+    used to stop the check, so a user saw them in three passes)."""
+    found = problems(
+        PAPER,
+        colour="red",
+        scene={"beta": 0.0, "xi": 2000.0},
+        axes=[
+            {"param": "alpha", "logspace": {"start": 0.0, "stop": 1.0, "num": 5}},
+            {"param": "n_masses", "values": [2, 1000], "label": "N $\\foo$"},
+        ],
+    )
+    expected = [
+        "colour = 'red': unknown key",
+        "axes[0].logspace.start = 0.0: must be > 0",
+        "scene.xi = 2000.0: xi must be in [0, 1e3]",
+        "axis n_masses = 1000.0: n_masses must be an integer in [2, 512]",
+        "axes[1].label = 'N $\\\\foo$': matplotlib cannot draw it as mathtext (Unknown symbol",
+    ]
+    for text in expected:
+        assert any(p.startswith(text) for p in found), (text, found)
+    # A grid problem and a chain problem together (the chain's own checks need its lists whole).
+    axes = [{"param": "masses[1]", "linspace": {"start": 2.0, "stop": 1.0, "num": 3}},
+            {"param": "dashpots[0]", "values": [0.0, -0.1]}]  # fmt: skip
+    found = problems(CHAIN, axes=axes, refine_steps=99)
+    for text in ("refine_steps = 99: must be an integer",
+                 "axes[0].linspace.stop = 1.0: must be greater than start = 2.0",
+                 "axis dashpots[0] = -0.1: dashpots must be >= 0"):  # fmt: skip
+        assert any(p.startswith(text) for p in found), (text, found)
+
+
+def test_axis_labels_and_units():
+    """Axis texts: the study's label and unit, else the parameter's name; units only where the
+    quantity has one (a general chain's), one line each."""
+    study = check_study(PAPER)
+    assert study.axes[0].title == r"mass ratio $\alpha = m_2/m_1$" and study.units == ""
+    chain = check_study(
+        {**CHAIN, "units": "SI: kg, N/m, N s/m; V0 = 1 m/s",
+         "axes": [{"param": "masses[2]", "values": [0.5, 3.0], "label": "rear mass $m_3$",
+                   "unit": "kg"},
+                  {"param": "k_contact", "values": [10.0, math.inf], "unit": "N/m"}]}
+    )  # fmt: skip
+    first, second = chain.axes
+    assert first.title == "rear mass $m_3$ [kg]" and chain.units.startswith("SI")
+    assert second.title == "contact stiffness k_contact [N/m]"
+    assert second.curve_text(10.0) == "k_contact = 10 N/m" and second.curve_text(math.inf) == (
+        "rigid wall"
+    )
+    assert check_study(CHAIN).axes[0].title == "mass $m_{3}$ (masses[2])"
+    assert check_study(PAPER).axes[0].curve_text(0.5) == r"$\alpha = 0.5$"
+
+    axes = [{**PAPER["axes"][0], "unit": "kg"}]
+    assert any(p.startswith("axes[0].unit = 'kg': alpha is a ratio") for p in problems(
+        PAPER, axes=axes))  # fmt: skip
+    assert any(p.startswith("units = 'SI': the paper's scene is non-dimensional") for p in problems(
+        PAPER, units="SI"))  # fmt: skip
+    axes = [{**PAPER["axes"][0], "label": "two\nlines"}]
+    assert any(p.startswith("axes[0].label = 'two\\nlines': must be a text matching")
+               for p in problems(PAPER, axes=axes))  # fmt: skip
+    axes = [{**PAPER["axes"][0], "label": "costs $5"}]
+    assert any("an odd number of $" in p for p in problems(PAPER, axes=axes))
+
+
 def test_bad_yaml_file(tmp_path):
     path = tmp_path / "broken.yaml"
     path.write_text("name: [unclosed\n")

@@ -3,22 +3,6 @@ of the second axis. Only rows with status ok are drawn (the others are counted i
 
 import math
 
-SYMBOLS = {"alpha": r"\alpha", "beta": r"\beta", "xi": r"\xi", "n_masses": "N"}
-
-
-def name(param: str) -> str:
-    """Axis text of a parameter: the paper's symbol, else its name (``masses[2]``)."""
-    return f"${SYMBOLS[param]}$" if param in SYMBOLS else param
-
-
-def label(param: str, value: float) -> str:
-    """Legend text of a curve, e.g. ``xi = 0.3`` or ``masses[2] = 1.5``."""
-    if param == "k_contact" and math.isinf(value):
-        return "rigid wall"
-    if param in SYMBOLS:
-        return rf"${SYMBOLS[param]} = {value:g}$"
-    return f"{param} = {value:g}"
-
 
 def style(study, table, curve: float, index: int) -> dict:
     """One colour, one meaning (restitution.plotting): a curve per beta, xi or alpha takes that
@@ -46,12 +30,12 @@ def draw(table, study, output: str, logger):
         if dropped:
             logger.warning("curve %d: %d rows not ok, not drawn", index, dropped)
         curve = float(part["curve"].iloc[0])
-        text = None if math.isnan(curve) else label(study.axes[1].param, curve)
+        text = None if math.isnan(curve) else study.axes[1].curve_text(curve)
         ax.plot(good[first.param], good[output], lw=0.9, label=text,
                 **style(study, table, curve, int(index)))  # fmt: skip
     if first.log:
         plotting.log_axis(ax, "x")
-    ax.set_xlabel(name(first.param))
+    ax.set_xlabel(first.title)  # the study's label and unit, or the parameter's name
     ax.set_ylabel(OUTPUTS[output])
     if output == "cor":
         ax.set_ylim(min(0.0, float(table["cor"].min())), 1.02)
