@@ -16,7 +16,7 @@ import yaml
 
 import restitution
 import restitution.study as study_module
-from conftest import REPO, copy_workflow, run_snakemake
+from conftest import REPO, copy_workflow, load_script, run_snakemake
 from restitution.study import STUDY_SCHEMA, StudyError, check_study, load_study, solve_curve
 
 PAPER = {
@@ -250,6 +250,63 @@ def test_first_rigid_wall_cusp_is_resolved():
     assert best["alpha"] == pytest.approx(0.697123, abs=1e-6)
     assert best["cor"] == pytest.approx(0.178465, abs=2e-6)
     assert table.loc[~table["refined"], "cor"].min() > best["cor"] + 0.02
+
+
+def test_minima_closer_than_the_tolerance_are_one():
+    """minima.csv lists each minimum once: a cluster of local minima within round-off of each
+    other (closed form plus wiggles of 1e-15) is one minimum, the deepest; minima further apart
+    than MINIMA_MERGE of the axis' span stay apart."""
+    aggregate = load_script("study_aggregate")
+    axis = check_study(PAPER).axes[0]  # alpha, logspace 0.5..1.5
+    x = np.geomspace(0.5, 1.5, 41)
+    cluster = 0.7 * (1 + np.array([-2, -1, 0, 1, 2]) * 5e-9)
+    # 3 tolerances either side of 1.2 (the log span is ln 3), a bump between: two minima.
+    apart = 1.2 * np.exp(np.array([-3, 0, 3]) * study_module.MINIMA_MERGE * np.log(3.0))
+    x = np.concatenate([x, cluster, apart])
+    cor = 0.2 + np.log(x / 0.7) ** 2 * np.log(x / 1.2) ** 2
+    cor[41:46] = 0.2 + np.array([3, 0, 2, 1, 3]) * 1e-15  # two local minima inside the cluster
+    cor[46:] = 0.2 + np.array([0, 5, 1]) * 1e-15
+    table = pd.DataFrame(dict(alpha=x, cor=cor, n_collisions=1, curve=math.nan, curve_index=0,
+                              status="ok"))  # fmt: skip
+    found = aggregate.minima(table, axis)
+    assert found["alpha"].tolist() == [cluster[1], apart[0], apart[2]]
+    assert found["minimum"].tolist() == [1, 2, 3] and (found["cor"] <= 0.2 + 1e-15).all()
+
+
+def test_round_off_minima_of_a_smooth_minimum_are_listed_once():
+    """beta = 1: a smooth COR minimum (one contact) near alpha = 0.677. Its pattern search leaves
+    several local minima of the same depth within ~1e-8 (round-off); minima.csv lists one, at the
+    minimum of an independent reference (scipy's DOP853 through the contact, rtol 1e-13)."""
+    from scipy.integrate import solve_ivp
+    from scipy.optimize import minimize_scalar
+
+    def reference_cor(alpha):
+        k2 = alpha / (1 + alpha)  # k1 = k2 / beta = k2
+
+        def force(t, y):
+            u1, u2, v1, v2 = y
+            return [v1, v2, -k2 * u1 + k2 * (u2 - u1), -k2 * (u2 - u1) / alpha]
+
+        def separation(t, y):
+            return y[0]
+
+        separation.terminal, separation.direction = True, 1
+        end = solve_ivp(force, (0, 100), [0, 0, -1, -1], method="DOP853", rtol=1e-13,
+                        atol=1e-15, events=separation).y_events[0][0]  # fmt: skip
+        return (end[2] + alpha * end[3]) / (1 + alpha)
+
+    best = minimize_scalar(reference_cor, bounds=(0.6, 0.75), method="bounded",
+                           options={"xatol": 1e-10})  # fmt: skip
+    axis = {"param": "alpha", "logspace": {"start": 0.5, "stop": 0.9, "num": 9}}
+    study = check_study({"name": "smooth", "scene": {"beta": 1.0}, "axes": [axis]})
+    table = solve_curve(study, math.nan).assign(curve_index=0)
+    cor = table.sort_values("alpha")["cor"].to_numpy()
+    raw = np.flatnonzero((cor[1:-1] < cor[:-2]) & (cor[1:-1] <= cor[2:]))
+    assert len(raw) > 1  # the round-off cluster this test is about
+    found = load_script("study_aggregate").minima(table, study.axes[0])
+    assert len(found) == 1 and found["n_collisions"].iloc[0] == 1
+    assert found["alpha"].iloc[0] == pytest.approx(best.x, rel=1e-7)
+    assert found["cor"].iloc[0] == pytest.approx(best.fun, abs=1e-12)
 
 
 # --- the workflow's study target ------------------------------------------------------------

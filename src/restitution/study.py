@@ -56,6 +56,11 @@ PAPER_PARAMS = {"alpha": check_alpha, "beta": check_beta, "xi": check_xi}
 CHAIN_LISTS = ("masses", "springs", "dashpots")
 PARAM = re.compile(r"^(alpha|beta|xi|n_masses|k_contact|(masses|springs|dashpots)\[(\d+)\])$")
 MAX_POINTS = 100_000  # grid points of one axis
+# Minima of one curve closer than this fraction of the first axis' span (log span for a log axis)
+# are one minimum in minima.csv (the deepest kept): far below the finest grid spacing,
+# 1/(MAX_POINTS - 1) of the span, and far above the ~1e-8 relative round-off width of a smooth
+# minimum, inside which the COR's round-off makes several local minima of the same depth.
+MINIMA_MERGE = 1e-6
 _NUMBER = {"type": "number", "minimum": -1e300, "maximum": math.inf}  # ranges: scene checks
 _SPACE = {
     "type": "object",
