@@ -7,6 +7,7 @@ scratch copy of the workflow, into the report.
 
 import json
 import math
+import re
 
 import numpy as np
 import pandas as pd
@@ -178,6 +179,27 @@ def test_axis_labels_and_units():
     assert any("an odd number of $" in p for p in problems(PAPER, axes=axes))
 
 
+def test_plots_take_the_axis_texts_of_the_study():
+    """study_plot: the x axis reads 'label [unit]', each curve 'label = value unit'."""
+    import logging
+
+    study_plot = load_script("study_plot")
+    study = check_study(
+        {**CHAIN, "units": "SI",
+         "axes": [{"param": "masses[2]", "values": [0.5, 1.0, 3.0], "label": "rear mass $m_3$",
+                   "unit": "kg"},
+                  {"param": "k_contact", "values": [10.0, math.inf], "unit": "N/m"}]}
+    )  # fmt: skip
+    table = pd.DataFrame(
+        {"masses[2]": [0.5, 1.0, 3.0] * 2, "cor": 0.5, "n_collisions": 1, "status": "ok",
+         "curve": [10.0] * 3 + [math.inf] * 3, "curve_index": [0] * 3 + [1] * 3}
+    )  # fmt: skip
+    fig = study_plot.draw(table, study, "cor", logging.getLogger("test"))
+    ax = fig.axes[0]
+    assert ax.get_xlabel() == "rear mass $m_3$ [kg]"
+    assert [line.get_label() for line in ax.lines] == ["k_contact = 10 N/m", "rigid wall"]
+
+
 def test_bad_yaml_file(tmp_path):
     path = tmp_path / "broken.yaml"
     path.write_text("name: [unclosed\n")
@@ -347,7 +369,16 @@ def test_study_target_end_to_end(tmp_path):
         "study", "--config", "study=tiny.yaml", "--report", "report.html", cwd=work
     )
     assert report.returncode == 0, report.stderr[-3000:]
-    assert "Studies" in (work / "report.html").read_text()
+    html = (work / "report.html").read_text()
+    assert "Studies" in html
+    # The study's own front page (not the paper's, whose links it lacks): scene, units, axes.
+    page = json.loads(re.search(r'var workflow_desc = (".*?");\n', html, re.S).group(1))
+    assert "System Message" not in page and "A reproduction of" not in page, page
+    for text in ("<strong>Study tiny.</strong>", "non-dimensional, the paper", "beta = 0, xi",
+                 "11 values log-spaced from 0.5 to 3", "values 0, 0.3"):  # fmt: skip
+        assert text in page, (text, page)
+    # Each minimum once (a cluster of round-off minima would be ~1e-8 apart).
+    assert minima.groupby("curve")["alpha"].apply(lambda x: x.diff().min()).min() > 1e-3
 
 
 def test_study_target_refuses_bad_files_before_any_job(tmp_path):

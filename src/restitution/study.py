@@ -39,6 +39,7 @@ __all__ = [
     "Study",
     "StudyError",
     "check_study",
+    "front_page",
     "load_study",
     "solve_curve",
 ]
@@ -649,6 +650,121 @@ def check_study(data, source: str = "study") -> Study:
         units=checked["units"],
         raw=checked,
     )
+
+
+# ---------------------------------------------------------------------------------------------
+# The report's front page
+# ---------------------------------------------------------------------------------------------
+def _rst(text: str) -> str:
+    """User text as reStructuredText that shows it as written: one line, every character that
+    is not a letter, digit or space escaped (a backslash before one shows that character)."""
+    return re.sub(r"([^\w\s]|_)", r"\\\1", " ".join(str(text).split()))
+
+
+_GREEK = (
+    "alpha beta gamma delta epsilon zeta eta theta kappa lambda mu nu xi pi rho sigma tau phi chi "
+    "psi omega"
+).split()
+
+
+def _plain(label: str) -> str:
+    """An axis text without its mathtext markup, for the report's text: ``$\\alpha = m_2/m_1$``
+    reads ``α = m_2/m_1`` (Greek letters as such, ``$``, ``\\mathrm`` and braces dropped)."""
+    import unicodedata
+
+    def greek(match):
+        name = match.group(1)
+        return unicodedata.lookup(f"GREEK SMALL LETTER {'LAMDA' if name == 'lambda' else name}")
+
+    text = re.sub(r"\\(" + "|".join(_GREEK) + r")(?![A-Za-z])", greek, label)
+    text = re.sub(r"\\math(rm|it|bf)\b", "", text)
+    return text.replace("$", "").replace("{", "").replace("}", "")
+
+
+def _number(value: float) -> str:
+    return ".inf (rigid wall)" if math.isinf(value) else f"{value:g}"
+
+
+def _axis_text(axis: Axis) -> str:
+    values = axis.values
+    if len(values) <= 8:
+        grid = "values " + ", ".join(_number(v) for v in values)
+    else:
+        spacing = "log-spaced" if axis.log else "evenly spaced"
+        grid = f"{len(values)} values {spacing} from {values[0]:g} to {values[-1]:g}"
+    unit = f" {_rst(axis.unit)}" if axis.unit else ""
+    return f"``{axis.param}`` ({_rst(_plain(axis.title))}): {grid}{unit}"
+
+
+def front_page(study: Study) -> dict:
+    """What the report's front page says of ``study``, as reStructuredText (user text escaped):
+    ``name``, ``folder`` (the name as is, for literals), ``description``, ``scene``, ``units``,
+    ``axes`` (a list of lines), ``outputs``, ``settings``. The workflow hands it to
+    workflow/report/workflow.rst (a study-only report shows it as its front page)."""
+    set_by = {a.param: ("the first axis" if i == 0 else "the curves") for i, a in
+              enumerate(study.axes)}  # fmt: skip
+    if study.general:
+        n = len(study.scene["masses"])
+        parts = []
+        for key in ("masses", "springs", "dashpots"):
+            items = list(study.scene.get(key, [0.0] * (n - 1)))
+            text = [f"{float(v):g}" for v in items]
+            for param, where in set_by.items():
+                match = PARAM.match(param)
+                if match.group(2) == key:
+                    text[int(match.group(3))] = f"({where})"
+            parts.append(f"{key} = [{', '.join(text)}]")
+        contact = f"({set_by['k_contact']})" if "k_contact" in set_by else None
+        contact = contact or _number(float(study.scene.get("k_contact", math.inf)))
+        parts.append(f"k_contact = {contact}")
+        scene = (
+            f"a general chain of {n} masses, m1 at the wall, every mass approaching it at "
+            f"V0 = 1: {'; '.join(parts)}."
+        )
+        units = (
+            f"{_rst(study.units)} (the study's ``units``); the COR and the energy fractions are "
+            "ratios, ``omega_t_col`` is non-dimensional."
+            if study.units
+            else "not stated (the study file's ``units`` key): the values are in one consistent "
+            "set of units, with V0 = 1 in them; the COR and the energy fractions are ratios."
+        )
+    else:
+        values = {"alpha": None, "beta": 0.0, "xi": 0.0, "n_masses": 2, **study.scene}
+        fixed = [f"{k} = {v:g}" for k, v in values.items() if k not in set_by and v is not None]
+        varied = [f"{k} from {set_by[k]}" for k in values if k in set_by]
+        scene = (
+            "the paper's scene: m1 = 1 at the wall, m2..mN = alpha, equal springs, contact "
+            "stiffness k2/beta (beta = 0: rigid wall), a dashpot of damping ratio xi between m1 "
+            f"and m2; {', '.join(fixed + varied)}."
+        )
+        units = (
+            "non-dimensional, the paper's: m1 = 1, V0 = 1, omega = 1 with omega^2 = k2/m1 + "
+            "k2/m2; alpha, beta and xi are ratios."
+        )
+    axes = [f"x axis of every plot: {_axis_text(study.axes[0])}"]
+    if len(study.axes) > 1:
+        axes.append(f"one curve per value of {_axis_text(study.axes[1])}")
+    refine = (
+        f"refined at every change of the contact count and every smooth COR minimum "
+        f"({study.refine_steps} steps)"
+        if study.refine_steps and study.axes[0].refinable
+        else "not refined"
+    )
+    return {
+        "name": _rst(study.name),
+        "folder": study.name,  # letters, digits, _ . - only: safe inside ``literal``
+        "description": _rst(study.description.strip().rstrip(".") + ".")
+        if study.description
+        else "",
+        "scene": scene,
+        "units": units,
+        "axes": axes,
+        "outputs": ", ".join(f"``{o}``" for o in study.outputs),
+        "settings": (
+            f"method ``{study.method}``, at most {study.max_events} contacts per scene; the "
+            f"first axis {refine}; minima closer than {MINIMA_MERGE:g} of its span listed once"
+        ),
+    }
 
 
 # ---------------------------------------------------------------------------------------------
