@@ -53,6 +53,15 @@ def test_example_study_is_valid():
     assert len(study.curves) == 4 and study.n_chunks == 2
 
 
+def test_studies_of_the_docs_are_valid():
+    """Every YAML study of docs/study.md passes the checks, as written."""
+    text = (REPO / "docs" / "study.md").read_text()
+    found = re.findall(r"^```yaml\n(.*?)^```", text, re.S | re.M)
+    assert len(found) >= 2
+    for block in found:
+        check_study(yaml.safe_load(block))
+
+
 def test_defaults_and_grid():
     study = check_study(PAPER)
     assert study.outputs == ("cor", "n_collisions") and study.method == "auto"
@@ -374,7 +383,8 @@ def test_study_target_end_to_end(tmp_path):
     # The study's own front page (not the paper's, whose links it lacks): scene, units, axes.
     page = json.loads(re.search(r'var workflow_desc = (".*?");\n', html, re.S).group(1))
     assert "System Message" not in page and "A reproduction of" not in page, page
-    for text in ("<strong>Study tiny.</strong>", "non-dimensional, the paper", "beta = 0, xi",
+    for text in ("<strong>Study tiny.</strong>", "non-dimensional, the paper",
+                 "beta = 0, n_masses = 2, alpha from the first axis, xi from the curves",
                  "11 values log-spaced from 0.5 to 3", "values 0, 0.3"):  # fmt: skip
         assert text in page, (text, page)
     # Each minimum once (a cluster of round-off minima would be ~1e-8 apart).

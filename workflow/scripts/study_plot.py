@@ -3,6 +3,8 @@ of the second axis. Only rows with status ok are drawn (the others are counted i
 
 import math
 
+from matplotlib.ticker import FuncFormatter
+
 
 def style(study, table, curve: float, index: int) -> dict:
     """One colour, one meaning (restitution.plotting): a curve per beta, xi or alpha takes that
@@ -15,6 +17,12 @@ def style(study, table, curve: float, index: int) -> dict:
     if colour is None or math.isnan(curve):
         return plotting.series_style(index)
     return {"color": colour(curve, [float(v) for v in table["curve"].dropna().unique()])}
+
+
+def _minor_label(value: float, _pos=None) -> str:
+    """Text of a minor tick of a log axis: 2, 3, 5 times a power of ten, others blank."""
+    mantissa = value / 10 ** math.floor(math.log10(value) + 1e-9)
+    return f"{value:g}" if round(mantissa, 6) in (2.0, 3.0, 5.0) else ""
 
 
 def draw(table, study, output: str, logger):
@@ -35,6 +43,8 @@ def draw(table, study, output: str, logger):
                 **style(study, table, curve, int(index)))  # fmt: skip
     if first.log:
         plotting.log_axis(ax, "x")
+        if first.values.max() / first.values.min() < 100:  # under two decades: label 2, 3, 5 too
+            ax.xaxis.set_minor_formatter(FuncFormatter(_minor_label))
     ax.set_xlabel(first.title)  # the study's label and unit, or the parameter's name
     ax.set_ylabel(OUTPUTS[output])
     if output == "cor":
