@@ -184,8 +184,8 @@ report-shots: env
 	$(BIN)/python .ci/report_shots.py report.html results/report-shots
 
 lint: env
-	$(BIN)/ruff check src tests workflow/scripts benchmarks notebooks .ci docs/hooks.py
-	$(BIN)/ruff format --check src tests workflow/scripts benchmarks notebooks .ci docs/hooks.py
+	$(BIN)/ruff check src tests workflow/scripts benchmarks notebooks examples .ci docs/hooks.py
+	$(BIN)/ruff format --check src tests workflow/scripts benchmarks notebooks examples .ci docs/hooks.py
 	$(BIN)/snakefmt --check Snakefile workflow/rules
 	$(BIN)/snakemake --lint
 

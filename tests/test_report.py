@@ -9,6 +9,7 @@ a real report and checks that the captions and the reproduction table are in it.
 """
 
 import json
+import math
 import re
 import subprocess
 import sys
@@ -243,16 +244,86 @@ def test_result_captions_are_written_by_their_render_rule(inventory):
     assert seen == DATA_CAPTIONS
 
 
+def render_front_page(categories, config) -> tuple[str, str]:
+    """workflow/report/workflow.rst rendered as Snakemake renders it (Jinja with its settings,
+    the link targets of the report's categories appended, docutils' HTML writer): (rst, html)."""
+    from collections import namedtuple
+    from types import SimpleNamespace
+
+    from docutils.core import publish_parts
+    from jinja2 import Environment
+
+    category = namedtuple("Category", "name")
+    source = (REPO / "workflow" / "report" / "workflow.rst").read_text()
+    links = "".join(f"\n.. _{c}: javascript:app.showCategory('{c}')\n" for c in categories)
+    rst = (
+        Environment(trim_blocks=True, lstrip_blocks=True)
+        .from_string(source + links)
+        .render(
+            snakemake=SimpleNamespace(config=config),
+            categories={category(c): {} for c in categories},
+            files=[],
+        )
+    )
+    # report_level 2: a warning on the page is a failure too (Snakemake shows errors, level 3).
+    html = publish_parts(rst, writer="html", settings_overrides={"report_level": 2})
+    return rst, html["html_body"]
+
+
 def test_front_page_is_short_and_names_the_solver():
     """What, units, methods, links: the tables have their own pages (a long front page overflowed
-    the report's pane above its top; workflow/report/style.css and make report keep it fixed)."""
-    source = (REPO / "workflow" / "report" / "workflow.rst").read_text()
-    text = source[source.index("#}") + 2 :]  # the rendered part, after the Jinja comment
-    assert 'snakemake.config["method"]' in text and "`Reproduction`_" in text
-    assert ".. csv-table::" not in text
-    assert len(text.split()) < 350, "the front page should fit on one screen"
+    the report's pane above its top; workflow/report/style.css and make report keep it fixed).
+    Links name only the categories the report has (a missing one is a docutils error)."""
+    config = {"method": "auto", "max_events": 100000}
+    for categories in (["Sect. 2: two-mass model", "Reproduction"], ["Sect. 2: two-mass model"]):
+        rst, html = render_front_page(categories, config)
+        assert "System Message" not in html, html
+        assert "method ``auto``" in rst and "A reproduction of" in rst
+        assert ("`Reproduction`_" in rst) == ("Reproduction" in categories)
+        assert ".. csv-table::" not in rst
+        assert len(rst.split()) < 350, "the front page should fit on one screen"
     style = (REPO / "workflow" / "report" / "style.css").read_text()
     assert "align-items: flex-start" in style
+
+
+def test_a_study_report_has_its_own_front_page():
+    """A study's report alone: its scene, units and axes (restitution_workflow.study.front_page), user
+    text shown as written; with the paper's categories, the paper's page and a link to it."""
+    from restitution_workflow.study import check_study, front_page
+
+    study = check_study(
+        {"name": "rear_mass_", "description": "Rear mass *sweep*, `k_c` as a curve",
+         "units": "SI: kg, N/m, N s/m; V0 = 1 m/s",
+         "scene": {"masses": [1.0, 0.5, 2.0], "springs": [0.3, 1.2]},
+         "axes": [{"param": "masses[2]", "logspace": {"start": 0.3, "stop": 3.0, "num": 50},
+                   "label": r"rear mass $m_3$", "unit": "kg"},
+                  {"param": "k_contact", "values": [10.0, math.inf], "unit": "N/m"}]}
+    )  # fmt: skip
+    config = {"method": "auto", "max_events": 100000, "study_front": front_page(study)}
+    rst, html = render_front_page(["Studies"], config)
+    assert "System Message" not in html, html
+    assert "A reproduction of" not in rst and "Non-dimensional" not in rst
+    for text in (
+        "Study rear_mass_.",  # a trailing _ would be a link without its escape
+        "Rear mass *sweep*, `k_c` as a curve.",
+        "a general chain of 3 masses",
+        "masses = [1, 0.5, (the first axis)]",
+        "k_contact = (the curves)",
+        "SI: kg, N/m, N s/m; V0 = 1 m/s",
+        "rear mass m_3 [kg]): 50 values log-spaced from 0.3 to 3 kg",
+        "values 10, .inf (rigid wall) N/m",
+        "results/studies/rear_mass_/sweep.parquet",
+    ):
+        assert escape(text, quote=False) in html, (text, html)
+    assert len(rst.split()) < 350
+    paper = check_study({"name": "p", "scene": {"beta": 0.01},
+                         "axes": [{"param": "alpha", "values": [0.5, 1.0]}]})  # fmt: skip
+    rst, html = render_front_page(["Studies"], {**config, "study_front": front_page(paper)})
+    assert "non-dimensional, the paper" in rst and "beta = 0.01, xi = 0, n_masses = 2" in rst
+    assert "System Message" not in html
+    rst, html = render_front_page(["Sect. 2", "Reproduction", "Studies"], config)
+    assert "A reproduction of" in rst and "`Studies`_: the user study rear" in rst
+    assert "System Message" not in html, html
 
 
 # --- a real report on a small configuration --------------------------------------------------

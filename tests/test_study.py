@@ -7,6 +7,7 @@ scratch copy of the workflow, into the report.
 
 import json
 import math
+import re
 
 import numpy as np
 import pandas as pd
@@ -16,7 +17,7 @@ import yaml
 
 import restitution
 import restitution_workflow.study as study_module
-from conftest import REPO, copy_workflow, run_snakemake
+from conftest import REPO, copy_workflow, load_script, run_snakemake
 from restitution_workflow.study import (
     STUDY_SCHEMA,
     StudyError,
@@ -56,6 +57,15 @@ def test_example_study_is_valid():
     study = load_study(REPO / "config" / "study-example.yaml")
     assert study.axes[0].param == "alpha" and study.axes[0].log
     assert len(study.curves) == 4 and study.n_chunks == 2
+
+
+def test_studies_of_the_docs_are_valid():
+    """Every YAML study of docs/study.md passes the checks, as written."""
+    text = (REPO / "docs" / "study.md").read_text()
+    found = re.findall(r"^```yaml\n(.*?)^```", text, re.S | re.M)
+    assert len(found) >= 2
+    for block in found:
+        check_study(yaml.safe_load(block))
 
 
 def test_defaults_and_grid():
@@ -118,6 +128,91 @@ def test_every_problem_at_once_and_missing_keys():
     assert "name: required key missing" in found
     assert "axes[0].param: required key missing" in found
     assert any(p.startswith("colour = 'red': unknown key") for p in found), found
+
+
+def test_every_problem_at_once_across_the_stages():
+    """A schema problem (unknown key), a grid problem (log axis from 0), a scene value out of
+    range, a bad axis text and a job count too large: one StudyError lists them all (each stage
+    used to stop the check, so a user saw them in three passes)."""
+    found = problems(
+        PAPER,
+        colour="red",
+        scene={"beta": 0.0, "xi": 2000.0},
+        axes=[
+            {"param": "alpha", "logspace": {"start": 0.0, "stop": 1.0, "num": 5}},
+            {"param": "n_masses", "values": [2, 1000], "label": "N $\\foo$"},
+        ],
+    )
+    expected = [
+        "colour = 'red': unknown key",
+        "axes[0].logspace.start = 0.0: must be > 0",
+        "scene.xi = 2000.0: xi must be in [0, 1e3]",
+        "axis n_masses = 1000.0: n_masses must be an integer in [2, 512]",
+        "axes[1].label = 'N $\\\\foo$': matplotlib cannot draw it as mathtext (Unknown symbol",
+    ]
+    for text in expected:
+        assert any(p.startswith(text) for p in found), (text, found)
+    # A grid problem and a chain problem together (the chain's own checks need its lists whole).
+    axes = [{"param": "masses[1]", "linspace": {"start": 2.0, "stop": 1.0, "num": 3}},
+            {"param": "dashpots[0]", "values": [0.0, -0.1]}]  # fmt: skip
+    found = problems(CHAIN, axes=axes, refine_steps=99)
+    for text in ("refine_steps = 99: must be an integer",
+                 "axes[0].linspace.stop = 1.0: must be greater than start = 2.0",
+                 "axis dashpots[0] = -0.1: dashpots must be >= 0"):  # fmt: skip
+        assert any(p.startswith(text) for p in found), (text, found)
+
+
+def test_axis_labels_and_units():
+    """Axis texts: the study's label and unit, else the parameter's name; units only where the
+    quantity has one (a general chain's), one line each."""
+    study = check_study(PAPER)
+    assert study.axes[0].title == r"mass ratio $\alpha = m_2/m_1$" and study.units == ""
+    chain = check_study(
+        {**CHAIN, "units": "SI: kg, N/m, N s/m; V0 = 1 m/s",
+         "axes": [{"param": "masses[2]", "values": [0.5, 3.0], "label": "rear mass $m_3$",
+                   "unit": "kg"},
+                  {"param": "k_contact", "values": [10.0, math.inf], "unit": "N/m"}]}
+    )  # fmt: skip
+    first, second = chain.axes
+    assert first.title == "rear mass $m_3$ [kg]" and chain.units.startswith("SI")
+    assert second.title == "contact stiffness k_contact [N/m]"
+    assert second.curve_text(10.0) == "k_contact = 10 N/m" and second.curve_text(math.inf) == (
+        "rigid wall"
+    )
+    assert check_study(CHAIN).axes[0].title == "mass $m_{3}$ (masses[2])"
+    assert check_study(PAPER).axes[0].curve_text(0.5) == r"$\alpha = 0.5$"
+
+    axes = [{**PAPER["axes"][0], "unit": "kg"}]
+    assert any(p.startswith("axes[0].unit = 'kg': alpha is a ratio") for p in problems(
+        PAPER, axes=axes))  # fmt: skip
+    assert any(p.startswith("units = 'SI': the paper's scene is non-dimensional") for p in problems(
+        PAPER, units="SI"))  # fmt: skip
+    axes = [{**PAPER["axes"][0], "label": "two\nlines"}]
+    assert any(p.startswith("axes[0].label = 'two\\nlines': must be a text matching")
+               for p in problems(PAPER, axes=axes))  # fmt: skip
+    axes = [{**PAPER["axes"][0], "label": "costs $5"}]
+    assert any("an odd number of $" in p for p in problems(PAPER, axes=axes))
+
+
+def test_plots_take_the_axis_texts_of_the_study():
+    """study_plot: the x axis reads 'label [unit]', each curve 'label = value unit'."""
+    import logging
+
+    study_plot = load_script("study_plot")
+    study = check_study(
+        {**CHAIN, "units": "SI",
+         "axes": [{"param": "masses[2]", "values": [0.5, 1.0, 3.0], "label": "rear mass $m_3$",
+                   "unit": "kg"},
+                  {"param": "k_contact", "values": [10.0, math.inf], "unit": "N/m"}]}
+    )  # fmt: skip
+    table = pd.DataFrame(
+        {"masses[2]": [0.5, 1.0, 3.0] * 2, "cor": 0.5, "n_collisions": 1, "status": "ok",
+         "curve": [10.0] * 3 + [math.inf] * 3, "curve_index": [0] * 3 + [1] * 3}
+    )  # fmt: skip
+    fig = study_plot.draw(table, study, "cor", logging.getLogger("test"))
+    ax = fig.axes[0]
+    assert ax.get_xlabel() == "rear mass $m_3$ [kg]"
+    assert [line.get_label() for line in ax.lines] == ["k_contact = 10 N/m", "rigid wall"]
 
 
 def test_bad_yaml_file(tmp_path):
@@ -194,6 +289,63 @@ def test_first_rigid_wall_cusp_is_resolved():
     assert table.loc[~table["refined"], "cor"].min() > best["cor"] + 0.02
 
 
+def test_minima_closer_than_the_tolerance_are_one():
+    """minima.csv lists each minimum once: a cluster of local minima within round-off of each
+    other (closed form plus wiggles of 1e-15) is one minimum, the deepest; minima further apart
+    than MINIMA_MERGE of the axis' span stay apart."""
+    aggregate = load_script("study_aggregate")
+    axis = check_study(PAPER).axes[0]  # alpha, logspace 0.5..1.5
+    x = np.geomspace(0.5, 1.5, 41)
+    cluster = 0.7 * (1 + np.array([-2, -1, 0, 1, 2]) * 5e-9)
+    # 3 tolerances either side of 1.2 (the log span is ln 3), a bump between: two minima.
+    apart = 1.2 * np.exp(np.array([-3, 0, 3]) * study_module.MINIMA_MERGE * np.log(3.0))
+    x = np.concatenate([x, cluster, apart])
+    cor = 0.2 + np.log(x / 0.7) ** 2 * np.log(x / 1.2) ** 2
+    cor[41:46] = 0.2 + np.array([3, 0, 2, 1, 3]) * 1e-15  # two local minima inside the cluster
+    cor[46:] = 0.2 + np.array([0, 5, 1]) * 1e-15
+    table = pd.DataFrame(dict(alpha=x, cor=cor, n_collisions=1, curve=math.nan, curve_index=0,
+                              status="ok"))  # fmt: skip
+    found = aggregate.minima(table, axis)
+    assert found["alpha"].tolist() == [cluster[1], apart[0], apart[2]]
+    assert found["minimum"].tolist() == [1, 2, 3] and (found["cor"] <= 0.2 + 1e-15).all()
+
+
+def test_round_off_minima_of_a_smooth_minimum_are_listed_once():
+    """beta = 1: a smooth COR minimum (one contact) near alpha = 0.677. Its pattern search leaves
+    several local minima of the same depth within ~1e-8 (round-off); minima.csv lists one, at the
+    minimum of an independent reference (scipy's DOP853 through the contact, rtol 1e-13)."""
+    from scipy.integrate import solve_ivp
+    from scipy.optimize import minimize_scalar
+
+    def reference_cor(alpha):
+        k2 = alpha / (1 + alpha)  # k1 = k2 / beta = k2
+
+        def force(t, y):
+            u1, u2, v1, v2 = y
+            return [v1, v2, -k2 * u1 + k2 * (u2 - u1), -k2 * (u2 - u1) / alpha]
+
+        def separation(t, y):
+            return y[0]
+
+        separation.terminal, separation.direction = True, 1
+        end = solve_ivp(force, (0, 100), [0, 0, -1, -1], method="DOP853", rtol=1e-13,
+                        atol=1e-15, events=separation).y_events[0][0]  # fmt: skip
+        return (end[2] + alpha * end[3]) / (1 + alpha)
+
+    best = minimize_scalar(reference_cor, bounds=(0.6, 0.75), method="bounded",
+                           options={"xatol": 1e-10})  # fmt: skip
+    axis = {"param": "alpha", "logspace": {"start": 0.5, "stop": 0.9, "num": 9}}
+    study = check_study({"name": "smooth", "scene": {"beta": 1.0}, "axes": [axis]})
+    table = solve_curve(study, math.nan).assign(curve_index=0)
+    cor = table.sort_values("alpha")["cor"].to_numpy()
+    raw = np.flatnonzero((cor[1:-1] < cor[:-2]) & (cor[1:-1] <= cor[2:]))
+    assert len(raw) > 1  # the round-off cluster this test is about
+    found = load_script("study_aggregate").minima(table, study.axes[0])
+    assert len(found) == 1 and found["n_collisions"].iloc[0] == 1
+    assert found["alpha"].iloc[0] == pytest.approx(best.x, rel=1e-7)
+    assert found["cor"].iloc[0] == pytest.approx(best.fun, abs=1e-12)
+
+
 # --- the workflow's study target ------------------------------------------------------------
 
 TINY = {
@@ -232,7 +384,17 @@ def test_study_target_end_to_end(tmp_path):
         "study", "--config", "study=tiny.yaml", "--report", "report.html", cwd=work
     )
     assert report.returncode == 0, report.stderr[-3000:]
-    assert "Studies" in (work / "report.html").read_text()
+    html = (work / "report.html").read_text()
+    assert "Studies" in html
+    # The study's own front page (not the paper's, whose links it lacks): scene, units, axes.
+    page = json.loads(re.search(r'var workflow_desc = (".*?");\n', html, re.S).group(1))
+    assert "System Message" not in page and "A reproduction of" not in page, page
+    for text in ("<strong>Study tiny.</strong>", "non-dimensional, the paper",
+                 "beta = 0, n_masses = 2, alpha from the first axis, xi from the curves",
+                 "11 values log-spaced from 0.5 to 3", "values 0, 0.3"):  # fmt: skip
+        assert text in page, (text, page)
+    # Each minimum once (a cluster of round-off minima would be ~1e-8 apart).
+    assert minima.groupby("curve")["alpha"].apply(lambda x: x.diff().min()).min() > 1e-3
 
 
 def test_study_target_refuses_bad_files_before_any_job(tmp_path):

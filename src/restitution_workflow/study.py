@@ -41,6 +41,7 @@ __all__ = [
     "Study",
     "StudyError",
     "check_study",
+    "front_page",
     "load_study",
     "solve_curve",
 ]
@@ -62,6 +63,11 @@ PAPER_PARAMS = {
 CHAIN_LISTS = ("masses", "springs", "dashpots")
 PARAM = re.compile(r"^(alpha|beta|xi|n_masses|k_contact|(masses|springs|dashpots)\[(\d+)\])$")
 MAX_POINTS = 100_000  # grid points of one axis
+# Minima of one curve closer than this fraction of the first axis' span (log span for a log axis)
+# are one minimum in minima.csv (the deepest kept): far below the finest grid spacing,
+# 1/(MAX_POINTS - 1) of the span, and far above the ~1e-8 relative round-off width of a smooth
+# minimum, inside which the COR's round-off makes several local minima of the same depth.
+MINIMA_MERGE = 1e-6
 _NUMBER = {"type": "number", "minimum": -1e300, "maximum": math.inf}  # ranges: scene checks
 _SPACE = {
     "type": "object",
@@ -74,6 +80,22 @@ _SPACE = {
     },
 }
 _LIST = {"type": "array", "minItems": 2, "maxItems": 512, "items": _NUMBER}
+# Axis text (one line; matplotlib mathtext between $...$ is checked when the study is read).
+_LABEL = {
+    "type": "string",
+    "pattern": r"^[^\n\r]{1,80}$",
+    "description": "the axis text of the plots and the report (one line, 1-80 characters; "
+    "$...$ is matplotlib mathtext); default: the parameter's name, e.g. "
+    "'mass ratio $\\alpha = m_2/m_1$' or 'mass $m_3$ (masses[2])'",
+}
+_UNIT = {
+    "type": "string",
+    "pattern": r"^[^\n\r]{0,40}$",
+    "default": "",
+    "description": "the unit of the axis values, shown as 'label [unit]' and after each curve's "
+    "value (0-40 characters); only for a general chain's own quantities (masses[i], springs[i], "
+    "dashpots[i], k_contact): the paper's parameters are ratios; default: none",
+}
 
 # The schema of a study file (workflow/schemas/study.schema.yaml is the same, for reading).
 STUDY_SCHEMA = {
@@ -83,6 +105,14 @@ STUDY_SCHEMA = {
     "properties": {
         "name": {"type": "string", "pattern": r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$"},
         "description": {"type": "string", "default": ""},
+        "units": {
+            "type": "string",
+            "pattern": r"^[^\n\r]{0,120}$",
+            "default": "",
+            "description": "the units of a general chain's values in words, e.g. 'SI: kg, N/m, "
+            "N s/m; V0 = 1 m/s' (one line, at most 120 characters), shown on the report's front "
+            "page; the paper's scene is non-dimensional and takes none; default: not stated",
+        },
         "scene": {
             "type": "object",
             "additionalProperties": False,
@@ -117,6 +147,8 @@ STUDY_SCHEMA = {
                     },
                     "linspace": _SPACE,
                     "logspace": _SPACE,
+                    "label": _LABEL,
+                    "unit": _UNIT,
                 },
             },
         },
@@ -152,10 +184,55 @@ class Axis:
     param: str
     values: np.ndarray
     log: bool
+    label: str = ""  # the axis text; "" = default_label(param)
+    unit: str = ""
 
     @property
     def refinable(self) -> bool:
         return self.param != "n_masses"
+
+    @property
+    def title(self) -> str:
+        """Axis text of the plots: the label, with ``[unit]`` when the axis has one."""
+        text = self.label or default_label(self.param)
+        return f"{text} [{self.unit}]" if self.unit else text
+
+    def curve_text(self, value: float) -> str:
+        """Legend text of one value of this axis, e.g. ``$\\xi = 0.3$`` or ``rear mass = 2 kg``."""
+        if self.param == "k_contact" and math.isinf(value):
+            return "rigid wall"
+        if not self.label and self.param in _SYMBOLS:
+            return f"${_SYMBOLS[self.param]} = {value:g}$"
+        return f"{self.label or self.param} = {value:g}" + (f" {self.unit}" if self.unit else "")
+
+
+# Default axis texts (matplotlib mathtext); legends use the paper's symbols.
+_SYMBOLS = {"alpha": r"\alpha", "beta": r"\beta", "xi": r"\xi", "n_masses": "N"}
+_DEFAULT_LABELS = {
+    "alpha": r"mass ratio $\alpha = m_2/m_1$",
+    "beta": r"stiffness ratio $\beta = k_2/k_1$",
+    "xi": r"damping ratio $\xi$",
+    "n_masses": "number of masses $N$",
+    "k_contact": "contact stiffness k_contact",
+}
+_ELEMENT_LABELS = {
+    "masses": "mass $m_{{{n}}}$ (masses[{i}])",
+    "springs": "spring stiffness springs[{i}] ($m_{{{n}}}$-$m_{{{m}}}$)",
+    "dashpots": "dashpot coefficient dashpots[{i}] ($m_{{{n}}}$-$m_{{{m}}}$)",
+}
+
+
+def default_label(param: str) -> str:
+    """The axis text of a parameter when the study gives no ``label``.
+
+    >>> default_label("masses[2]")
+    'mass $m_{3}$ (masses[2])'
+    """
+    match = PARAM.match(param)
+    if match and match.group(2):
+        i = int(match.group(3))
+        return _ELEMENT_LABELS[match.group(2)].format(i=i, n=i + 1, m=i + 2)
+    return _DEFAULT_LABELS.get(param, param)
 
 
 @dataclass(frozen=True)
@@ -171,6 +248,7 @@ class Study:
     chunk_size: int
     method: str
     max_events: int
+    units: str = ""
     raw: dict = field(repr=False, default_factory=dict)
 
     @property
@@ -326,28 +404,37 @@ def _axis_values(axis: Mapping, where: str, problems: list[str]) -> tuple[np.nda
     return np.linspace(start, stop, num), False
 
 
-def _check_scene_values(study_scene, axes, general, problems):
-    """Every scene the axes produce, checked once per axis value with the package's checks."""
+def _check_scene_values(study_scene, bad_keys, axes, general, whole) -> list[str]:
+    """Every scene the axes produce, checked once per axis value with the package's checks.
+
+    ``study_scene`` holds the scene keys that passed the schema (``bad_keys`` the others, already
+    reported), ``axes`` the axes that did; ``whole`` says nothing of scene or axes was reported,
+    so that the checks of the whole (a required key, the chain at the corners) can run.
+    Returns the problems found."""
+    problems: list[str] = []
     if general:
         for name in ("masses", "springs"):
-            if name not in study_scene:
+            if name not in study_scene and name not in bad_keys:
                 problems.append(f"scene.{name}: required for a general chain (masses[i] etc.)")
-        if problems:
-            return
-        n = len(study_scene["masses"])
-        lengths = {"springs": n - 1, "dashpots": n - 1}
-        for name, length in lengths.items():
-            if name in study_scene and len(study_scene[name]) != length:
-                problems.append(
-                    f"scene.{name} = {study_scene[name]!r}: must have {length} items "
-                    f"(one per neighbouring pair of the {n} masses)"
-                )
-        for axis in axes:
+        structure = "masses" in study_scene and "springs" in study_scene
+        lengths = {}
+        if structure:
+            n = len(study_scene["masses"])
+            lengths = {"springs": n - 1, "dashpots": n - 1}
+            for name, length in lengths.items():
+                if name in study_scene and len(study_scene[name]) != length:
+                    structure = False
+                    problems.append(
+                        f"scene.{name} = {study_scene[name]!r}: must have {length} items "
+                        f"(one per neighbouring pair of the {n} masses)"
+                    )
+        for axis in axes if structure else ():
             match = PARAM.match(axis.param)
             if match.group(2):
                 size = len(study_scene.get(match.group(2), [])) or lengths[match.group(2)]
                 index = int(match.group(3))
                 if index >= size:
+                    structure = False
                     problems.append(
                         f"axes: param = {axis.param!r}: index must be < {size} "
                         f"({match.group(2)} has {size} items, counted from 0)"
@@ -358,7 +445,7 @@ def _check_scene_values(study_scene, axes, general, problems):
             "dashpots": (">= 0", lambda v: math.isfinite(v) and v >= 0),
             "k_contact": ("> 0 (.inf: rigid wall)", lambda v: v > 0),
         }
-        values = {k: list(v) for k, v in study_scene.items()}
+        values = {k: list(v) if isinstance(v, list) else v for k, v in study_scene.items()}
         sources = [(f"scene.{k}", k, v) for k, v in values.items()]
         for axis in axes:
             match = PARAM.match(axis.param)
@@ -376,10 +463,10 @@ def _check_scene_values(study_scene, axes, general, problems):
                 if not ok(float(v)):
                     problems.append(f"{where} = {float(v)!r}: {name} must be {allowed}")
                     break
-        if not problems:
+        if whole and structure and not problems:
             _check_chain_corners(study_scene, axes, problems)
-        return
-    if "alpha" not in study_scene and "alpha" not in [a.param for a in axes]:
+        return problems
+    if whole and "alpha" not in study_scene and "alpha" not in [a.param for a in axes]:
         problems.append("scene.alpha: required (in scene or as an axis) for the paper's scene")
     checks = {**PAPER_PARAMS, "n_masses": partial(check, "n_masses")}
     for name, value in study_scene.items():
@@ -394,6 +481,7 @@ def _check_scene_values(study_scene, axes, general, problems):
             except SceneError as error:
                 problems.append(f"axis {axis.param} = {float(v)!r}: {error}")
                 break
+    return problems
 
 
 def _check_chain_corners(study_scene, axes, problems) -> None:
@@ -428,58 +516,261 @@ def _check_chain_corners(study_scene, axes, problems) -> None:
             return
 
 
+def _mathtext_problem(text: str) -> str | None:
+    """Why matplotlib cannot draw ``text`` (mathtext between ``$...$``), or None."""
+    if "$" not in text:
+        return None
+    if text.replace(r"\$", "").count("$") % 2:
+        return "an odd number of $ (mathtext goes between two $; write \\$ for a dollar sign)"
+    from matplotlib.mathtext import MathTextParser
+
+    try:
+        MathTextParser("path").parse(text)
+    except ValueError as error:
+        reason = str(error).strip().splitlines()[-1]
+        reason = re.sub(r"^\w*Exception: ", "", reason)
+        return f"matplotlib cannot draw it as mathtext ({reason.split('  (at char')[0][:120]})"
+    return None
+
+
+def _concerns(problem: str, key: str, below: bool = True) -> bool:
+    """Whether ``problem`` (a line of check_value) is about ``key`` (or, with ``below``, about a
+    key inside it: ``scene.alpha`` is inside ``scene``, ``axes[0].param`` inside ``axes[0]``)."""
+    if not problem.startswith(key):
+        return False
+    rest = problem[len(key) : len(key) + 1]
+    return rest in (" ", ":") or (below and rest in (".", "["))
+
+
+RATIO_PARAMS = ("alpha", "beta", "xi", "n_masses")
+
+
 def check_study(data, source: str = "study") -> Study:
     """Check a parsed study mapping; return the :class:`Study` or raise :class:`StudyError`.
 
-    Every problem is listed at once, naming the key, the value and what is allowed.
+    Every problem is listed at once, naming the key, the value and what is allowed: the schema's
+    (types, ranges, unknown keys), the axes' (their grids) and the scenes' (every value each axis
+    produces, and a general chain whole at the corners of the axes' box). A part with a schema
+    problem is left out of the later checks (its problem is already listed); the checks of the
+    whole run only when every part passed.
     """
     problems: list[str] = []
     try:
         checked = check_value(data, STUDY_SCHEMA, (), problems)
     except ConfigError as error:  # pragma: no cover - check_value collects, never raises
         problems.extend(error.problems)
-    if problems:
-        raise StudyError(problems, source)
-    scene = dict(checked["scene"])
-    axes = []
-    for i, axis in enumerate(checked["axes"]):
-        values, log = _axis_values(axis, f"axes[{i}]", problems)
-        axes.append(Axis(axis["param"], values, log))
-    params = [a.param for a in axes]
+        checked = None
+    if not isinstance(checked, Mapping):
+        raise StudyError(problems or ["the study must be a mapping of keys to values"], source)
+    listed = list(problems)
+
+    def reported(key: str, below: bool = True) -> bool:
+        return any(_concerns(p, key, below) for p in listed)
+
+    # The scene: the keys that passed the schema take part in the later checks.
+    raw_scene = checked.get("scene")
+    scene_whole = isinstance(raw_scene, Mapping) and not reported("scene", below=False)
+    raw_scene = raw_scene if isinstance(raw_scene, Mapping) else {}
+    scene = {k: v for k, v in raw_scene.items() if not reported(f"scene.{k}")}
+    bad_keys = set(raw_scene) - set(scene)
+
+    # The axes: each one whose keys passed the schema gets its grid.
+    raw_axes = checked.get("axes")
+    axes_whole = isinstance(raw_axes, list) and not reported("axes", below=False)
+    raw_axes = raw_axes if axes_whole else []
+    axes: list[Axis | None] = []
+    params: list[str] = []
+    for i, axis in enumerate(raw_axes):
+        where = f"axes[{i}]"
+        if not isinstance(axis, Mapping) or reported(where, below=False):
+            axes.append(None)
+            continue
+        param = axis.get("param") if not reported(f"{where}.param") else None
+        if param is not None:
+            params.append(param)
+        spaces_ok = not any(reported(f"{where}.{k}") for k in ("values", "linspace", "logspace"))
+        values, log = _axis_values(axis, where, problems) if spaces_ok else (np.array([]), False)
+        label = axis.get("label", "")
+        if label and not reported(f"{where}.label"):
+            why = _mathtext_problem(label)
+            if why:
+                problems.append(f"{where}.label = {label!r}: {why}")
+        unit = axis.get("unit", "")
+        if unit and param in RATIO_PARAMS:
+            problems.append(
+                f"{where}.unit = {unit!r}: {param} is a ratio of the paper's scene "
+                "(non-dimensional); a unit belongs to masses[i], springs[i], dashpots[i], k_contact"
+            )
+        good = param is not None and len(values) > 0
+        axes.append(Axis(param, values, log, label, unit) if good else None)
+    conflicts = len(problems)
     if len(set(params)) < len(params):
         problems.append(f"axes: the two axes set the same parameter {params[0]!r}")
     for p in params:
-        if p in scene:
+        if p in raw_scene:
             problems.append(f"axes: param = {p!r} is also fixed in scene: give it in one place")
-    if problems:
-        raise StudyError(problems, source)
-    general = _is_general(scene, params)
-    _check_scene_values(scene, axes, general, problems)
-    first = len(axes[0].values)
-    curves = len(axes[1].values) if len(axes) > 1 else 1
-    jobs = n_chunks(first, checked["chunk_size"]) * curves if first > 1 else curves
-    if first < 2:
-        problems.append(f"axes[0]: the first axis needs at least 2 values (got {first})")
-    if jobs > MAX_JOBS:
+    conflicts = len(problems) > conflicts
+    good_axes = [a for a in axes if a is not None]
+    general = _is_general(raw_scene, params)
+    units = checked.get("units", "")
+    if units and not general and not reported("units"):
         problems.append(
-            f"chunk_size = {checked['chunk_size']}: makes {jobs} jobs ({curves} curves x "
-            f"ceil(({first} - 1)/chunk_size) chunks), more than the bound of {MAX_JOBS}: "
-            "raise chunk_size or use fewer points"
+            f"units = {units!r}: the paper's scene is non-dimensional (m1 = 1, V0 = 1, "
+            "omega = 1); units describe a general chain's masses, springs, dashpots"
         )
+
+    # Every scene value the axes produce (and, when every part passed, the whole).
+    whole = (
+        scene_whole and not bad_keys and axes_whole and len(good_axes) == len(raw_axes)
+        and not conflicts
+    )  # fmt: skip
+    problems.extend(_check_scene_values(scene, bad_keys, good_axes, general, whole))
+
+    # The grid of jobs.
+    chunk_ok = not reported("chunk_size")
+    if raw_axes and axes[0] is not None:
+        first = len(axes[0].values)
+        if first < 2:
+            problems.append(f"axes[0]: the first axis needs at least 2 values (got {first})")
+        elif chunk_ok and (len(axes) < 2 or axes[1] is not None):
+            curves = len(axes[1].values) if len(axes) > 1 else 1
+            jobs = n_chunks(first, checked["chunk_size"]) * curves
+            if jobs > MAX_JOBS:
+                problems.append(
+                    f"chunk_size = {checked['chunk_size']}: makes {jobs} jobs ({curves} curves x "
+                    f"ceil(({first} - 1)/chunk_size) chunks), more than the bound of {MAX_JOBS}: "
+                    "raise chunk_size or use fewer points"
+                )
     if problems:
         raise StudyError(problems, source)
     return Study(
         name=checked["name"],
         description=checked["description"],
         scene=scene,
-        axes=tuple(axes),
+        axes=tuple(good_axes),
         outputs=tuple(checked["outputs"]),
         refine_steps=checked["refine_steps"],
         chunk_size=checked["chunk_size"],
         method=checked["method"],
         max_events=checked["max_events"],
+        units=checked["units"],
         raw=checked,
     )
+
+
+# ---------------------------------------------------------------------------------------------
+# The report's front page
+# ---------------------------------------------------------------------------------------------
+def _rst(text: str) -> str:
+    """User text as reStructuredText that shows it as written: one line, every character that
+    is not a letter, digit or space escaped (a backslash before one shows that character)."""
+    return re.sub(r"([^\w\s]|_)", r"\\\1", " ".join(str(text).split()))
+
+
+_GREEK = (
+    "alpha beta gamma delta epsilon zeta eta theta kappa lambda mu nu xi pi rho sigma tau phi chi "
+    "psi omega"
+).split()
+
+
+def _plain(label: str) -> str:
+    """An axis text without its mathtext markup, for the report's text: ``$\\alpha = m_2/m_1$``
+    reads ``α = m_2/m_1`` (Greek letters as such, ``$``, ``\\mathrm`` and braces dropped)."""
+    import unicodedata
+
+    def greek(match):
+        name = match.group(1)
+        return unicodedata.lookup(f"GREEK SMALL LETTER {'LAMDA' if name == 'lambda' else name}")
+
+    text = re.sub(r"\\(" + "|".join(_GREEK) + r")(?![A-Za-z])", greek, label)
+    text = re.sub(r"\\math(rm|it|bf)\b", "", text)
+    return text.replace("$", "").replace("{", "").replace("}", "")
+
+
+def _number(value: float) -> str:
+    return ".inf (rigid wall)" if math.isinf(value) else f"{value:g}"
+
+
+def _axis_text(axis: Axis) -> str:
+    values = axis.values
+    if len(values) <= 8:
+        grid = "values " + ", ".join(_number(v) for v in values)
+    else:
+        spacing = "log-spaced" if axis.log else "evenly spaced"
+        grid = f"{len(values)} values {spacing} from {values[0]:g} to {values[-1]:g}"
+    unit = f" {_rst(axis.unit)}" if axis.unit else ""
+    return f"``{axis.param}`` ({_rst(_plain(axis.title))}): {grid}{unit}"
+
+
+def front_page(study: Study) -> dict:
+    """What the report's front page says of ``study``, as reStructuredText (user text escaped):
+    ``name``, ``folder`` (the name as is, for literals), ``description``, ``scene``, ``units``,
+    ``axes`` (a list of lines), ``outputs``, ``settings``. The workflow hands it to
+    workflow/report/workflow.rst (a study-only report shows it as its front page)."""
+    set_by = {a.param: ("the first axis" if i == 0 else "the curves") for i, a in
+              enumerate(study.axes)}  # fmt: skip
+    if study.general:
+        n = len(study.scene["masses"])
+        parts = []
+        for key in ("masses", "springs", "dashpots"):
+            items = list(study.scene.get(key, [0.0] * (n - 1)))
+            text = [f"{float(v):g}" for v in items]
+            for param, where in set_by.items():
+                match = PARAM.match(param)
+                if match.group(2) == key:
+                    text[int(match.group(3))] = f"({where})"
+            parts.append(f"{key} = [{', '.join(text)}]")
+        contact = f"({set_by['k_contact']})" if "k_contact" in set_by else None
+        contact = contact or _number(float(study.scene.get("k_contact", math.inf)))
+        parts.append(f"k_contact = {contact}")
+        scene = (
+            f"a general chain of {n} masses, m1 at the wall, every mass approaching it at "
+            f"V0 = 1: {'; '.join(parts)}."
+        )
+        units = (
+            f"{_rst(study.units)} (the study's ``units``); the COR and the energy fractions are "
+            "ratios, ``omega_t_col`` is non-dimensional."
+            if study.units
+            else "not stated (the study file's ``units`` key): the values are in one consistent "
+            "set of units, with V0 = 1 in them; the COR and the energy fractions are ratios."
+        )
+    else:
+        values = {"alpha": None, "beta": 0.0, "xi": 0.0, "n_masses": 2, **study.scene}
+        fixed = [f"{k} = {v:g}" for k, v in values.items() if k not in set_by and v is not None]
+        varied = [f"{k} from {set_by[k]}" for k in values if k in set_by]
+        scene = (
+            "the paper's scene: m1 = 1 at the wall, m2..mN = alpha, equal springs, contact "
+            "stiffness k2/beta (beta = 0: rigid wall), a dashpot of damping ratio xi between m1 "
+            f"and m2; {', '.join(fixed + varied)}."
+        )
+        units = (
+            "non-dimensional, the paper's: m1 = 1, V0 = 1, omega = 1 with omega^2 = k2/m1 + "
+            "k2/m2; alpha, beta and xi are ratios."
+        )
+    axes = [f"x axis of every plot: {_axis_text(study.axes[0])}"]
+    if len(study.axes) > 1:
+        axes.append(f"one curve per value of {_axis_text(study.axes[1])}")
+    refine = (
+        f"refined at every change of the contact count and every smooth COR minimum "
+        f"({study.refine_steps} steps)"
+        if study.refine_steps and study.axes[0].refinable
+        else "not refined"
+    )
+    return {
+        "name": _rst(study.name),
+        "folder": study.name,  # letters, digits, _ . - only: safe inside ``literal``
+        "description": _rst(study.description.strip().rstrip(".") + ".")
+        if study.description
+        else "",
+        "scene": scene,
+        "units": units,
+        "axes": axes,
+        "outputs": ", ".join(f"``{o}``" for o in study.outputs),
+        "settings": (
+            f"method ``{study.method}``, at most {study.max_events} contacts per scene; the "
+            f"first axis {refine}; minima closer than {MINIMA_MERGE:g} of its span listed once"
+        ),
+    }
 
 
 # ---------------------------------------------------------------------------------------------

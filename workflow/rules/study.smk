@@ -6,12 +6,15 @@
 
 
 if STUDY_FILE is not None:
-    from restitution_workflow.study import StudyError, load_study
+    from restitution_workflow.study import StudyError, front_page, load_study
 
     try:
         STUDY = load_study(STUDY_FILE)
     except StudyError as error:
         raise WorkflowError(str(error)) from None
+    # The report's front page (workflow/report/workflow.rst) gets only snakemake.config: the
+    # study's scene, units and axes reach it there (no rule reads this key).
+    config["study_front"] = front_page(STUDY)
     STUDY_DIR = f"studies/{STUDY.name}"
     STUDY_PLOTS = {
         out: (f"figures/{STUDY_DIR}/{out}.png", f"figures/{STUDY_DIR}/{out}.pdf")

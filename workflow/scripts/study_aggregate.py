@@ -1,15 +1,29 @@
 """Join a user study's chunk tables into one table, and list the COR minima of every curve.
 
 Neighbouring chunks share their boundary point (solved twice, identical): kept once. Rows whose
-status is not ok are kept in the table (with their status) and counted in the log.
+status is not ok are kept in the table (with their status) and counted in the log. Minima closer
+than ``restitution_workflow.study.MINIMA_MERGE`` of the first axis' span are listed once (the deepest).
 """
 
 import numpy as np
 import pandas as pd
 
 
-def minima(table: pd.DataFrame, column: str) -> pd.DataFrame:
-    """Interior local minima of the COR of each curve (rows with status ok only)."""
+def minima(table: pd.DataFrame, axis) -> pd.DataFrame:
+    """Interior local minima of the COR of each curve (rows with status ok only), one per
+    minimum: minima closer than MINIMA_MERGE of the axis' span (on its scale, log or linear) are
+    one, the deepest kept.
+
+    A smooth minimum's position is fixed only to about sqrt(machine epsilon) (~1e-8 relative):
+    within that the COR is flat to round-off, and the pattern search's points there show several
+    local minima of the same depth. ``axis`` is the study's first axis
+    (``restitution_workflow.study.Axis``)."""
+    from restitution_workflow.study import MINIMA_MERGE
+
+    column = axis.param
+    values = np.asarray(axis.values, dtype=float)
+    scale = np.log if axis.log else (lambda v: v)
+    tolerance = MINIMA_MERGE * float(scale(values.max()) - scale(values.min()))
     rows = []
     for (index, curve), part in table[table["status"] == "ok"].groupby(
         ["curve_index", "curve"], dropna=False
@@ -17,8 +31,10 @@ def minima(table: pd.DataFrame, column: str) -> pd.DataFrame:
         part = part.sort_values(column)
         cor = part["cor"].to_numpy()
         inner = np.flatnonzero((cor[1:-1] < cor[:-2]) & (cor[1:-1] <= cor[2:])) + 1
-        for number, i in enumerate(inner, start=1):
-            row = part.iloc[i]
+        x = scale(part[column].to_numpy(dtype=float)[inner])
+        groups = np.split(inner, np.flatnonzero(np.diff(x) > tolerance) + 1) if len(inner) else []
+        for number, group in enumerate(groups, start=1):
+            row = part.iloc[group[np.argmin(cor[group])]]  # the deepest of the group
             rows.append(
                 {
                     "curve_index": index,
@@ -49,7 +65,7 @@ def main(chunk_paths, sweep_path, minima_path, study_mapping, logger):
     )
     log_not_ok(table, logger, study.name, where=column)
     write_table(table, sweep_path, config={"study": study_mapping})
-    found = minima(table, column)
+    found = minima(table, study.axes[0])
     write_table(found, minima_path)
     logger.info("%s: %d rows, %d COR minima", study.name, len(table), len(found))
 

@@ -3,21 +3,7 @@ of the second axis. Only rows with status ok are drawn (the others are counted i
 
 import math
 
-SYMBOLS = {"alpha": r"\alpha", "beta": r"\beta", "xi": r"\xi", "n_masses": "N"}
-
-
-def name(param: str) -> str:
-    """Axis text of a parameter: the paper's symbol, else its name (``masses[2]``)."""
-    return f"${SYMBOLS[param]}$" if param in SYMBOLS else param
-
-
-def label(param: str, value: float) -> str:
-    """Legend text of a curve, e.g. ``xi = 0.3`` or ``masses[2] = 1.5``."""
-    if param == "k_contact" and math.isinf(value):
-        return "rigid wall"
-    if param in SYMBOLS:
-        return rf"${SYMBOLS[param]} = {value:g}$"
-    return f"{param} = {value:g}"
+from matplotlib.ticker import FuncFormatter
 
 
 def style(study, table, curve: float, index: int) -> dict:
@@ -33,6 +19,12 @@ def style(study, table, curve: float, index: int) -> dict:
     return {"color": colour(curve, [float(v) for v in table["curve"].dropna().unique()])}
 
 
+def _minor_label(value: float, _pos=None) -> str:
+    """Text of a minor tick of a log axis: 2, 3, 5 times a power of ten, others blank."""
+    mantissa = value / 10 ** math.floor(math.log10(value) + 1e-9)
+    return f"{value:g}" if round(mantissa, 6) in (2.0, 3.0, 5.0) else ""
+
+
 def draw(table, study, output: str, logger):
     from restitution import plotting
     from restitution_workflow.study import OUTPUTS
@@ -46,12 +38,14 @@ def draw(table, study, output: str, logger):
         if dropped:
             logger.warning("curve %d: %d rows not ok, not drawn", index, dropped)
         curve = float(part["curve"].iloc[0])
-        text = None if math.isnan(curve) else label(study.axes[1].param, curve)
+        text = None if math.isnan(curve) else study.axes[1].curve_text(curve)
         ax.plot(good[first.param], good[output], lw=0.9, label=text,
                 **style(study, table, curve, int(index)))  # fmt: skip
     if first.log:
         plotting.log_axis(ax, "x")
-    ax.set_xlabel(name(first.param))
+        if first.values.max() / first.values.min() < 100:  # under two decades: label 2, 3, 5 too
+            ax.xaxis.set_minor_formatter(FuncFormatter(_minor_label))
+    ax.set_xlabel(first.title)  # the study's label and unit, or the parameter's name
     ax.set_ylabel(OUTPUTS[output])
     if output == "cor":
         ax.set_ylim(min(0.0, float(table["cor"].min())), 1.02)
