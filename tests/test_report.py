@@ -287,8 +287,8 @@ def test_front_page_is_short_and_names_the_solver():
 
 
 def test_a_study_report_has_its_own_front_page():
-    """A study's report alone: its scene, units and axes (restitution_workflow.study.front_page), user
-    text shown as written; with the paper's categories, the paper's page and a link to it."""
+    """A study's report alone: its scene, units and axes (restitution_workflow.study.front_page),
+    user text shown as written; with the paper's categories, the paper's page and a link to it."""
     from restitution_workflow.study import check_study, front_page
 
     study = check_study(

@@ -2,7 +2,8 @@
 
 Neighbouring chunks share their boundary point (solved twice, identical): kept once. Rows whose
 status is not ok are kept in the table (with their status) and counted in the log. Minima closer
-than ``restitution_workflow.study.MINIMA_MERGE`` of the first axis' span are listed once (the deepest).
+than ``restitution_workflow.study.MINIMA_MERGE`` of the first axis' span are listed once (the
+deepest).
 """
 
 import numpy as np
