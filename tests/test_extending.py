@@ -77,7 +77,7 @@ def _toy_applies(ch):
 @pytest.fixture
 def toy(monkeypatch):
     """Guide step 3: one row of the table (the batch runner solves row by row)."""
-    row = M.Method("toy", False, 50, _toy_applies, _run_toy, M._one_by_one("toy"), "toy loop")
+    row = M.Method("toy", False, 50, _toy_applies, _run_toy, M.row_by_row("toy"), "toy loop")
     monkeypatch.setitem(M.METHODS, "toy", row)
     monkeypatch.setattr(M, "NAMES", (*M.NAMES, "toy"))
     return row

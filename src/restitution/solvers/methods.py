@@ -212,7 +212,7 @@ def _run_numerical(name: str):
     return run
 
 
-def _one_by_one(name: str):
+def row_by_row(name: str):
     """A batch runner that solves the rows one at a time with the method's single runner."""
 
     def run_many(table, rows, max_events, bar, block):
@@ -296,7 +296,7 @@ METHODS: dict[str, Method] = {
         10,
         _adaptive_applies,
         _run_numerical("adaptive"),
-        _one_by_one("adaptive"),
+        row_by_row("adaptive"),
         "DP5(4), any chain",
     ),  # fmt: skip
     "verlet": Method(
@@ -305,7 +305,7 @@ METHODS: dict[str, Method] = {
         20,
         _verlet_applies,
         _run_numerical("verlet"),
-        _one_by_one("verlet"),
+        row_by_row("verlet"),
         "velocity Verlet",
     ),  # fmt: skip
     "reference": Method(
@@ -314,7 +314,7 @@ METHODS: dict[str, Method] = {
         30,
         _reference_applies,
         _run_numerical("reference"),
-        _one_by_one("reference"),
+        row_by_row("reference"),
         "scipy DOP853",
     ),  # fmt: skip
     # exact=False and the highest cost: 'auto' never picks it (seconds per scene).
@@ -324,7 +324,7 @@ METHODS: dict[str, Method] = {
         40,
         _precise_applies,
         _run_precise,
-        _one_by_one("precise"),
+        row_by_row("precise"),
         "exact at 40+ digits (mpmath)",
     ),  # fmt: skip
 }
@@ -382,4 +382,5 @@ __all__ = [
     "choose_paper",
     "label",
     "options",
+    "row_by_row",
 ]
