@@ -54,6 +54,9 @@ $(STAMP): requirements.lock pyproject.toml
 	$(BIN)/uv pip sync --python $(BIN)/python requirements.lock
 	# uv pip sync removes anything not in the lock, the project included: reinstall it.
 	$(BIN)/uv pip install --python $(BIN)/python --no-deps -e .
+	# Every kernel compiled once into the one numba cache (seconds per kind of scene printed):
+	# the test workers and the workflow's jobs then load it instead of each compiling it.
+	$(BIN)/restitution warmup
 	touch $(STAMP)
 
 # .venv holds the package with the extras `make all`, `make test`, `make lint` and `make docs`

@@ -53,7 +53,7 @@ LAYERS = (
     ("restitution.tables",),
     ("restitution.api", "restitution.trajectories"),
     ("restitution.analysis",),
-    ("restitution.plotting", "restitution.cli", "restitution"),
+    ("restitution.plotting", "restitution.warmup", "restitution.cli", "restitution"),
 )
 
 

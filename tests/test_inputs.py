@@ -25,6 +25,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import restitution
+from conftest import REPO
 from restitution import cli
 from restitution.model.chain import RANGES, SceneError
 from restitution.solvers.result import MESSAGES
@@ -425,3 +426,30 @@ def test_unwritable_numba_cache_falls_back_to_a_private_one(tmp_path):
     assert "not writable" in run.stderr and "private cache" in run.stderr
     chosen = run.stdout.strip()
     assert chosen != str(blocker / "cache") and os.access(chosen, os.W_OK)
+
+
+def test_every_entry_point_shares_one_numba_cache(tmp_path):
+    """Without NUMBA_CACHE_DIR, Python, the command line and the processes they start use the
+    checkout's .cache/numba (the folder make uses), not numba's __pycache__ per module."""
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+    expected = str(REPO / ".cache" / "numba")
+    probe = (
+        "import os, restitution\nfrom numba.core import config\n"
+        "print(os.environ['NUMBA_CACHE_DIR'], config.CACHE_DIR)"
+    )
+    run = subprocess.run(
+        [sys.executable, "-c", probe], capture_output=True, text=True, env=env, cwd=tmp_path,
+        timeout=120,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.split() == [expected, expected]
+    # numba imported first (as a notebook may): the package still moves it to the one cache
+    probe = "import numba, os, restitution\nprint(numba.config.CACHE_DIR)"
+    run = subprocess.run(
+        [sys.executable, "-c", probe], capture_output=True, text=True, env=env, cwd=tmp_path,
+        timeout=120,
+    )  # fmt: skip
+    assert run.returncode == 0 and run.stdout.strip() == expected, run.stderr
+    from restitution.kernels.compiling import default_cache_dir
+
+    assert default_cache_dir() == expected

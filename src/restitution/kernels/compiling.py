@@ -1,9 +1,16 @@
-"""Say so when the numba kernels are about to be compiled (a cold cache costs tens of seconds).
+"""numba's cache: one location for every entry point, and a notice before a compilation.
 
-numba compiles a kernel on its first call and stores the machine code in its cache
-(``NUMBA_CACHE_DIR`` or ``__pycache__``). A kernel with no compiled signature in this process and
-no index file in the cache is about to be compiled: ``announce`` prints one line on stderr then,
-once per process, so the first call after an install is not twenty seconds of silence.
+numba compiles a kernel on its first call and stores the machine code in its cache. Every entry
+point (``make``, the ``restitution`` command, Python, the workflow's jobs, the notebooks) uses
+the same cache: ``NUMBA_CACHE_DIR`` if it is set, else ``default_cache_dir()`` (a source
+checkout's ``.cache/numba``, the folder ``make`` uses; for an installed wheel the user's cache
+folder), set by ``ensure_cache`` when the package is imported, before any kernel is defined
+(numba's own default, ``__pycache__`` next to each module, would give every entry point that
+does not set the variable a cache of its own). ``restitution warmup`` fills it.
+
+A kernel with no compiled signature in this process and no index file in the cache is about to
+be compiled: ``announce`` prints one line on stderr then, once per process, so the first call
+after an install is not minutes of silence.
 """
 
 from __future__ import annotations
@@ -57,18 +64,48 @@ def _writable(path: str) -> bool:
     return True
 
 
-def ensure_cache() -> str | None:
-    """Make sure numba's cache is one this process can write, before any kernel is defined.
+def default_cache_dir() -> str:
+    """The cache when ``NUMBA_CACHE_DIR`` is not set: ``<checkout>/.cache/numba`` when the
+    package runs from a source checkout (``src/restitution`` next to ``pyproject.toml``), else
+    ``$XDG_CACHE_HOME/restitution/numba`` (``~/.cache`` when that is not set)."""
+    package = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    root = os.path.dirname(os.path.dirname(package))
+    if os.path.basename(os.path.dirname(package)) == "src" and os.path.isfile(
+        os.path.join(root, "pyproject.toml")
+    ):
+        return os.path.join(root, ".cache", "numba")
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return os.path.join(base, "restitution", "numba")
 
-    A ``NUMBA_CACHE_DIR`` that cannot be written (owned by another user, e.g. root, or on a
-    read-only file system) made numba look elsewhere and, where it found no writable place,
-    fail at import with a traceback. Then a private cache is used instead,
+
+def _use(path: str) -> None:
+    """Make ``path`` numba's cache for this process and the processes it starts."""
+    os.environ["NUMBA_CACHE_DIR"] = path
+    if "numba" in sys.modules:  # numba read the variable when it was imported
+        from numba.core import config
+
+        config.CACHE_DIR = path
+
+
+def ensure_cache() -> str | None:
+    """Make sure numba's cache is the one location and one this process can write, before any
+    kernel is defined.
+
+    Without ``NUMBA_CACHE_DIR``, ``default_cache_dir()`` is used (and exported, so that the
+    processes this one starts share it). A cache that cannot be written (owned by another user,
+    e.g. root, or on a read-only file system) made numba look elsewhere and, where it found no
+    writable place, fail at import with a traceback. Then a private cache is used instead,
     ``<tmp>/restitution-numba-<uid>`` (created 0700), with one line on stderr saying so.
     Returns the cache directory chosen here, or None when the given one is kept.
     """
     given = os.environ.get("NUMBA_CACHE_DIR")
-    if not given or _writable(given):
+    if given and _writable(given):
         return None
+    if not given:
+        given = default_cache_dir()
+        if _writable(given):
+            _use(given)
+            return given
     uid = os.getuid() if hasattr(os, "getuid") else "user"
     private = os.path.join(tempfile.gettempdir(), f"restitution-numba-{uid}")
     try:
@@ -77,13 +114,9 @@ def ensure_cache() -> str | None:
         private = tempfile.mkdtemp(prefix="restitution-numba-")
     if not _writable(private) or os.stat(private).st_uid != os.getuid():
         private = tempfile.mkdtemp(prefix="restitution-numba-")  # (someone else's folder)
-    os.environ["NUMBA_CACHE_DIR"] = private
-    if "numba" in sys.modules:  # numba read the variable when it was imported
-        from numba.core import config
-
-        config.CACHE_DIR = private
+    _use(private)
     print(
-        f"restitution: the numba cache NUMBA_CACHE_DIR={given} is not writable by this user; "
+        f"restitution: the numba cache {given} is not writable by this user; "
         f"using a private cache {private} instead",
         file=sys.stderr,
         flush=True,
