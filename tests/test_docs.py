@@ -198,6 +198,8 @@ NOT_IN_API = {
     "restitution.tables.linear_rows": "internal: the column-wise fast path of solve_many",
     "restitution.kernels": "the numba kernels, internal (docs/guides/adding-a-method.md)",
     "restitution.solvers.numerical": "internal: the numerical methods' runners (methods)",
+    "restitution.solvers.exact": "internal: the exact methods' runners (adding-a-method.md)",
+    "restitution.warmup": "behind `restitution warmup` (docs/install.md)",
 }
 
 
