@@ -167,13 +167,13 @@ def _as_array(name: str, values, length: int | None = None) -> np.ndarray:
     return x
 
 
-CONTACT_LAWS = ("rigid", "linear", "plastic", "hertz")
-LINK_LAWS = ("linear", "scissor")
+def _law(kind: str, spec, where: str) -> dict:
+    """A law specification as a plain dict {"law": name, params...}: the name checked against
+    the laws' own tables (``laws.CONTACT_LAWS``, ``laws.LINK_LAWS``: a new law is declared there
+    and nowhere else), the parameters by the law's packer in ``restitution.model.laws``."""
+    from restitution.model import laws  # (imports numba: only once a law is given)
 
-
-def _law(kind: str, spec, allowed, where: str) -> dict:
-    """A law specification as a plain dict {"law": name, params...} (names checked here, the
-    parameters by the law's own packer in ``restitution.model.laws``)."""
+    allowed = tuple(laws.CONTACT_LAWS if kind == "contact" else laws.LINK_LAWS)
     if isinstance(spec, str):
         spec = {"law": spec}
     if not isinstance(spec, Mapping) or "law" not in spec:
@@ -243,7 +243,7 @@ class Chain:
         v0 = check("v0", self.v0)
         contact = self.contact
         if contact is not None:
-            contact = _law("contact", contact, CONTACT_LAWS, "contact")
+            contact = _law("contact", contact, "contact")
             law = contact["law"]
             k_law = contact.get("k")
             if law == "rigid":
@@ -269,7 +269,7 @@ class Chain:
                     f"links must be a list of {len(m) - 1} law mappings (one per link); "
                     f"got {_show(links)}"
                 )
-            links = tuple(_law("link", s, LINK_LAWS, f"links[{i}]") for i, s in enumerate(links))
+            links = tuple(_law("link", s, f"links[{i}]") for i, s in enumerate(links))
             if all(s["law"] == "linear" and len(s) == 1 for s in links):
                 links = None
         _assign(self, masses=m, springs=k, dashpots=c, k_contact=kc, v0=v0)
@@ -522,8 +522,6 @@ def replace_v0(ch: Chain, v0) -> Chain:
 __all__ = [
     "LAW_KEYS",
     "paper_with_laws",
-    "CONTACT_LAWS",
-    "LINK_LAWS",
     "MAX_MASSES",
     "RANGES",
     "Range",
