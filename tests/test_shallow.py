@@ -12,8 +12,8 @@ where the kernel with the old band (64 ulps of a scale without the phase-roundin
 from n to n + 1 contacts, the last float below it. There the dip of the (n + 1)-th contact was
 ~64 ulps of the scale deep: the old kernel passed it as a graze with an estimate of 1e-11..4e-11
 although the reference counts it (seed 7: 58 against 59 contacts, COR off by 6.9e-7). Each scene
-is also taken 1e-9 further on (a contact with approach speed ~1e-5). Seeds and offsets from a
-scan of 30 seeds (notes in the test's docstring); the reference never sees the kernel.
+is also taken 1e-9 further on. The seeds are the 3 of a scan of 30 (m_2 x 1..1.5) whose old
+step had a small estimate on its lower side; the reference never sees the kernel.
 """
 
 from __future__ import annotations
