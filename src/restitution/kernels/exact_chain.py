@@ -106,6 +106,8 @@ from restitution.kernels.layout import (
     STATUS_WORK_BUDGET,
 )
 from restitution.kernels.locator import (
+    BAND_HIGH,
+    BAND_LOW,
     CANCEL_MAX,
     EPS,
     LOC_BUDGET,
@@ -545,11 +547,13 @@ def _run(
     stick_after=STICK_AFTER,
     jitter=0.0,
     seed=0,
+    band=1.0,
 ):
     """Solve one scene in normalised units (m[0] = 1, omega = 1); fill ``hist`` and, if rec has
     rows, record every phase start as [t0, kind (PH_*), duration, u(n), v(n)]. ``jitter`` > 0
     perturbs the state by that much (relative) at every phase start, along the Weyl sequence
-    from index ``seed`` (the replica check, restitution.kernels.replica).
+    from index ``seed`` (the replica check, restitution.kernels.replica); ``band`` scales the
+    touching band of its free flights (the replicas' BAND_LOW and BAND_HIGH).
 
     Returns (out, n_records).
     """
@@ -741,6 +745,7 @@ def _run(
                 info,
                 _steps_left(work_max - work, z.size),
                 res,
+                band,
             )
             work += (info[3] + 1.0) * z.size
         if code == LOC_NEVER:
@@ -951,14 +956,14 @@ def _normalise(m, k, c, kc):
 
 
 @njit(cache=True)
-def _solve_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, jitter, seed):
+def _solve_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, jitter, seed, band=1.0):
     if use_rigid2 and ms.size == 2 and kcs == math.inf:
         # Two masses at a rigid wall: the dedicated closed-form kernel (alpha, xi) is faster.
         xi = cs[0] / (2.0 * ks[0])
         return _rigid2(ms[1], xi, max_events, hist, V_STICK_2, jitter, seed)
     rec = np.zeros((0, 3 + 2 * ms.size))
     return _run(
-        ms, ks, cs, kcs, max_events, hist, rec, work_max, V_STICK, STICK_AFTER, jitter, seed
+        ms, ks, cs, kcs, max_events, hist, rec, work_max, V_STICK, STICK_AFTER, jitter, seed, band
     )[0]
 
 
@@ -1000,7 +1005,13 @@ def _replica_scene(m, k, c, kc, seed):
 @njit(cache=True)
 def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2):
     """_solve_units with the replica check (restitution.kernels.replica): a finished row's
-    error estimate covers the round-off its replica reveals, or the row is ill-conditioned."""
+    error estimate covers the round-off its replica reveals, or the row is ill-conditioned.
+
+    The replicas also certify the touching rule: they locate contacts with touching bands of
+    BAND_LOW and BAND_HIGH times the kernel's (locator.BAND_ULPS ulps of the gap's scale), so
+    a free-flight dip whose depth lies within round-off of the band's edge is counted by one run
+    and passed by another; the COR's jump across that cusp is then their spread, and enters
+    the error estimate (or makes the row ill-conditioned), as at the paper's grazing points."""
     out = _solve_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, 0.0, 0)
     if not finished(out[OUT_STATUS]):
         return out
@@ -1009,8 +1020,9 @@ def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2):
     for r in range(REPLICAS):
         seed = r * REPLICA_SEED
         mr, kr, cr, kcr = _normalise(*_replica_scene(ms, ks, cs, kcs, seed))
+        band = BAND_LOW if r == 0 else BAND_HIGH
         reps[r] = _solve_units(
-            mr, kr, cr, kcr, max_events, nohist, work_max, use_rigid2, JITTER, seed
+            mr, kr, cr, kcr, max_events, nohist, work_max, use_rigid2, JITTER, seed, band
         )
     return combine(out, reps)
 

@@ -25,7 +25,19 @@ import numpy as np
 from numba import njit
 
 EPS = 2.220446049250313e-16
-TOL_ULPS = 64.0  # touching band, in ulps of the gap's scale
+TOL_ULPS = 64.0  # the exact kernels' round-off bound per contact, in ulps (chain's OUT_ERR)
+# Touching band, in ulps of the gap's own round-off scale at that moment (_eval_gap's res[7]):
+# the computed gap is within ~1.5 of them of its exact value (measured against mpmath on the
+# free flights of 16 random chains, N = 8..16, ratios 1e-2..1e4), so a dip deeper than
+# BAND_ULPS of them is a contact. (It was 64 ulps of a scale without the phase-rounding term:
+# dips 8..64 ulps deep, real contacts, were passed as grazes.)
+BAND_ULPS = 8.0
+# The replica check certifies the touching decision (kernels.chain._checked_units): its two
+# replicas locate contacts with bands of BAND_LOW and BAND_HIGH times the band, so a dip whose
+# depth is within round-off of the band's edge is counted by one run and not by another, and
+# the spread (the COR's jump across that cusp) enters the error estimate.
+BAND_LOW = 0.25
+BAND_HIGH = 2.0
 MAX_STEPS = 400_000  # conservative steps per phase
 SPLIT_RATIO = 8.0  # rates this far apart: the locator also steps on the slow part (_split)
 N_RES = 14  # entries of _eval_gap's result (with the two-scale split)
@@ -95,7 +107,10 @@ def _osc(xi, r0, rd0, t):
 @njit(cache=True)
 def _eval_gap(t, c0, c1, b, lam, res, split=math.inf):
     """res = f, f', f'', f''', B0, B2, B3, scale, X at phase time t: B_m bounds |f^(m)| on
-    [t, inf) (m = 0: the oscillating part f - X only).
+    [t, inf) (m = 0: the oscillating part f - X only). ``scale`` is the round-off scale of f at
+    t: the magnitudes of the terms that cancel in it, |c0| + |c1 t| + |w0| and each mode's
+    |b_k e^{lambda_k t}| (1 + |lambda_k| t) (the exponential's argument lambda_k t is rounded
+    to eps |lambda_k t|).
 
     With a finite ``split`` (res then has 14 entries): also the slow part g (f without
     the modes with |lambda| > split), g', g'', its B3, and A = sum over the fast modes of
@@ -117,6 +132,7 @@ def _eval_gap(t, c0, c1, b, lam, res, split=math.inf):
     g2 = 0.0
     g3b = 0.0
     afast = 0.0
+    bphase = 0.0
     for k in range(b.size):
         w0 += b[k].real
         lk = lam[k]
@@ -130,6 +146,7 @@ def _eval_gap(t, c0, c1, b, lam, res, split=math.inf):
         a = math.sqrt(e.real * e.real + e.imag * e.imag)  # |e| (hypot is 5x slower)
         al = math.sqrt(lk.real * lk.real + lk.imag * lk.imag)
         b0 += a
+        bphase += a * al
         b2 += a * al * al
         b3 += a * al * al * al
         if al > split:
@@ -152,7 +169,7 @@ def _eval_gap(t, c0, c1, b, lam, res, split=math.inf):
     res[4] = b0
     res[5] = b2
     res[6] = b3
-    res[7] = abs(c0) + abs(c1 * t) + abs(w0) + b0
+    res[7] = abs(c0) + abs(c1 * t) + abs(w0) + b0 + bphase * t
     res[8] = c0 - w0 + c1 * t
 
 
@@ -371,11 +388,13 @@ def _split(b, lam):
 
 
 @njit(cache=True)
-def _locate(c0, c1, b, lam, check_permanent, info, max_steps=MAX_STEPS, res=None):
+def _locate(c0, c1, b, lam, check_permanent, info, max_steps=MAX_STEPS, res=None, band=1.0):
     """First time the gap goes below the touching band; see the module docstring.
 
     Returns a LOC_* code; info = [event time, max gap, time of max gap, steps]. ``res``: an
     optional scratch array of N_RES entries (a kernel passes one for all its phases).
+    ``band``: the band's width in units of BAND_ULPS ulps of the gap's scale (the replica
+    check's runs use BAND_LOW and BAND_HIGH, see there).
     """
     if res is None:
         res = np.empty(N_RES)
@@ -385,10 +404,14 @@ def _locate(c0, c1, b, lam, check_permanent, info, max_steps=MAX_STEPS, res=None
     split = _split(b, lam)
     kdom = _dominant_real(b, lam) if check_permanent else -1
     _eval_gap(t, c0, c1, b, lam, res, split)
-    # The phase's data carry absolute errors ~eps * (their size at the phase start), so the band
-    # never shrinks below that even when the motion decays (else exponentially small lobes of a
-    # damped approach, e.g. V = 0, would count as contacts).
-    tol0 = TOL_ULPS * EPS * res[7] + 1e-300
+    # The band is round-off of the gap's own scale at each moment (res[7]). It never shrinks
+    # below its value at the phase start, which binds only where a damped motion decays: the
+    # constant w0 = sum Re b_k(0) in f (its asymptote c0 + c1 t - w0) carries the rounding of
+    # the modal projection of the start state, ~eps * sum |b_k(0)|, for ever (else
+    # exponentially small lobes of a damped approach, e.g. V = 0, would count as contacts).
+    # Undamped phases: res[7] never falls below its start value, so the floor never binds.
+    ulps = band * BAND_ULPS * EPS
+    tol0 = ulps * res[7] + 1e-300
     t_pos = -1.0  # last step end with f > 0 (none yet)
     for it in range(max_steps):
         if it > 0:  # (res holds the gap at t = 0 already)
@@ -398,7 +421,7 @@ def _locate(c0, c1, b, lam, check_permanent, info, max_steps=MAX_STEPS, res=None
         f2 = res[2]
         b2 = res[5]
         b3 = res[6]
-        tol = max(TOL_ULPS * EPS * res[7], tol0)
+        tol = max(ulps * res[7], tol0)
         info[3] = it
         if f > fmax:
             fmax = f

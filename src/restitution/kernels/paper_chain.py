@@ -36,12 +36,16 @@ bound f + f' h + B2 h^2/2 dips below -tol; f is then strictly decreasing on [t, 
 its unique root there is the event, found by bracketed, safeguarded Newton to machine precision.
 
 Touching rule: a contact (or a separation) happens iff the gap goes below -tol, with
-tol = 64 eps * scale and scale = sum of the magnitudes of the terms of f. A gap minimum within
-that round-off band is a graze and changes nothing (its impulse would be O(sqrt(tol))), which keeps
-the COR continuous across the grazing points alpha*_n.
+tol = 8 eps * scale (locator.BAND_ULPS) and scale = the round-off scale of f at that moment: the
+magnitudes of the terms that cancel in it, |c0| + |c1 t| + |w0| + sum_k |b_k e^{lambda_k t}|
+(1 + |lambda_k| t). A gap minimum within that band is a graze and changes nothing (its impulse
+would be O(sqrt(tol))), which keeps the COR continuous across the grazing points alpha*_n. The
+decision is certified: the replica check's two runs use bands of 0.25 and 2 times tol, so a
+touch within round-off of the band's edge shows up as their spread in the error estimate.
 
-The band never shrinks below its value at the phase start (the phase's data are only that
-accurate), so exponentially small lobes of a decaying approach are grazes, not contacts.
+The band never shrinks below its value at the phase start (the constant w0 carries the rounding
+of the start state's modal projection for ever), so exponentially small lobes of a decaying
+approach are grazes, not contacts.
 
 Termination by proof: in free flight with V >= 0, once X(t) - B0(t) > -tol0/2 the gap can never
 go below the band again (X never decreases, B0 never grows), so the sequence is finished. In a

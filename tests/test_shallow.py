@@ -1,0 +1,82 @@
+"""No missed shallow contact (issue 29, item 1), against the independent mpmath reference.
+
+A contact counts when the gap goes below zero by more than round-off of the gap's own scale at
+that moment (kernels.locator.BAND_ULPS ulps of the magnitudes that cancel in it), and the
+decision is certified: the replicas locate contacts with bands of BAND_LOW and BAND_HIGH times
+that, so a touch within round-off of the band's edge gives a spread, i.e. an error estimate
+that covers the COR's jump across the cusp (or the row is ill-conditioned).
+
+The chains below are random N = 9..16 chains at a rigid wall (mass ratios 1e-2..1e2, equal
+springs, as the design study's ``masses`` family) with m_2 tuned by bisection onto the point
+where the kernel with the old band (64 ulps of a scale without the phase-rounding term) stepped
+from n to n + 1 contacts, the last float below it. There the dip of the (n + 1)-th contact was
+~64 ulps of the scale deep: the old kernel passed it as a graze with an estimate of 1e-11..4e-11
+although the reference counts it (seed 7: 58 against 59 contacts, COR off by 6.9e-7). Each scene
+is also taken 1e-9 further on. The seeds are the 3 of a scan of 30 (m_2 x 1..1.5) whose old
+step had a small estimate on its lower side; the reference never sees the kernel.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import restitution as R
+from restitution.solvers.precise import solve_precise
+
+
+def tuned_chain(seed: int, factor: float):
+    """The random chain of ``seed`` with m_2 multiplied by ``factor`` (rigid wall, omega = 1)."""
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(8, 17))
+    m = np.r_[1.0, 10 ** rng.uniform(-2, 2, n - 1)]
+    m[1] *= factor
+    k = np.ones(n - 1) / (1.0 + 1.0 / m[1])
+    return m, k
+
+
+# (seed, factor): the last float below the old kernel's n -> n + 1 step.
+EDGES = [(7, 1.0058347670924417), (8, 1.0208274241104545), (14, 1.0409233138291158)]
+CASES = [(s, f) for s, f in EDGES] + [(s, f * (1.0 + 1e-9)) for s, f in EDGES if s != 8]
+
+
+def check_against_reference(m, k, r, ref):
+    assert ref.status == "ok" and ref.digits > 18, ref
+    if r.status != "ok":  # only an honest refusal
+        assert r.status == "ill_conditioned" and math.isnan(r.cor), r
+        return
+    actual = abs(r.cor - ref.cor)
+    assert actual <= r.error_estimate, (actual, r.error_estimate, r, ref.n_collisions)
+    if r.error_estimate < 1e-9:  # a certain count is the reference's
+        assert r.n_collisions == ref.n_collisions, (r, ref)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed,factor", CASES)
+def test_shallow_contact_is_counted_or_certified(seed, factor):
+    m, k = tuned_chain(seed, factor)
+    r = R.solve(masses=list(m), springs=list(k), k_contact=math.inf)
+    ref = solve_precise(m, k, dps=30)
+    check_against_reference(m, k, r, ref)
+
+
+def test_dip_deeper_than_the_band_is_a_contact():
+    """Seed 7 at the old kernel's edge: the 59th contact (a dip ~64 ulps of the gap's scale
+    deep, far beyond its round-off) is counted. The reference's count, 59, is the slow test's."""
+    m, k = tuned_chain(*EDGES[0])
+    r = R.solve(masses=list(m), springs=list(k), k_contact=math.inf)
+    assert r.n_collisions == 59, r
+
+
+@pytest.mark.slow
+def test_design_optimiser_result_rechecked_by_the_reference():
+    from restitution.analysis.design import minimize_cor, scaled_chain
+
+    d = minimize_cor(8, popsize=4, maxiter=3, seed=1, progress=None)
+    m, k, kc = scaled_chain(d.masses, d.springs, 0.0)
+    r = R.solve(masses=list(m), springs=list(k), k_contact=kc)
+    ref = solve_precise(m, k, kc=kc, dps=30)
+    check_against_reference(m, k, r, ref)
+    assert abs(d.cor_check - ref.cor) <= max(r.error_estimate, 1e-12), (d, ref)
