@@ -51,3 +51,37 @@ def load_script(name: str):
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
+
+
+def solve_paper_law(
+    alpha,
+    beta=0.01,
+    xi=0.0,
+    method="adaptive",
+    rtol=1e-9,
+    step=0.01,
+    history=False,
+    account=None,
+    energy_tol=None,
+    free_closed=True,
+    max_events=10_000,
+    **law,
+):
+    """A paper-form scene with the law keywords of ``restitution.solve`` (contact, eta, dr,
+    structure, L, ks_ratio, theta0, corner, v0) on the one numerical stack, with the knobs the
+    public API does not show: the energy ``account`` (a dict filled in), ``energy_tol`` and
+    ``free_closed`` (False: the free flight of two masses integrated, not closed form)."""
+    from restitution.model.chain import paper_with_laws
+    from restitution.solvers import numerical
+
+    ch, _ = paper_with_laws(alpha, beta, xi, 2, law)
+    if method == "reference":
+        out, hist = numerical.solve_reference_chain(
+            ch, rtol, max_events, history, energy_tol=energy_tol, account=account
+        )
+    else:
+        out, hist = numerical.solve_chain(
+            ch, method, rtol, step, max_events, history, energy_tol=energy_tol,
+            account=account, free_closed=free_closed,
+        )  # fmt: skip
+    return numerical.result(ch, out, method, hist)

@@ -31,7 +31,7 @@ from restitution.model.chain import (
 from restitution.model.ranges import HISTORY_MAX_EVENTS
 from restitution.solvers import blas
 from restitution.solvers import methods as M
-from restitution.solvers.result import RESULT_COLUMNS, STATUS, T_COL, Result, status_name
+from restitution.solvers.result import STATUS, T_COL, Result, status_name
 from restitution.tables.scene_table import scene_table
 
 _BLOCK = 2048  # rows per parallel batch call; the progress bar advances per block
@@ -367,7 +367,7 @@ def solve_many(
     progress: bool = False,
     keep=(),
 ) -> pd.DataFrame:
-    """Solve every row of a scene table (exact rows in parallel with numba ``prange``).
+    """Solve every row of a scene table (in parallel batches with numba ``prange``).
 
     The table takes the paper's form (column ``alpha``; optional ``beta, xi, n_masses``,
     defaults 0, 0, 2) or the general form (list columns ``masses, springs`` and optional
@@ -385,7 +385,7 @@ def solve_many(
     table = scene_table(frame, keep)
     plan = table.plan
     n = len(frame)
-    # Exact rows in parallel batches, numerical rows one by one.
+    # Exact rows in parallel batches; numerical rows in batches per method and settings.
     method = _Labels(table.method_codes.copy(), table.method_names)
     exact = (method.codes == method.code("impulsive")) | (method.codes == method.code("piecewise"))
     cols = {
@@ -420,14 +420,10 @@ def solve_many(
                 out[where] = o
                 errors.update({int(where[j]): msg for j, msg in e.items()})
         _fill(cols, idx, out, errors)
-        for i in np.flatnonzero(~exact):
-            r = _solve_row(table, int(i), max_events)
-            for c in RESULT_COLUMNS:
-                if isinstance(cols[c], _Labels):
-                    cols[c].set(i, getattr(r, c))
-                else:
-                    cols[c][i] = getattr(r, c)
-            bar.update(1)
+        num = np.flatnonzero(~exact)
+        if len(num):
+            out, errors = _solve_numerical(table, num, max_events, bar, block)
+            _fill(cols, num, out, errors, passive=False)
     # One DataFrame construction (column-by-column insertion is slow on large tables), without
     # copies: the result columns are fresh arrays of ours; the user's columns enter as Series
     # (copy-on-write: the result never writes into the user's frame).
@@ -479,13 +475,15 @@ def _bar(n: int, progress: bool):
     return tqdm(total=n, unit="scene", desc="solve_many")
 
 
-def _fill(cols: dict, idx: np.ndarray, out: np.ndarray, errors: dict) -> None:
-    """Result columns of the exact rows from their kernel rows."""
+def _fill(cols: dict, idx: np.ndarray, out: np.ndarray, errors: dict, passive=True) -> None:
+    """Result columns of rows ``idx`` from their kernel rows (``passive``: linear scenes solved
+    exactly, whose open energy account also voids the row; numerical rows keep their COR with
+    status ``energy_account_open``, as ``Result.from_row`` does)."""
     at = slice(None) if len(idx) == len(cols["cor"]) else idx  # (a slice writes 5x faster)
     status_col = out[:, L.OUT_STATUS]
     all_ok = bool((status_col == L.STATUS_OK).all())  # the common case: no masks needed
     if not all_ok:
-        out = L.void_unfinished(out, passive=True)
+        out = L.void_unfinished(out, passive=passive)
     cols["cor"][at] = out[:, L.OUT_COR]
     ncol = out[:, L.OUT_NCOL]
     cols["n_collisions"][at] = ncol if all_ok else np.where(np.isfinite(ncol), ncol, 0)
@@ -514,11 +512,37 @@ def _fill(cols: dict, idx: np.ndarray, out: np.ndarray, errors: dict) -> None:
         method.set(rows, method.names[code] + "+sticking")
 
 
-def _solve_row(table, i: int, max_events: int) -> Result:
-    """One numerical row (nonlinear law or a forced numerical method) through ``solve``."""
-    ch = table.chain(i)
-    opts = M.options(False, max_events, **table.settings(i))
-    return _run(ch, M.METHODS[table.plan["method"][i]], opts)
+def _solve_numerical(table, idx: np.ndarray, max_events: int, bar, block=_BLOCK):
+    """Kernel rows of the numerical rows ``idx``: grouped by method and their ``rtol`` /
+    ``step`` settings, each group in parallel blocks by its method's batch runner
+    (``Method.batch``). If a block raises, its rows are solved one by one so that only the
+    failing rows are lost (NaN with status ``kernel_error``)."""
+    names = table.plan["method"][idx]
+    groups: dict[tuple, list] = {}
+    for j, i in enumerate(idx):
+        s = table.settings(int(i))
+        groups.setdefault((names[j], s.get("rtol"), s.get("step")), []).append(j)
+    out = np.full((len(idx), L.N_OUT), np.nan)
+    errors = {}
+    for (name, rtol, step), rows in groups.items():
+        given = {k: v for k, v in (("rtol", rtol), ("step", step)) if v is not None}
+        opts = M.options(False, max_events, **given)
+        method = M.METHODS[name]
+        for start in range(0, len(rows), block):
+            sel = np.asarray(rows[start : start + block])
+            chains = [table.chain(int(idx[j])) for j in sel]
+            try:
+                done = method.batch(chains, opts)
+            except Exception:  # noqa: BLE001 - a kernel failure must not lose the whole table
+                done = np.full((len(sel), L.N_OUT), np.nan)
+                for j, ch in enumerate(chains):
+                    try:
+                        done[j] = method.batch([ch], opts)[0]
+                    except Exception as e:  # noqa: BLE001
+                        errors[int(sel[j])] = f"kernel_error ({type(e).__name__}: {e})"
+            out[sel, : done.shape[1]] = done
+            bar.update(len(sel))
+    return out, errors
 
 
 __all__ = ["LAW_KEYS", "solve", "solve_many", "validate_frame"]

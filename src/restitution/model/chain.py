@@ -281,7 +281,8 @@ class Chain:
             # The laws' own parameter checks (restitution.model.laws), before any work.
             from restitution.model.laws import pack_chain
 
-            pack_chain(m, k, c, self.contact_law, self.link_laws, v0)
+            packed = pack_chain(m, k, c, self.contact_law, self.link_laws, v0)
+            object.__setattr__(self, "_packed", (v0, packed))  # kept for the numerical runners
 
     # ------------------------------------------------------------------------------------------
     @classmethod

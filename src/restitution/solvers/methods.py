@@ -38,7 +38,7 @@ from restitution.kernels.compiling import announce
 from restitution.model.chain import Chain, SceneError, check
 from restitution.model.ranges import HISTORY_MAX_EVENTS, _show
 from restitution.solvers import blas
-from restitution.solvers.result import label
+from restitution.solvers.result import Result, label
 
 # Bit of out[OUT_FLAGS] set by the chain kernel when it used the sticking limit.
 FLAG_STICKING = L.FLAG_STICKING
@@ -98,6 +98,9 @@ class Method:
     applies: Callable[[Chain], str | None]
     run: Callable[[Chain, Options], tuple]
     doc: str
+    # Many chains with the same Options -> their kernel rows (len, N_OUT); None: the table's own
+    # batch path (the exact methods: ``restitution.api.solve_many``).
+    batch: Callable[[list, Options], np.ndarray] | None = None
 
 
 # ----------------------------------------------------------------------------------------------
@@ -206,64 +209,65 @@ def _run_exact(ch: Chain, opts: Options):
     return out, (hist if opts.history else None)
 
 
-def legacy_laws(ch: Chain) -> dict:
-    """A two-mass chain's laws as keywords of ``restitution.solvers.numerical.solve_nonlinear`` (the
-    scene in its units m1 = 1, omega = 1 with lengths kept: stiffnesses / (m1 omega**2), speeds
-    / omega)."""
-    w = ch.omega
-    law = {"v0": ch.v0 / w}
-    contact = ch.contact
-    if contact is not None:
-        law["contact"] = contact["law"]
-        law.update({k: v for k, v in contact.items() if k in ("eta", "dr")})
-    if ch.links is not None:
-        (spec,) = ch.links
-        if spec["law"] == "scissor":
-            k2 = float(ch.springs[0])
-            law.update(structure="scissor", ks_ratio=spec["ks"] / k2)
-            law.update({k: spec[k] for k in ("L", "theta0", "corner") if k in spec})
-    return law
-
-
-def _two_mass_paper_laws(ch: Chain) -> bool:
-    """Two masses with the laws of the paper's Section 3 (linear, plastic, scissor): solved by
-    ``solve_nonlinear`` as before, so the paper's results are unchanged."""
-    return ch.n_masses == 2 and (ch.contact is None or ch.contact["law"] == "plastic")
-
-
 def _run_numerical(name: str):
-    def run(ch: Chain, opts: Options):
-        from restitution.solvers import numerical as nonlinear
+    """Single runner of a numerical method: the chain (two masses included) on the one
+    nonlinear stack (``restitution.solvers.numerical``); ``reference`` on scipy."""
 
-        if name == "reference" or _two_mass_paper_laws(ch):
-            r = nonlinear.solve_nonlinear(
-                ch.alpha,
-                ch.beta,
-                ch.xi,
-                method=name,
-                rtol=opts.rtol,
-                step=opts.step,
-                max_events=opts.max_events,
-                history=opts.history,
-                **legacy_laws(ch),
+    def run(ch: Chain, opts: Options):
+        from restitution.solvers import numerical
+
+        if name == "reference":
+            out, hist = numerical.solve_reference_chain(
+                ch, opts.rtol, opts.max_events, opts.history
             )
         else:
-            r = nonlinear.solve_nonlinear_chain(
-                ch.masses,
-                ch.springs,
-                ch.dashpots,
-                ch.contact_law,
-                ch.link_laws,
-                ch.v0,
-                name,
-                opts.rtol,
-                opts.max_events,
-                opts.history,
-                step=opts.step,
+            out, hist = numerical.solve_chain(
+                ch, name, opts.rtol, opts.step, opts.max_events, opts.history
             )
-        return r, None
+        return numerical.result(ch, out, name, hist), None
 
     return run
+
+
+def _batch_numerical(name: str):
+    """Batch runner of a stepping method: chains with the same settings in one parallel kernel
+    call; returns their kernel rows (len(chains), N_OUT), each as the single runner's."""
+
+    def run_batch(chains: list, opts: Options) -> np.ndarray:
+        from restitution.solvers import numerical
+
+        return numerical.solve_chains(chains, name, opts.rtol, opts.step, opts.max_events)
+
+    return run_batch
+
+
+def _batch_rows(single: Callable):
+    """Batch runner of a method without a batch kernel: its single runner row by row."""
+
+    def run_batch(chains: list, opts: Options) -> np.ndarray:
+        out = np.full((len(chains), L.N_OUT), math.nan)
+        for i, ch in enumerate(chains):
+            row, _ = single(ch, opts)
+            if isinstance(row, Result):
+                row = row_of(row)
+            out[i, : len(row)] = row
+        return out
+
+    return run_batch
+
+
+def row_of(r: Result) -> np.ndarray:
+    """A Result as a kernel row (the fields a table keeps; flags unset)."""
+    from restitution.solvers.result import STATUS
+
+    codes = {name: code for code, name in STATUS.items()}
+    out = np.full(L.N_OUT, math.nan)
+    out[L.OUT_COR], out[L.OUT_NCOL], out[L.OUT_TCOL] = r.cor, r.n_collisions, r.omega_t_col
+    out[L.OUT_ETRANS], out[L.OUT_EVIB] = r.e_translational, r.e_vibrational
+    out[L.OUT_EDISS], out[L.OUT_ERR] = r.e_dissipated, r.error_estimate
+    out[L.OUT_NEVENTS], out[L.OUT_FLAGS] = r.n_collisions, 0.0
+    out[L.OUT_STATUS] = codes.get(r.status, math.nan)  # (unknown: reads as not_run)
+    return out
 
 
 # Digits of the 'precise' method: each run is checked at 20 more; where the two disagree (a
@@ -312,18 +316,42 @@ METHODS: dict[str, Method] = {
         "piecewise", True, 1, _piecewise_applies, _run_exact, "linear contact spring, exact"
     ),
     "adaptive": Method(
-        "adaptive", False, 10, _adaptive_applies, _run_numerical("adaptive"), "DP5(4), any chain"
-    ),
+        "adaptive",
+        False,
+        10,
+        _adaptive_applies,
+        _run_numerical("adaptive"),
+        "DP5(4), any chain",
+        _batch_numerical("adaptive"),
+    ),  # fmt: skip
     "verlet": Method(
-        "verlet", False, 20, _verlet_applies, _run_numerical("verlet"), "velocity Verlet"
-    ),
+        "verlet",
+        False,
+        20,
+        _verlet_applies,
+        _run_numerical("verlet"),
+        "velocity Verlet",
+        _batch_numerical("verlet"),
+    ),  # fmt: skip
     "reference": Method(
-        "reference", False, 30, _reference_applies, _run_numerical("reference"), "scipy DOP853"
-    ),
+        "reference",
+        False,
+        30,
+        _reference_applies,
+        _run_numerical("reference"),
+        "scipy DOP853",
+        _batch_rows(_run_numerical("reference")),
+    ),  # fmt: skip
     # exact=False and the highest cost: 'auto' never picks it (seconds per scene).
     "precise": Method(
-        "precise", False, 40, _precise_applies, _run_precise, "exact at 40+ digits (mpmath)"
-    ),
+        "precise",
+        False,
+        40,
+        _precise_applies,
+        _run_precise,
+        "exact at 40+ digits (mpmath)",
+        _batch_rows(_run_precise),
+    ),  # fmt: skip
 }
 NAMES = ("auto", *METHODS)
 
