@@ -433,6 +433,8 @@ LAW_KEYS = ("contact", "eta", "dr", "structure", "L", "ks_ratio", "theta0", "cor
 NUMERICAL_KEYS = (*LAW_KEYS, "rtol", "step")
 # The paper form's law parameters and the law that reads them (given without it: an error).
 LAW_PARAMS = {"plastic": ("eta", "dr"), "scissor": ("L", "ks_ratio", "theta0", "corner")}
+PAPER_CONTACTS = ("linear", "plastic")  # the paper form's contact laws (Section 3.1)
+PAPER_STRUCTURES = ("linear", "scissor")  # and structural links (Section 3.2)
 
 
 def paper_with_laws(alpha, beta, xi, n_masses, law: dict) -> tuple[Chain, dict]:
@@ -454,6 +456,15 @@ def paper_with_laws(alpha, beta, xi, n_masses, law: dict) -> tuple[Chain, dict]:
     settings = {k: law[k] for k in ("rtol", "step") if k in law}
     contact = law.get("contact", "linear")
     structure = law.get("structure", "linear")
+    for key, value, allowed in (
+        ("contact", contact, PAPER_CONTACTS),
+        ("structure", structure, PAPER_STRUCTURES),
+    ):
+        if not isinstance(value, str) or value not in allowed:
+            raise SceneError(
+                f"{key} must be one of {', '.join(map(repr, allowed))} in the paper's form "
+                f"(other laws: the general form, contact={{...}}, links=[...]); got {_show(value)}"
+            )
     for key, names, needs, given in (
         ("contact", LAW_PARAMS["plastic"], "plastic", contact),
         ("structure", LAW_PARAMS["scissor"], "scissor", structure),
