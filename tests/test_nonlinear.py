@@ -145,7 +145,7 @@ def test_many_matches_single_scenes_and_names_a_bad_row(method, setting):
     from restitution.model.scene import SceneError
 
     value = 1e-10 if setting == "rtol" else 0.02
-    frame = pd.DataFrame(SCENES).assign(beta=lambda f: f["beta"].fillna(0.01))
+    frame = pd.DataFrame(SCENES).assign(xi=lambda f: f["xi"].fillna(0.0))
     got = restitution.solve_many(frame.assign(method=method, **{setting: value}))
     for i, scene in enumerate(SCENES):  # the batch rows are the single solves, bit for bit
         r = restitution.solve(**scene, method=method, **{setting: value})
@@ -161,7 +161,7 @@ def test_many_matches_single_scenes_and_names_a_bad_row(method, setting):
 def test_many_groups_rows_by_method_and_settings():
     import pandas as pd
 
-    frame = pd.DataFrame(SCENES[:3] * 2).assign(
+    frame = pd.DataFrame(SCENES[:3] * 2).fillna({"xi": 0.0}).assign(
         method=["adaptive"] * 3 + ["verlet"] * 3, rtol=[1e-8, 1e-10, None, None, None, None],
         step=[None, None, None, 0.02, 0.01, None],
     )  # fmt: skip

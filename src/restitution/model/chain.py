@@ -438,9 +438,9 @@ PAPER_STRUCTURES = ("linear", "scissor")  # and structural links (Section 3.2)
 
 
 def paper_with_laws(alpha, beta, xi, n_masses, law: dict) -> tuple[Chain, dict]:
-    """A paper-form scene with the keywords of ``restitution.solvers.numerical.solve_nonlinear`` as
-    a
-    Chain with law specifications, and the numerical settings (rtol, step) among them."""
+    """A paper-form scene with the law keywords of ``restitution.solve`` (contact, eta, dr,
+    structure, L, ks_ratio, theta0, corner, v0) as a Chain with law specifications, and the
+    numerical settings (rtol, step) among them."""
     unknown = sorted(set(law) - set(NUMERICAL_KEYS))
     if unknown:
         raise SceneError(

@@ -19,7 +19,6 @@ contacts appear or vanish with the setting, so convergence is not asymptotic the
 
 from __future__ import annotations
 
-import dataclasses
 import math
 
 import numpy as np
@@ -262,12 +261,10 @@ def solve_reference_chain(
 
 
 def result(ch: Chain, out: np.ndarray, method: str, hist=None) -> Result:
-    """The Result of a numerical kernel row: beta = k_12/k (k the contact's stiffness: its
-    unloading slope for the plastic law; nan for Hertz, which has none)."""
-    r = Result.from_row(ch, out, method, hist)
-    if ch.contact is not None and ch.contact["law"] == "hertz":
-        r = dataclasses.replace(r, beta=math.nan)
-    return r
+    """The Result of a numerical kernel row (alpha, beta = k_12/k with k the contact's ``k``,
+    xi from the chain, as docs/general-chains.md says). A row whose energy account is open keeps
+    its COR (``Result.from_row`` without ``passive``): the status says not to trust it."""
+    return Result.from_row(ch, out, method, hist)
 
 
 __all__ = [
