@@ -139,7 +139,7 @@ def solve_general_many(masses, springs, dashpots=None, contact=None, links=None,
     frame = pd.DataFrame({"masses": list(masses), "springs": list(springs)})
     if dashpots is not None:
         frame["dashpots"] = list(dashpots)
-    frame["contact"] = per_row(contact if contact is not None else "rigid")
+    frame["contact"] = per_row(contact if contact is not None else {"law": "rigid"})
     if links is not None:
         frame["links"] = per_row(links)
     frame["v0"] = per_row(v0)

@@ -250,7 +250,13 @@ class Chain:
                 k_law = math.inf
             if k_law is None:
                 raise SceneError(f"contact: the {law!r} law needs k (its stiffness)")
-            k_law = check("k_contact", k_law)
+            try:
+                k_law = check("k_contact", k_law)
+            except SceneError:
+                raise SceneError(
+                    f"contact.k (the {law!r} law's stiffness) must be "
+                    f"{RANGES['k_contact'].text}; got {_show(k_law)}"
+                ) from None
             if law in ("plastic", "hertz") and not math.isfinite(k_law):
                 raise SceneError(
                     f"contact: the {law!r} law needs a finite k > 0 (in the paper's form: beta > 0)"
@@ -276,7 +282,10 @@ class Chain:
         _assign(self, contact=contact, links=links)
         for a in (m, k, c):
             a.setflags(write=False)
-        _check_ratios(m, k, c, kc)
+        # (a Hertz constant is no stiffness: its ratio to the first spring is checked by the law,
+        # at m1's depth, in pack_chain below)
+        hertz = contact is not None and contact["law"] == "hertz"
+        _check_ratios(m, k, c, math.inf if hertz else kc)
         if contact is not None or links is not None:
             # The laws' own parameter checks (restitution.model.laws), before any work.
             from restitution.model.laws import pack_chain

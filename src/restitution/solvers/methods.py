@@ -122,14 +122,26 @@ def _piecewise_applies(ch: Chain) -> str | None:
     return None
 
 
+def _stepping_range(ch: Chain) -> str | None:
+    """Why the stepping kernels cannot take ``ch`` (the laws' handled ranges and the frequency
+    spread of ``laws.pack_chain``; a nonlinear Chain was packed when it was built), or None."""
+    from restitution.solvers.numerical import packed
+
+    try:
+        packed(ch)
+    except SceneError as e:
+        return str(e)
+    return None
+
+
 def _adaptive_applies(ch: Chain) -> str | None:
-    return None  # any chain, any law
+    return _stepping_range(ch)  # any law, within the handled ranges
 
 
 def _verlet_applies(ch: Chain) -> str | None:
     if ch.rigid:
         return "it needs a finite contact law (beta > 0), not a rigid wall"
-    return None
+    return _stepping_range(ch)
 
 
 def _precise_applies(ch: Chain) -> str | None:
