@@ -10,6 +10,11 @@ The same table (paper form, plastic contact: alpha log-spaced over Fig. 4's 0.1.
 ``solve``) and with this checkout's (rows in parallel batches), each in its own process with
 ``NUMBA_NUM_THREADS`` threads, after one warm-up call; best of 3. The contact counts of the two
 are compared row by row, so both timed the same physics.
+
+On a machine busier than its cores (the threads then do not run side by side) the script also
+prints the split of this checkout's time on one thread into the batch kernels (which the
+threads share) and the rest (table checks, packing, result columns: serial), and the time that
+split gives for ``--threads`` free cores.
 """
 
 from __future__ import annotations
@@ -42,6 +47,34 @@ json.dump({"s": best, "ncol": out["n_collisions"].tolist(),
 """
 
 
+_SPLIT = """
+import json, sys, time
+import numba
+import numpy as np, pandas as pd
+import restitution
+from restitution.solvers import numerical
+from restitution.tables.scene_table import scene_table
+numba.set_num_threads(1)
+rows = int(sys.stdin.read())
+alpha = np.geomspace(0.1, 100.0, rows)
+frame = pd.DataFrame({"alpha": alpha, "beta": np.where(np.arange(rows) % 2, 0.1, 0.01),
+                      "contact": "plastic", "eta": np.array([0.5, 1.0, 1.5])[np.arange(rows) % 3],
+                      "dr": 0.5})
+restitution.solve_many(frame.head(8))
+table = scene_table(frame)
+chains = [table.chain(i) for i in range(rows)]
+total = kernel = 1e9
+for _ in range(3):
+    t = time.perf_counter()
+    restitution.solve_many(frame)
+    total = min(total, time.perf_counter() - t)
+    t = time.perf_counter()
+    numerical.solve_chains(chains)
+    kernel = min(kernel, time.perf_counter() - t)
+json.dump({"total": total, "kernel": kernel}, sys.stdout)
+"""
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--ref", default="3b69718")
@@ -56,6 +89,12 @@ def main():
     print(f"  now (batches on the threads):      {new['s']:.3f} s, {new['ok']} ok")
     print(f"  speed-up {old['s'] / new['s']:.2f}x (target >= 1.8)"
           + ("" if same else "  [contact counts differ between the versions]"))  # fmt: skip
+    split = json.loads(then.run(None, _SPLIT, str(args.rows), 1))
+    rest = split["total"] - split["kernel"]
+    free = rest + split["kernel"] / args.threads
+    print(f"  now on 1 thread: {split['total']:.3f} s = batch kernels {split['kernel']:.3f} s"
+          f" + the rest {rest:.3f} s; on {args.threads} free cores that is {free:.3f} s,"
+          f" {old['s'] / free:.2f}x the 'then' time above")  # fmt: skip
 
 
 if __name__ == "__main__":
