@@ -51,3 +51,100 @@ def load_script(name: str):
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
+
+
+def solve_paper_law(
+    alpha,
+    beta=0.01,
+    xi=0.0,
+    method="adaptive",
+    rtol=1e-9,
+    step=0.01,
+    history=False,
+    account=None,
+    energy_tol=None,
+    free_closed=True,
+    max_events=10_000,
+    **law,
+):
+    """A paper-form scene with the law keywords of ``restitution.solve`` (contact, eta, dr,
+    structure, L, ks_ratio, theta0, corner, v0) on the one numerical stack, with the knobs the
+    public API does not show: the energy ``account`` (a dict filled in), ``energy_tol`` and
+    ``free_closed`` (False: the free flight of two masses integrated, not closed form)."""
+    from restitution.model.chain import paper_with_laws
+    from restitution.solvers import numerical
+
+    ch, _ = paper_with_laws(alpha, beta, xi, 2, law)
+    if method == "reference":
+        out, hist = numerical.solve_reference_chain(
+            ch, rtol, max_events, history, energy_tol=energy_tol, account=account
+        )
+    else:
+        out, hist = numerical.solve_chain(
+            ch, method, rtol, step, max_events, history, energy_tol=energy_tol,
+            account=account, free_closed=free_closed,
+        )  # fmt: skip
+    return numerical.result(ch, out, method, hist)
+
+
+def solve_general_law(
+    m,
+    k,
+    c=None,
+    contact_law="rigid",
+    link_laws=None,
+    v0=1.0,
+    method="adaptive",
+    rtol=1e-9,
+    max_events=10_000,
+    history=False,
+    *,
+    step=0.01,
+    max_work=None,
+    energy_tol=None,
+    account=None,
+):
+    """A general chain (the user's units) through ``restitution.solve`` on the numerical stack;
+    with ``max_work``, ``energy_tol`` or ``account`` (knobs the public API does not show) through
+    a ``restitution.Chain`` and ``restitution.solvers.numerical.solve_chain``."""
+    import restitution
+    from restitution.solvers import numerical
+
+    if max_work is None and energy_tol is None and account is None:
+        return restitution.solve(
+            masses=m, springs=k, dashpots=c, contact=contact_law, links=link_laws, v0=v0,
+            method=method, rtol=rtol, step=step, max_events=max_events, history=history,
+        )  # fmt: skip
+    ch = restitution.Chain(m, k, c, v0=v0, contact=contact_law, links=link_laws)
+    out, hist = numerical.solve_chain(
+        ch, method, rtol, step, max_events, history, max_work=max_work, energy_tol=energy_tol,
+        account=account,
+    )  # fmt: skip
+    return numerical.result(ch, out, method, hist)
+
+
+def solve_general_many(masses, springs, dashpots=None, contact=None, links=None, v0=1.0, **kw):
+    """Rows of general chains (one list per row; ``contact`` / ``v0`` one per row or one for
+    all) through ``restitution.solve_many`` with the numerical settings ``kw`` (method, rtol,
+    step) as columns and ``max_events``."""
+    import pandas as pd
+
+    import restitution
+
+    rows = len(masses)
+
+    def per_row(value):
+        return list(value) if isinstance(value, (list, tuple)) else [value] * rows
+
+    frame = pd.DataFrame({"masses": list(masses), "springs": list(springs)})
+    if dashpots is not None:
+        frame["dashpots"] = list(dashpots)
+    frame["contact"] = per_row(contact if contact is not None else {"law": "rigid"})
+    if links is not None:
+        frame["links"] = per_row(links)
+    frame["v0"] = per_row(v0)
+    max_events = kw.pop("max_events", 10_000)
+    frame["method"] = kw.pop("method", "adaptive")
+    for name, value in kw.items():
+        frame[name] = value
+    return restitution.solve_many(frame, max_events=max_events)

@@ -193,7 +193,6 @@ NOT_IN_API = {
     "restitution.model.chain": "its Chain is rendered under restitution",
     "restitution.model.ranges": "its SceneError is rendered under restitution; RANGES in docs",
     "restitution.solvers.result": "its Result is rendered under restitution",
-    "restitution.model.scene": "its Scene is rendered under restitution",
     "restitution.trajectories": "its trajectory is rendered under restitution",
     "restitution.tables.linear_rows": "internal: the column-wise fast path of solve_many",
     "restitution.kernels": "the numba kernels, internal (docs/guides/adding-a-method.md)",

@@ -17,6 +17,7 @@ import pytest
 from scipy.integrate import quad
 from scipy.special import beta as beta_fn
 
+from conftest import solve_general_law as solve_nonlinear_chain
 from restitution.kernels.layout import (
     H_XMAX,
     N_HIST,
@@ -27,9 +28,8 @@ from restitution.kernels.layout import (
     OUT_TCOL,
     STATUS_OK,
 )
-from restitution.kernels.stepping import METHOD_ADAPTIVE, METHOD_VERLET, solve_chain_scene
+from restitution.kernels.stepping import METHOD_ADAPTIVE, METHOD_VERLET, solve_scene
 from restitution.model import laws
-from restitution.solvers.numerical import solve_nonlinear_chain
 
 I_HERTZ = 0.4 * beta_fn(0.4, 0.5)
 C_HERTZ = 2.0 * I_HERTZ * 1.25**0.4
@@ -49,7 +49,7 @@ def _single_mass(k_h, v0, m=1.0, rtol=1e-12, method=METHOD_ADAPTIVE, step=0.01):
     cp = laws.hertz_params(k_h, v0, m)
     hist = np.zeros((4, N_HIST))
     etol = 1e-9 if method == METHOD_ADAPTIVE else 1.0  # Verlet: its energy error is checked here
-    out = solve_chain_scene(
+    out = solve_scene(
         ms, np.zeros((0, laws.N_SP)), np.zeros(0), cp, v0, method, rtol, step, etol, 10, 1e6,
         hist, np.zeros(5),
     )  # fmt: skip
@@ -116,20 +116,18 @@ def test_elastic_hertz_chain_conserves_energy(v0):
     assert 0.0 < r.cor < 1.0
 
 
-def test_hertz_in_the_two_mass_kernel_matches_the_chain_kernel():
-    # the same law id runs through the two-mass scene kernel (integrated free flight) too
-    from restitution.kernels.stepping import solve_scene
-
+def test_hertz_two_masses_closed_form_free_flight_matches_the_integrated_one():
+    # two masses with a linear link fly freely in closed form; integrating that flight by the
+    # same DP5(4) as the contact phases (free_closed=False) must give the same sequence
     alpha = 1.7
     k2 = alpha / (1 + alpha)
     cp = laws.hertz_params(4.0, 1.0, 1.0 + alpha)
-    sp = laws.linear_structure_params(k2)
+    lk = laws.linear_structure_params(k2)[None, :].copy()
     h0 = np.zeros((0, N_HIST))
-    a = solve_scene(alpha, 1.0, 0.0, cp, sp, 0, 1e-12, 0.01, True, 1e-9, 100, h0, np.zeros(5))
-    b = solve_chain_scene(
-        np.array([1.0, alpha]), sp[None, :].copy(), np.zeros(1), cp, 1.0, 0, 1e-12, 0.01, 1e-9,
-        100, 1e7, h0, np.zeros(5),
-    )  # fmt: skip
+    m, c = np.array([1.0, alpha]), np.zeros(1)
+    args = (m, lk, c, cp, 1.0, 0, 1e-12, 0.01, 1e-9, 100, 1e7, h0)
+    a = solve_scene(*args, np.zeros(5), True)
+    b = solve_scene(*args, np.zeros(5), False)
     assert a[OUT_STATUS] == b[OUT_STATUS] == STATUS_OK and a[OUT_NCOL] == b[OUT_NCOL]
     assert abs(a[OUT_COR] - b[OUT_COR]) < 1e-10
 

@@ -6,11 +6,13 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
+from conftest import solve_paper_law
 from restitution.kernels.integrators import first_root
 from restitution.kernels.paper_chain import solve_linear
 from restitution.kernels.rigid2 import rigid2
 from restitution.kernels.stepping import METHOD_VERLET, solve_scene
-from restitution.solvers.numerical import build_laws, solve_nonlinear
+from restitution.model.chain import Chain
+from restitution.solvers.numerical import packed
 
 H0 = np.zeros((0, 6))
 X1 = brentq(lambda x: math.tan(x) - x, 4.4, 4.5)  # 4.4934...
@@ -61,9 +63,7 @@ LINEAR = [
 @pytest.mark.parametrize("integrate_free", [False, True])
 def test_adaptive_matches_exact_on_linear_scenes(alpha, beta, xi, integrate_free):
     o = _exact(alpha, beta, xi)
-    r = solve_nonlinear(
-        alpha, beta=beta, xi=xi, rtol=1e-10, integrate_free=integrate_free, method="adaptive"
-    )
+    r = solve_paper_law(alpha, beta=beta, xi=xi, rtol=1e-10, free_closed=not integrate_free)
     assert r.status == "ok" and r.method == "adaptive"
     assert r.n_collisions == int(o[1])
     assert abs(r.cor - o[0]) < 1e-8
@@ -79,9 +79,7 @@ def test_adaptive_at_the_grazing_alpha1_rigid_wall(d, integrate_free):
     # ~ eps/sqrt(d) in COR: the tolerance follows that conditioning (1e-8 at |d| = 1e-4).
     o = _exact(ALPHA1 + d, 0.0)
     assert int(o[1]) == (2 if d > 0 else 1)
-    r = solve_nonlinear(
-        ALPHA1 + d, beta=0.0, rtol=1e-10, integrate_free=integrate_free, method="adaptive"
-    )
+    r = solve_paper_law(ALPHA1 + d, beta=0.0, rtol=1e-10, free_closed=not integrate_free)
     assert r.n_collisions == int(o[1])
     tol = 1e-8 * max(1.0, 2.0 * math.sqrt(1e-4 / abs(d))) if integrate_free else 1e-10
     assert abs(r.cor - o[0]) < tol
@@ -104,7 +102,7 @@ def test_adaptive_at_a_grazing_alpha_with_finite_beta(beta, lo, hi):
     for a in (lo - 1e-6, hi + 1e-6, lo - 1e-9, hi + 1e-9):
         o = _exact(a, beta)
         for free in (False, True):
-            r = solve_nonlinear(a, beta=beta, rtol=1e-10, integrate_free=free, method="adaptive")
+            r = solve_paper_law(a, beta=beta, rtol=1e-10, free_closed=not free)
             assert r.n_collisions == int(o[1]), (a, free)
             assert abs(r.cor - o[0]) < 1e-8
 
@@ -112,14 +110,12 @@ def test_adaptive_at_a_grazing_alpha_with_finite_beta(beta, lo, hi):
 @pytest.mark.parametrize("alpha, beta, xi", [(0.5, 0.1, 0.0), (2.2, 0.1, 0.0), (1.0, 1.0, 0.2)])
 def test_verlet_converges_at_second_order(alpha, beta, xi):
     o = _exact(alpha, beta, xi)
-    cp, sp, _ = build_laws(alpha, beta, "linear", 1.0, 0.0, "linear", 1.0, 0.01, 0.7, 1.0, 1.0)
+    m, lk, c, cp, _, _ = packed(Chain.paper(alpha, beta, xi))
     fracs = 0.04 * 2.0 ** (-np.arange(7) / 1.5)
     errs = []
     for f in fracs:
         acct = np.zeros(5)
-        out = solve_scene(
-            alpha, 1.0, float(xi), cp, sp, METHOD_VERLET, 1e-9, f, False, 1.0, 10_000, H0, acct
-        )
+        out = solve_scene(m, lk, c, cp, 1.0, METHOD_VERLET, 1e-9, f, 1.0, 10_000, 4e6, H0, acct)
         assert int(out[1]) == int(o[1])
         errs.append(abs(out[0] - o[0]))
     # least-squares slope: the contact kink inside a step makes single ratios jitter
@@ -129,7 +125,7 @@ def test_verlet_converges_at_second_order(alpha, beta, xi):
 
 
 def test_verlet_error_estimate_is_step_halving():
-    r = solve_nonlinear(2.2, beta=0.1, method="verlet", step=0.01)
+    r = solve_paper_law(2.2, beta=0.1, method="verlet", step=0.01)
     o = _exact(2.2, 0.1)
     assert r.method == "verlet" and r.status == "ok"
     assert 0 < r.error_estimate and abs(r.cor - o[0]) < 20 * r.error_estimate + 1e-6

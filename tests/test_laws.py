@@ -6,9 +6,10 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
+import restitution
+from conftest import solve_paper_law
 from restitution.model import laws
 from restitution.model.scene import SceneError
-from restitution.solvers.numerical import build_laws, solve_nonlinear
 
 K2 = 2.0 / 3.0  # alpha = 2
 
@@ -33,7 +34,7 @@ def test_kappa_linear_limit():
 def test_single_mass_rebound_is_sqrt_one_minus_dr(eta, dr):
     # alpha -> 0 leaves m1 alone on the contact (k1 = k2/beta = 1 here): v_out = sqrt(1 - DR)
     a = 1e-5
-    r = solve_nonlinear(
+    r = restitution.solve(
         a, beta=a / (1 + a), contact="plastic", eta=eta, dr=dr, rtol=1e-11, history=True
     )
     assert r.history["v1_out"].iloc[0] == pytest.approx(math.sqrt(1 - dr), abs=1e-4)
@@ -142,8 +143,9 @@ BAD = [
     (dict(v0=0.0), "v0"),
     (dict(v0=1e-7), r"v0 .*\[1e-6, 1e6\]"),  # narrowed: kappa ~ v0**(1 - eta) left float64
     (dict(contact="plastic", eta=1.0, dr=0.5, alpha=1e-9), r"alpha must be in \[1e-8, 1e8\]"),
-    (dict(contact="plastic", eta=1.0, dr=0.5, beta=1e-13), r"beta.*\[1e-12, 1e\+06\]"),
-    (dict(structure="scissor", beta=1e-300), r"beta.*\[1e-12, 1e\+06\]"),
+    # (the public path names the contact's ratio to the first spring, "the range of beta")
+    (dict(contact="plastic", eta=1.0, dr=0.5, beta=1e-13), r"\[1e-12, 1e\+06\].*beta"),
+    (dict(structure="scissor", beta=1e-300), r"\[1e-12, 1e\+06\].*beta"),
     (dict(contact="plastic", eta=1.0, dr=1 - 1e-16), "loading secant"),
     (dict(method="rk4"), "method"),
     (dict(method="verlet", beta=0.0), "beta"),
@@ -160,9 +162,17 @@ def test_bad_parameters_name_themselves(kw, name):
     alpha = kw.pop("alpha", 1.0)
     kw.setdefault("beta", 0.1)
     with pytest.raises(SceneError, match=name):
-        solve_nonlinear(alpha, **kw)
+        restitution.solve(alpha, **kw)
 
 
-def test_build_laws_kinds():
-    cp, sp, kappa = build_laws(1.0, 0.0, "linear", 1, 0, "linear", 1, 0.01, 0.7, 1, 1.0)
-    assert cp[0] == laws.C_RIGID and sp[0] == laws.S_LINEAR and math.isnan(kappa)
+def test_paper_form_laws_pack_to_their_kinds():
+    from restitution.model.chain import paper_with_laws
+    from restitution.solvers.numerical import packed
+
+    ch, _ = paper_with_laws(1.0, 0.0, 0.0, 2, dict(structure="scissor"))
+    _, lk, _, cp, _, kappa = packed(ch)
+    assert cp[0] == laws.C_RIGID and lk[0][0] == laws.S_SCISSOR and math.isnan(kappa)
+    acct = {}
+    solve_paper_law(2.0, 0.1, contact="plastic", eta=0.5, dr=0.5, account=acct)
+    k1 = (2.0 / 3.0) / 0.1
+    assert acct["kappa"] == pytest.approx(laws.plastic_kappa(0.5, 0.5, k1), rel=1e-12)

@@ -5,8 +5,9 @@ import math
 import numpy as np
 import pytest
 
+import restitution
+from conftest import solve_paper_law as solve_nonlinear
 from restitution.kernels.paper_chain import solve_linear
-from restitution.solvers.numerical import solve_nonlinear
 
 PLASTIC = dict(contact="plastic")
 SCISSOR = dict(structure="scissor", ks_ratio=0.01)
@@ -132,27 +133,43 @@ def test_method_and_error_estimate_are_recorded():
 
 
 def test_auto_uses_the_exact_kernels_for_linear_scenes():
-    assert solve_nonlinear(2.2, beta=0.1).method == "piecewise"
-    assert solve_nonlinear(0.8, beta=0.0).method == "impulsive"
-    assert solve_nonlinear(0.8, beta=0.0, structure="scissor").method == "adaptive"
+    assert restitution.solve(2.2, beta=0.1, v0=1.0).method == "piecewise"
+    assert restitution.solve(0.8, beta=0.0, v0=1.0).method == "impulsive"
+    assert restitution.solve(0.8, beta=0.0, structure="scissor").method == "adaptive"
 
 
-def test_many_matches_single_scenes_and_names_a_bad_row():
+@pytest.mark.parametrize("method, setting", [("adaptive", "rtol"), ("verlet", "step")])
+def test_many_matches_single_scenes_and_names_a_bad_row(method, setting):
     import pandas as pd
 
     from restitution.model.scene import SceneError
-    from restitution.solvers.numerical import solve_nonlinear_many
 
-    frame = pd.DataFrame(SCENES)
-    got = solve_nonlinear_many(frame, rtol=1e-10)
-    for i, scene in enumerate(SCENES):
-        r = solve_nonlinear(**scene, rtol=1e-10, method="adaptive")
+    value = 1e-10 if setting == "rtol" else 0.02
+    frame = pd.DataFrame(SCENES).assign(xi=lambda f: f["xi"].fillna(0.0))
+    got = restitution.solve_many(frame.assign(method=method, **{setting: value}))
+    for i, scene in enumerate(SCENES):  # the batch rows are the single solves, bit for bit
+        r = restitution.solve(**scene, method=method, **{setting: value})
         assert got["cor"].iloc[i] == r.cor and got["n_collisions"].iloc[i] == r.n_collisions
-    assert (got["status"] == "ok").all()
+        assert got["error_estimate"].iloc[i] == r.error_estimate
+        assert got["status"].iloc[i] == r.status == "ok" and got["method"].iloc[i] == method
     bad = frame.copy()
     bad.loc[3, "L"] = -1.0
     with pytest.raises(SceneError, match=r"L .*row 3"):
-        solve_nonlinear_many(bad)
+        restitution.solve_many(bad)
+
+
+def test_many_groups_rows_by_method_and_settings():
+    import pandas as pd
+
+    frame = pd.DataFrame(SCENES[:3] * 2).fillna({"xi": 0.0}).assign(
+        method=["adaptive"] * 3 + ["verlet"] * 3, rtol=[1e-8, 1e-10, None, None, None, None],
+        step=[None, None, None, 0.02, 0.01, None],
+    )  # fmt: skip
+    got = restitution.solve_many(frame)
+    for i, row in enumerate(frame.to_dict("records")):
+        kw = {k: v for k, v in row.items() if not (isinstance(v, float) and math.isnan(v))}
+        r = restitution.solve(**kw)
+        assert got["cor"].iloc[i] == r.cor and got["error_estimate"].iloc[i] == r.error_estimate
 
 
 def test_energy_creating_plastic_reload_is_flagged():
@@ -178,12 +195,12 @@ def test_two_mass_batch_rows_fail_as_nan_never_unset():
 
     k2 = 2.0 / 3.0
     cp = laws.contact_params(laws.C_PLASTIC, k2 / 0.1, laws.plastic_kappa(0.5, 0.5, k2 / 0.1), 0.5)
-    sp = laws.linear_structure_params(k2)
-    alpha = np.array([2.0, np.nan, 2.0])
+    lk = np.tile(laws.linear_structure_params(k2), (3, 1, 1))
+    m = np.array([[1.0, 2.0], [1.0, np.nan], [1.0, 2.0]])
     v0 = np.array([1.0, 1.0, np.nan])
     out = solve_scene_batch(
-        alpha, v0, np.zeros(3), np.tile(cp, (3, 1)), np.tile(sp, (3, 1)), METHOD_ADAPTIVE, 1e-9,
-        0.01, 1e-6, 100,
+        m, lk, np.zeros((3, 1)), np.full(3, 2), np.tile(cp, (3, 1)), v0, METHOD_ADAPTIVE, 1e-9,
+        0.01, 1e-6, 100, 4e6,
     )  # fmt: skip
     assert out[0, OUT_STATUS] == STATUS_OK and 0 < out[0, OUT_COR] < 1
     for i in (1, 2):

@@ -34,7 +34,6 @@ ensure_cache()  # before any kernel is defined: a foreign or read-only NUMBA_CAC
 _LAZY = {
     "Chain": "restitution.model.chain",
     "Result": "restitution.solvers.result",
-    "Scene": "restitution.model.scene",
     "SceneError": "restitution.model.ranges",
     "solve": "restitution.api",
     "solve_many": "restitution.api",
@@ -48,14 +47,12 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerl
     from restitution.api import solve, solve_many
     from restitution.model.chain import Chain
     from restitution.model.ranges import SceneError
-    from restitution.model.scene import Scene
     from restitution.solvers.result import Result
     from restitution.trajectories import trajectory
 
 __all__ = [
     "Chain",
     "Result",
-    "Scene",
     "SceneError",
     "design",
     "solve",

@@ -4,9 +4,9 @@ Both take either the paper's form (alpha, beta, xi, n_masses) or a general chain
 springs, dashpots, k_contact, contact, links, v0; see ``restitution.Chain``), check everything
 before any work, pick the method with the solver table ``restitution.solvers.methods.METHODS`` and
 record
-it in every result. Nonlinear laws in the paper's form (two masses) are the keywords of
-``restitution.solvers.numerical.solve_nonlinear``: contact, eta, dr, structure, L, ks_ratio, theta0,
-corner, v0.
+it in every result. Nonlinear laws in the paper's form (two masses) are the keywords contact,
+eta, dr, structure, L, ks_ratio, theta0, corner, v0 (``restitution.model.chain.paper_with_laws``
+turns them into a Chain).
 """
 
 from __future__ import annotations
@@ -86,8 +86,8 @@ def solve(
     max_events : int
         Contact budget; a longer sequence ends with status ``event_budget_exhausted``.
     **law
-        Paper form only: the nonlinear laws and numerical settings of
-        ``restitution.solvers.numerical.solve_nonlinear`` (contact, eta, dr, structure, L, ks_ratio,
+        Paper form only: the nonlinear laws and numerical settings (contact, eta, dr, structure,
+        L, ks_ratio,
         theta0, corner, rtol, step).
 
     Examples
@@ -125,7 +125,7 @@ def solve(
             fast = _solve_paper(alpha, beta, xi, n_masses, method, history, max_events)
             if fast is not None:
                 return fast
-        if isinstance(contact, str):  # the paper form's contact="plastic" (solve_nonlinear)
+        if isinstance(contact, str):  # the paper form's contact="plastic"
             law["contact"], contact = contact, None
         if contact is not None or links is not None:
             raise SceneError("contact={...} and links=[...] need the general form (masses=...)")
@@ -242,7 +242,7 @@ def solve_many(
     progress: bool = False,
     keep=(),
 ) -> pd.DataFrame:
-    """Solve every row of a scene table (exact rows in parallel with numba ``prange``).
+    """Solve every row of a scene table (in parallel batches with numba ``prange``).
 
     The table takes the paper's form (column ``alpha``; optional ``beta, xi, n_masses``,
     defaults 0, 0, 2) or the general form (list columns ``masses, springs`` and optional
@@ -342,8 +342,9 @@ def _bar(n: int, progress: bool):
 
 
 def _fill(cols: dict, idx: np.ndarray, out: np.ndarray, errors: dict, passive=True) -> None:
-    """Result columns of the rows ``idx`` from their kernel rows (``passive``: a linear scene's,
-    whose open energy account also voids a row)."""
+    """Result columns of rows ``idx`` from their kernel rows (``passive``: linear scenes solved
+    exactly, whose open energy account also voids the row; numerical rows keep their COR with
+    status ``energy_account_open``, as ``Result.from_row`` does)."""
     if len(idx) == 0 or not len(out):
         return
     at = slice(None) if len(idx) == len(cols["cor"]) else idx  # (a slice writes 5x faster)

@@ -2,9 +2,10 @@
 
 Each curve of a panel is one plastic contact law (power-law loading F1 = kappa*x**eta, linear
 unloading with slope k1 = k2/beta; kappa follows from the nominal dissipation ratio DR, see
-``restitution.model.laws``), solved by the adaptive DP5(4) kernel (``solve_nonlinear_many``) on a
-log-spaced alpha grid. The elastic linear contact at the same beta (the Fig. 2(a) curve, exact
-closed-form solver ``restitution.solve_many``) is added as a reference curve.
+``restitution.model.laws``), solved by the adaptive DP5(4) kernel (``restitution.solve_many``,
+method ``adaptive``, rows in parallel batches) on a log-spaced alpha grid. The elastic linear
+contact at the same beta (the Fig. 2(a) curve, exact closed-form solver) is added as a reference
+curve.
 
 Cusps: between grid neighbours whose contact counts differ, the alpha bracket is bisected
 ``refine_steps`` times on the count (all brackets of a curve at once, one batch call per step) and
@@ -71,7 +72,6 @@ def curves(panel: dict) -> list[dict]:
 def evaluator(law: dict, sweep: dict, solver: dict):
     """alphas -> result table for one curve's law."""
     import restitution
-    from restitution.solvers.numerical import solve_nonlinear_many
 
     def evaluate(alphas):
         alphas = np.asarray(alphas, dtype=np.float64)
@@ -81,10 +81,11 @@ def evaluator(law: dict, sweep: dict, solver: dict):
                 base.assign(method=solver["method"]), max_events=solver["max_events"]
             )
         else:
-            scenes = base.assign(contact="plastic", eta=law["eta"], dr=law["dr"], v0=V0)
-            out = solve_nonlinear_many(
-                scenes, method="adaptive", rtol=sweep["rtol"], max_events=sweep["max_events"]
-            )
+            scenes = base.assign(
+                contact="plastic", eta=law["eta"], dr=law["dr"], v0=V0, method="adaptive",
+                rtol=sweep["rtol"],
+            )  # fmt: skip
+            out = restitution.solve_many(scenes, max_events=sweep["max_events"])
         return out.assign(contact=law["contact"], eta=law["eta"], dr=law["dr"], curve=law["curve"])
 
     return evaluate

@@ -6,8 +6,9 @@ from the config (the paper:
 beta = 1, ks = k1/100, so ks_ratio = ks/k2 = ks_over_k1/beta = 0.01), impact speed v0 (the
 scissor law makes the response velocity dependent), rest half angle theta0 and the corner
 stiffening parameter (both left open by the paper; see ``restitution.model.laws``). Solved by the
-adaptive DP5(4) kernel; the linear structural spring at the same beta (the exact closed-form
-solver) is added as the reference curve. Cusps refined on the contact count as in Fig. 4
+adaptive DP5(4) kernel (``restitution.solve_many``, rows in parallel batches); the linear
+structural spring at the same beta (the exact closed-form solver) is added as the reference
+curve. Cusps refined on the contact count as in Fig. 4
 (``restitution.analysis.sweeps.refined_sweep``); per-curve minima written as a CSV summary.
 """
 
@@ -18,7 +19,8 @@ import pandas as pd
 
 
 def spring_law(spring: dict) -> dict:
-    """Scissor law columns of ``solve_nonlinear_many`` from the config's spring subtree."""
+    """Scissor law columns of a ``restitution.solve_many`` table from the config's spring
+    subtree."""
     return {
         "ks_ratio": float(spring["ks_over_k1"]) / float(spring["beta"]),
         "theta0": math.radians(float(spring["theta0_deg"])),
@@ -46,7 +48,6 @@ def curves(spring: dict, panel: dict) -> list[dict]:
 
 def evaluator(law: dict, panel: dict, solver: dict):
     import restitution
-    from restitution.solvers.numerical import solve_nonlinear_many
 
     def evaluate(alphas):
         alphas = np.asarray(alphas, dtype=np.float64)
@@ -63,10 +64,10 @@ def evaluator(law: dict, panel: dict, solver: dict):
                 theta0=law["theta0"],
                 corner=law["corner"],
                 v0=law["v0"],
+                method="adaptive",
+                rtol=panel["rtol"],
             )
-            out = solve_nonlinear_many(
-                scenes, method="adaptive", rtol=panel["rtol"], max_events=panel["max_events"]
-            )
+            out = restitution.solve_many(scenes, max_events=panel["max_events"])
         keys = ("series", "structure", "L", "ks_ratio", "theta0", "corner", "v0", "curve")
         return out.assign(**{k: law[k] for k in keys})
 
@@ -81,7 +82,7 @@ def free_choice_scan(spring: dict, panel: dict, logger) -> pd.DataFrame:
     trend check, not a figure), and for each (theta0, corner) whether the mean COR falls as L
     grows. Runs whose status is not ok are left out of the means and counted.
     """
-    from restitution.solvers.numerical import solve_nonlinear_many
+    import restitution
 
     scan = panel["scan"]
     alphas = np.geomspace(panel["alpha_min"], panel["alpha_max"], int(scan["n_alpha"]))
@@ -93,10 +94,9 @@ def free_choice_scan(spring: dict, panel: dict, logger) -> pd.DataFrame:
                 scenes = pd.DataFrame({"alpha": alphas, "beta": float(spring["beta"]),
                                        "xi": 0.0, "n_masses": 2, "structure": "scissor",
                                        "L": float(L), "v0": float(panel["v0"]),
+                                       "method": "adaptive", "rtol": panel["rtol"],
                                        **spring_law(law)})  # fmt: skip
-                out = solve_nonlinear_many(
-                    scenes, method="adaptive", rtol=panel["rtol"], max_events=panel["max_events"]
-                )
+                out = restitution.solve_many(scenes, max_events=panel["max_events"])
                 ok = out[out["status"] == "ok"]
                 rows.append(dict(theta0_deg=float(theta0), corner=float(corner), L=float(L),
                                  mean_cor=float(ok["cor"].mean()), min_cor=float(ok["cor"].min()),

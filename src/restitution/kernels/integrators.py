@@ -1,20 +1,19 @@
-"""Integrators written once for any force law: velocity Verlet and Dormand-Prince 5(4).
+"""Integrators written once for any chain and any force law: velocity Verlet and Dormand-Prince
+5(4).
 
-The force laws enter only through their packed parameters ``cp`` (contact) and ``sp`` (structure)
-and the mutable contact memory ``mem``: ``rhs`` / ``accel_verlet`` below dispatch on the law codes
-of ``restitution.model.laws``, so any law added there is integrated by the same code. (Passing the
-law
-as a numba function argument would defeat numba's on-disk cache: a minute of compilation per
-process.)
+A chain is its masses ``m[n]`` (m[0] at the wall), one link law per neighbouring pair (rows of
+``lk``, each a ``structure_params`` array), dashpots ``c[n-1]``, the contact law ``cp`` and its
+mutable memory ``mem``. The force laws enter only through these packed parameters: ``rhs`` /
+``accel_verlet`` below dispatch on the law codes of ``restitution.model.laws``, so any law added
+there is integrated by the same code. (Passing the law as a numba function argument would defeat
+numba's on-disk cache: a minute of compilation per process.) Two masses are the chain n = 2;
+there is no separate two-mass stack.
 
-General chains have their own right-hand side, step and phase functions (``*_chain`` at the
-end of this module) sharing the tableau, dense output and event location.
-
-State y = [u1, u2, v1, v2, W, D]: lab-frame displacements and velocities of m1 = 1 and
-m2 = alpha, W = integral of the contact force times d(penetration) (work done on the contact),
-D = dashpot loss. mem = [phase, branch, xmax, fmax, xp, c, alpha, spare]: phase 1 = in contact,
-branch 1 = loading/rising, xmax/fmax the largest penetration and force so far (plastic), xp the
-residual dent (m1 touches iff x = -u1 > xp), c the dashpot coefficient.
+State y = [u_1..u_n, v_1..v_n, W, D] (length 2n + 2): lab-frame displacements and velocities,
+W = integral of the contact force times d(penetration) (work done on the contact), D = dashpot
+loss. mem = [phase, branch, xmax, fmax, xp, spare...]: phase 1 = in contact, branch 1 =
+loading/rising, xmax/fmax the largest penetration and force so far (plastic), xp the residual
+dent (m1 touches iff x = -u1 > xp).
 
 Event location (DP5(4)). Every event of these scenes is a *linear* functional g(y) = w.y + b of
 the state (a penetration, a velocity), so on an accepted step g along the dense output is a
@@ -73,43 +72,8 @@ _BINOM = np.array(
     [[1.0, 0, 0, 0, 0], [1, 1, 0, 0, 0], [1, 2, 1, 0, 0], [1, 3, 3, 1, 0], [1, 4, 6, 4, 1]]
 )
 
-M_PHASE, M_BRANCH, M_XMAX, M_FMAX, M_XP, M_C, M_ALPHA = 0, 1, 2, 3, 4, 5, 6
+M_PHASE, M_BRANCH, M_XMAX, M_FMAX, M_XP = 0, 1, 2, 3, 4
 N_MEM = 8
-N_Y = 6
-
-
-@njit(cache=True, error_model="numpy")
-def rhs(y, cp, sp, mem, dy):
-    """Equations of motion (m1 = 1, m2 = alpha) with the current contact branch."""
-    x = -y[0]
-    fc = 0.0
-    if mem[M_PHASE] == 1.0:
-        fc = contact_force(cp, int(mem[M_BRANCH]), mem[M_XMAX], mem[M_FMAX], x)
-    f2 = structure_force(sp, y[1] - y[0])
-    dv = y[3] - y[2]
-    fd = mem[M_C] * dv
-    dy[0] = y[2]
-    dy[1] = y[3]
-    dy[2] = fc + f2 + fd
-    dy[3] = -(f2 + fd) / mem[M_ALPHA]
-    dy[4] = -fc * y[2]
-    dy[5] = mem[M_C] * dv * dv
-
-
-@njit(cache=True, error_model="numpy")
-def accel_verlet(y, cp, sp, mem, acc):
-    """Accelerations for Verlet with the path-following (hysteretic) contact law."""
-    x = -y[0]
-    fc = 0.0
-    if cp[0] != C_RIGID:
-        fc, xm, fm = contact_hysteretic(cp, mem[M_XMAX], mem[M_FMAX], x)
-        mem[M_XMAX], mem[M_FMAX] = xm, fm
-    f2 = structure_force(sp, y[1] - y[0])
-    dv = y[3] - y[2]
-    fd = mem[M_C] * dv
-    acc[0] = fc + f2 + fd
-    acc[1] = -(f2 + fd) / mem[M_ALPHA]
-    return fc, mem[M_C] * dv * dv
 
 
 @njit(cache=True, error_model="numpy")
@@ -119,62 +83,12 @@ def dent(cp, mem):
     return 0.0
 
 
-@njit(cache=True, error_model="numpy")
-def no_contact_possible(y, cp, sp, mem):
-    """True when the centre of mass recedes and the internal energy cannot bring m1 back."""
-    a = mem[M_ALPHA]
-    m = 1.0 + a
-    mu = a / m
-    vcom = (y[2] + a * y[3]) / m
-    if vcom <= 0.0:
-        return False
-    xcom = (y[0] + a * y[1]) / m
-    r = y[1] - y[0]
-    w = y[3] - y[2]
-    e = 0.5 * mu * w * w + structure_energy(sp, r)
-    rhi = structure_extent(sp, e, 1.0)
-    return xcom + mem[M_XP] - mu * rhi > 0.0
-
-
-@njit(cache=True, error_model="numpy")
-def never_stop(y, cp, sp, mem):
-    return False
-
-
 # rk_phase return codes
 EV_STOP = -1  # the stop test passed (e.g. no further contact possible)
 EV_FAIL = -2  # step size underflow or step budget exhausted
 # rk_phase stop tests
 STOP_NEVER = 0
 STOP_NO_CONTACT = 1
-
-
-@njit(cache=True, error_model="numpy")
-def dp_step(y, f0, h, rtol, atol, cp, sp, mem, K, ynew, tmp):
-    """One DP5(4) step from y (with f0 = f(y)); fills K (7 x n) and ynew; returns the error norm."""
-    n = y.shape[0]
-    K[0, :] = f0
-    for s in range(1, 6):
-        for i in range(n):
-            acc = 0.0
-            for j in range(s):
-                acc += DP_A[s, j] * K[j, i]
-            tmp[i] = y[i] + h * acc
-        rhs(tmp, cp, sp, mem, K[s])
-    for i in range(n):
-        acc = 0.0
-        for j in range(6):
-            acc += DP_B[j] * K[j, i]
-        ynew[i] = y[i] + h * acc
-    rhs(ynew, cp, sp, mem, K[6])
-    err = 0.0
-    for i in range(n):
-        e = 0.0
-        for j in range(7):
-            e += DP_E[j] * K[j, i]
-        sc = atol + rtol * max(abs(y[i]), abs(ynew[i]))
-        err += (h * e / sc) ** 2
-    return math.sqrt(err / n)
 
 
 @njit(cache=True, error_model="numpy")
@@ -288,114 +202,8 @@ def first_root(c, n, strip):
 
 
 @njit(cache=True, error_model="numpy")
-def rk_phase(y, t, h, hmax, rtol, atol, cp, sp, mem, W, B, strip, nev, stop, work, err_acc):
-    """Integrate with DP5(4) until the first event (or ``stop``); y is updated in place.
-
-    W[k], B[k], strip[k] (k < nev) define the events g_k = W[k].y + B[k] (trigger: > 0 -> <= 0).
-    ``strip`` applies to the first step only; ``stop`` = STOP_NO_CONTACT ends the phase when
-    ``no_contact_possible`` after an accepted step. Returns (code, t, h_next) with code = event
-    index, EV_STOP or EV_FAIL (step underflow, or ``work[0]``, the right-hand-side evaluations
-    left for the scene, ran out). ``err_acc[0]`` accumulates the local error estimates of the
-    total momentum v1 + alpha*v2.
-    """
-    n = y.shape[0]
-    K = np.empty((7, n))
-    ynew = np.empty(n)
-    tmp = np.empty(n)
-    f0 = np.empty(n)
-    coef = np.empty(5)
-    rhs(y, cp, sp, mem, f0)
-    first = True
-    alpha = mem[6]
-    while work[0] > 0.0:
-        work[0] -= 6.0
-        h = min(h, hmax)
-        if not (h >= 1e-14 * max(1.0, abs(t)) and h < math.inf):  # also catches NaN
-            return EV_FAIL, t, h
-        err = dp_step(y, f0, h, rtol, atol, cp, sp, mem, K, ynew, tmp)
-        if not err <= 1.0:  # also catches NaN
-            fac = 0.2 if not err == err else max(0.2, 0.9 * err**-0.2)
-            h *= fac
-            continue
-        # accepted: look for the first event on the dense output
-        best = 2.0
-        which = -1
-        for k in range(nev):
-            event_poly(K, h, y, W[k], B[k], coef)
-            s = 0
-            if first and strip[k] > 0:
-                coef[0] = 0.0
-                s = strip[k]
-                while s < 4 and coef[s] == 0.0:
-                    s += 1
-            th = first_root(coef, 4, s)
-            if th >= 0.0 and th < best:
-                best, which = th, k
-        em = 0.0
-        for j in range(7):
-            em += DP_E[j] * (K[j, 2] + alpha * K[j, 3])
-        err_acc[0] += abs(h * em)
-        hn = h * min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.2))
-        if which >= 0:
-            dense_state(y, K, h, best, tmp)
-            y[:] = tmp
-            return which, t + best * h, max(h * best, 0.1 * h)
-        y[:] = ynew
-        f0[:] = K[6]
-        t += h
-        h = hn
-        first = False
-        if stop == STOP_NO_CONTACT and no_contact_possible(y, cp, sp, mem):
-            return EV_STOP, t, h
-    return EV_FAIL, t, h
-
-
-@njit(cache=True, error_model="numpy")
-def verlet_step(y, acc, h, cp, sp, mem):
-    """One velocity-Verlet step of y = [u1, u2, v1, v2, W_contact, D_dashpot].
-
-    ``accel_verlet(y, cp, sp, mem, acc)`` fills acc[0:2] with the accelerations and returns
-    (contact force, dashpot power). With a dashpot the new acceleration depends on the new
-    velocity: it is evaluated at the predictor v + h*a, then once more at the corrected velocity
-    (a fixed-point pass), which keeps the scheme second order. ``acc`` enters with a(y) and leaves
-    with a(y_new); W (contact work) and D (dashpot loss) use the trapezoidal rule.
-    """
-    x_old = -y[0]
-    f_old = acc[2]
-    p_old = acc[3]
-    for i in range(2):
-        vh = y[2 + i] + 0.5 * h * acc[i]
-        y[i] += h * vh
-        y[2 + i] = vh
-    # velocity predictor for the velocity-dependent part
-    v1, v2 = y[2], y[3]
-    y[2] = v1 + 0.5 * h * acc[0]
-    y[3] = v2 + 0.5 * h * acc[1]
-    fc, pw = accel_verlet(y, cp, sp, mem, acc)
-    y[2] = v1 + 0.5 * h * acc[0]
-    y[3] = v2 + 0.5 * h * acc[1]
-    # one corrector pass with the new velocities (keeps dashpot scenes second order)
-    if mem[M_C] != 0.0:
-        fc, pw = accel_verlet(y, cp, sp, mem, acc)
-        y[2] = v1 + 0.5 * h * acc[0]
-        y[3] = v2 + 0.5 * h * acc[1]
-    y[4] += 0.5 * (f_old + fc) * (-y[0] - x_old)
-    y[5] += 0.5 * h * (p_old + pw)
-    acc[2] = fc
-    acc[3] = pw
-
-
-# ------------------------------------------------------------------------------------------------
-# General chains: masses m[n] (m[0] at the wall), one link law per neighbouring pair (rows of
-# lk, each a structure_params array), dashpots c[n-1], the contact law cp and its memory mem.
-# State y = [u_1..u_n, v_1..v_n, W, D] (length 2n + 2); for n = 2 the layout of the two-mass
-# scene above. The DP5(4) tableau, dense output and event location are the ones above.
-# ------------------------------------------------------------------------------------------------
-
-
-@njit(cache=True, error_model="numpy")
-def rhs_chain(y, m, lk, c, cp, mem, dy):
-    """Equations of motion of a general chain with the current contact branch."""
+def rhs(y, m, lk, c, cp, mem, dy):
+    """Equations of motion of the chain with the current contact branch."""
     n = m.shape[0]
     for i in range(n):
         dy[i] = y[n + i]
@@ -419,8 +227,9 @@ def rhs_chain(y, m, lk, c, cp, mem, dy):
 
 
 @njit(cache=True, error_model="numpy")
-def dp_step_chain(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp):
-    """``dp_step`` for a general chain (rhs_chain)."""
+def dp_step(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp):
+    """One DP5(4) step from y (with f0 = f(y)); fills K (7 x len(y)) and ynew; returns the
+    error norm."""
     n = y.shape[0]
     K[0, :] = f0
     for s in range(1, 6):
@@ -429,13 +238,13 @@ def dp_step_chain(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp):
             for j in range(s):
                 acc += DP_A[s, j] * K[j, i]
             tmp[i] = y[i] + h * acc
-        rhs_chain(tmp, m, lk, c, cp, mem, K[s])
+        rhs(tmp, m, lk, c, cp, mem, K[s])
     for i in range(n):
         acc = 0.0
         for j in range(6):
             acc += DP_B[j] * K[j, i]
         ynew[i] = y[i] + h * acc
-    rhs_chain(ynew, m, lk, c, cp, mem, K[6])
+    rhs(ynew, m, lk, c, cp, mem, K[6])
     err = 0.0
     for i in range(n):
         e = 0.0
@@ -447,7 +256,7 @@ def dp_step_chain(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp):
 
 
 @njit(cache=True, error_model="numpy")
-def internal_energy_chain(y, m, lk):
+def internal_energy(y, m, lk):
     """Energy of the motion relative to the centre of mass: relative kinetic + link potentials."""
     n = m.shape[0]
     mt = 0.0
@@ -464,7 +273,7 @@ def internal_energy_chain(y, m, lk):
 
 
 @njit(cache=True, error_model="numpy")
-def no_contact_possible_chain(y, m, lk, xp):
+def no_contact_possible(y, m, lk, xp):
     """True when m1 provably never reaches the contact surface u1 = -xp again (free flight).
 
     The centre of mass X moves at the constant V (no wall force). m1 trails it by
@@ -484,7 +293,7 @@ def no_contact_possible_chain(y, m, lk, xp):
         q += m[i] * y[i]
     if p <= 0.0:
         return False
-    e = internal_energy_chain(y, m, lk)
+    e = internal_energy(y, m, lk)
     beyond = mt
     lin = 0.0
     bound = 0.0
@@ -500,15 +309,16 @@ def no_contact_possible_chain(y, m, lk, xp):
 
 
 @njit(cache=True, error_model="numpy")
-def rk_phase_chain(
-    y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, stop, work, err_acc
-):
-    """``rk_phase`` for a general chain: DP5(4) until the first event or ``stop``.
+def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, stop, work, err_acc):
+    """Integrate with DP5(4) until the first event (or ``stop``); y is updated in place.
 
-    Events g_k = W[k].y + B[k] as in ``rk_phase``; stop = STOP_NO_CONTACT ends the phase when
-    ``no_contact_possible_chain`` after an accepted step. ``work[0]`` counts right-hand-side
-    evaluations left for the whole scene (a budget in operations: results do not depend on the
-    machine or thread count); EV_FAIL when it runs out or the step underflows.
+    W[k], B[k], strip[k] (k < nev) define the events g_k = W[k].y + B[k] (trigger: > 0 -> <= 0);
+    ``strip`` applies to the first step only (leading zeros of an event that starts on its own
+    surface). Returns (code, t, h_next) with code = event index, EV_STOP or EV_FAIL.
+    stop = STOP_NO_CONTACT ends the phase when ``no_contact_possible`` after an accepted step.
+    ``work[0]`` counts right-hand-side evaluations left for the whole scene (a budget in
+    operations: results do not depend on the machine or thread count); EV_FAIL when it runs
+    out or the step underflows.
     ``err_acc[0]`` accumulates the local error estimates of the total momentum.
     """
     n = y.shape[0]
@@ -518,14 +328,14 @@ def rk_phase_chain(
     tmp = np.empty(n)
     f0 = np.empty(n)
     coef = np.empty(5)
-    rhs_chain(y, m, lk, c, cp, mem, f0)
+    rhs(y, m, lk, c, cp, mem, f0)
     first = True
     while work[0] > 0.0:
         work[0] -= 6.0
         h = min(h, hmax)
         if not (h >= 1e-14 * max(1.0, abs(t)) and h < math.inf):  # also catches NaN
             return EV_FAIL, t, h
-        err = dp_step_chain(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp)
+        err = dp_step(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp)
         if not err <= 1.0:  # also catches NaN
             fac = 0.2 if not err == err else max(0.2, 0.9 * err**-0.2)
             h *= fac
@@ -560,13 +370,13 @@ def rk_phase_chain(
         t += h
         h = hn
         first = False
-        if stop == STOP_NO_CONTACT and no_contact_possible_chain(y, m, lk, mem[M_XP]):
+        if stop == STOP_NO_CONTACT and no_contact_possible(y, m, lk, mem[M_XP]):
             return EV_STOP, t, h
     return EV_FAIL, t, h
 
 
 @njit(cache=True, error_model="numpy")
-def accel_verlet_chain(y, m, lk, c, cp, mem, acc):
+def accel_verlet(y, m, lk, c, cp, mem, acc):
     """Accelerations (acc[:n]) for Verlet with the path-following contact law; returns
     (contact force, dashpot power)."""
     n = m.shape[0]
@@ -591,8 +401,12 @@ def accel_verlet_chain(y, m, lk, c, cp, mem, acc):
 
 
 @njit(cache=True, error_model="numpy")
-def verlet_step_chain(y, acc, h, m, lk, c, cp, mem, damped):
-    """``verlet_step`` for a general chain; acc has n + 2 entries (accelerations, force, power)."""
+def verlet_step(y, acc, h, m, lk, c, cp, mem, damped):
+    """One velocity-Verlet step; acc has n + 2 entries (accelerations, contact force, dashpot
+    power) and enters with a(y), leaves with a(y_new). With a dashpot (``damped``) the new
+    acceleration depends on the new velocity: it is evaluated at the predictor v + h*a, then once
+    more at the corrected velocity (a fixed-point pass, which keeps the scheme second order).
+    W (contact work) and D (dashpot loss) use the trapezoidal rule."""
     n = m.shape[0]
     x_old = -y[0]
     f_old = acc[n]
@@ -604,11 +418,11 @@ def verlet_step_chain(y, acc, h, m, lk, c, cp, mem, damped):
     vhalf = y[n : 2 * n].copy()
     for i in range(n):
         y[n + i] = vhalf[i] + 0.5 * h * acc[i]
-    fc, pw = accel_verlet_chain(y, m, lk, c, cp, mem, acc)
+    fc, pw = accel_verlet(y, m, lk, c, cp, mem, acc)
     for i in range(n):
         y[n + i] = vhalf[i] + 0.5 * h * acc[i]
     if damped:
-        fc, pw = accel_verlet_chain(y, m, lk, c, cp, mem, acc)
+        fc, pw = accel_verlet(y, m, lk, c, cp, mem, acc)
         for i in range(n):
             y[n + i] = vhalf[i] + 0.5 * h * acc[i]
     y[2 * n] += 0.5 * (f_old + fc) * (-y[0] - x_old)

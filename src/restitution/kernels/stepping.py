@@ -1,25 +1,22 @@
 """Nonlinear scene kernels: DP5(4) with guaranteed events, or the paper's velocity Verlet.
 
-``solve_scene`` (two masses, free flight closed form for a linear structure) and
-``solve_chain_scene`` / ``solve_chain_scene_batch`` (any chain: masses m[n], a link law and a
-dashpot per neighbouring pair, any contact law of ``restitution.model.laws``; every phase
-integrated,
-the same phase machine and event location). Both count their work in right-hand-side
+``solve_scene`` / ``solve_scene_batch``: any chain (masses m[n], a link law and a dashpot per
+neighbouring pair, any contact law of ``restitution.model.laws``); two masses are the chain
+n = 2, there is no separate two-mass stack. The state is y = [u_1..u_n, v_1..v_n, W, D] and the
+contact memory mem as in integrators.py. The kernels count their work in right-hand-side
 evaluations (STATUS_WORK_BUDGET, the same on every machine and thread count), return a NaN COR
 for any unfinished sequence, and never raise for finite input (compiled with
-``error_model="numpy"``); batch rows start as NaN with STATUS_NOT_RUN. The two-mass kernel is
-described below; the chain kernel differs only in the state y = [u_1..u_n, v_1..v_n, W, D] and
-in ending free flight by ``integrators.no_contact_possible_chain``.
+``error_model="numpy"``); batch rows start as NaN with STATUS_NOT_RUN.
 
-State y and contact memory mem as in integrators.py.
-
-Adaptive method: only phases whose force law is nonlinear are integrated. Free flight with a linear
-structure is closed form: the centre of mass X moves at constant V and r = u2 - u1 solves
-r'' + 2 xi r' + r = 0 (omega = 1), so the gap g = u1 + xp = X + xp - mu r has |g''| <= G =
-mu*sqrt(1 + 4 xi**2)*sqrt(r0**2 + r0'**2) (r**2 + r'**2 never grows). The next contact is found
-by a scan whose intervals are skipped only when min(g(a), g(b)) - G h**2/8 > 0 (the linear
-interpolation error bound): no sampling gamble, shallow dips are subdivided until resolved.
-With ``integrate_free`` (tests) free flight is integrated by DP5(4) too.
+Adaptive method: the contact phases are integrated by DP5(4). Free flight is integrated too, with
+the same guaranteed event location, and ends by the proof of ``integrators.no_contact_possible``
+-- except for two masses joined by a linear link (the paper's Sections 3.1 and 3.4), whose free
+flight is closed form (``free_flight_linear``, unless ``free_closed`` is False): the centre of
+mass X moves at constant V and r = u2 - u1 solves r'' + 2 xi w r' + w**2 r = 0, so the gap
+g = u1 + xp = X + xp - mu r has |g''| <= G = mu w**2 sqrt(1 + 4 xi**2) sqrt(r0**2 + (r0'/w)**2)
+(the oscillator's energy never grows). The next contact is found by a scan whose intervals are
+skipped only when min(g(a), g(b)) - G h**2/8 > 0 (the linear interpolation error bound): no
+sampling gamble, shallow dips are subdivided until resolved.
 
 Contact phases are two-branch machines whose switches are all linear events (integrators.py):
 plastic: loading --(x' = 0)--> elastic --(x = xmax)--> loading, elastic --(x = xp)--> separated;
@@ -29,8 +26,12 @@ History x_max is exact for linear contacts and for plastic contacts that reach t
 plastic contact that stays on the elastic line (no reload) records its entry penetration (the
 dent), a lower bound: its turn is not an event since the force law does not change there.
 
-Energy account (fractions of E0 = (1 + alpha) v0**2/2, at the final separation): e_trans = cor**2,
-e_vib = relative kinetic + structural energy, e_diss = W + D (contact + dashpot, integrated as
+Verlet: the paper's fixed step, step_frac * 2 pi / w with w the highest frequency of the chain
+with the contact's slope scale engaged: exact for two masses (the paper's step), the Gershgorin
+bound for longer chains.
+
+Energy account (fractions of E0 = M v0**2/2, at the final separation): e_trans = cor**2,
+e_vib = relative kinetic + link energy, e_diss = W + D (contact + dashpot, integrated as
 extra ODE components, independent of the other two). |sum - 1| > etol -> STATUS_ENERGY, and so
 does a negative net contact work (a passive contact cannot create energy; see solve_scene).
 """
@@ -43,26 +44,19 @@ from numba import njit, prange
 from restitution.kernels.integrators import (
     EV_FAIL,
     EV_STOP,
-    M_ALPHA,
     M_BRANCH,
-    M_C,
     M_FMAX,
     M_PHASE,
     M_XMAX,
     M_XP,
     N_MEM,
-    N_Y,
     STOP_NEVER,
     STOP_NO_CONTACT,
     accel_verlet,
-    accel_verlet_chain,
     dent,
     no_contact_possible,
-    no_contact_possible_chain,
     rk_phase,
-    rk_phase_chain,
     verlet_step,
-    verlet_step_chain,
 )
 from restitution.kernels.layout import (
     H_IMPULSE,
@@ -95,6 +89,7 @@ from restitution.model.laws import (
     C_RIGID,
     S_LINEAR,
     SP_K2,
+    SP_KIND,
     contact_elastic,
     contact_params_ok,
     structure_energy,
@@ -103,12 +98,12 @@ from restitution.model.laws import (
 N_ACCT = 5  # kinetic, elastic, dissipated in contact, dissipated in dashpot, residual
 METHOD_ADAPTIVE = 0
 METHOD_VERLET = 1
-# Work budget of a two-mass scene in right-hand-side evaluations (about 5-10 s; the slowest
-# in-range scene of the test suite needs far less): ends a scene with STATUS_WORK_BUDGET.
-MAX_WORK_TWO_MASS = 50_000_000.0
+# Right-hand-side evaluations per scene (about a second for N = 8): a scene that needs more ends
+# with STATUS_WORK_BUDGET.
+MAX_WORK_DEFAULT = 4_000_000
 
 
-# ---------------------------------------------------------------- closed-form free flight --
+# ------------------------------------------------- closed-form free flight of two masses --
 @njit(cache=True, error_model="numpy")
 def _osc(s, xi, r0, w0):
     """r(s), r'(s) of r'' + 2 xi r' + r = 0 (all damping regimes, overflow-free)."""
@@ -133,56 +128,61 @@ def _osc(s, xi, r0, w0):
 
 
 @njit(cache=True, error_model="numpy")
-def _gap(s, x0, v, mu, xi, r0, w0):
-    r, _ = _osc(s, xi, r0, w0)
+def _gap(s, x0, v, mu, xi, w, r0, w0):
+    r, _ = _osc(w * s, xi, r0, w0)
     return x0 + v * s - mu * r
 
 
 @njit(cache=True, error_model="numpy")
-def free_flight_linear(y, xp, xi, alpha):
-    """Advance y (linear structure, no contact) to the next contact; return its local time or -1.
+def free_flight_linear(y, xp, m1, m2, k, c):
+    """Advance two masses joined by a linear link (k, dashpot c; no contact) to the next contact;
+    return its local time or -1 (m1 never reaches the contact surface u1 = -xp again).
 
-    On a contact, y is the state there with u1 = -xp exactly, and y[5] gains the dashpot loss.
+    y = [u1, u2, v1, v2, W, D]. On a contact, y is the state there with u1 = -xp exactly, and
+    y[5] gains the dashpot loss.
     """
-    m = 1.0 + alpha
-    mu = alpha / m
-    x0 = (y[0] + alpha * y[1]) / m + xp
-    v = (y[2] + alpha * y[3]) / m
+    m = m1 + m2
+    mu = m2 / m
+    inv = 1.0 / m1 + 1.0 / m2
+    w = math.sqrt(k * inv)  # the link's angular frequency; times below are lab times
+    xi = c * inv / (2.0 * w)
+    x0 = (m1 * y[0] + m2 * y[1]) / m + xp
+    v = (m1 * y[2] + m2 * y[3]) / m
     r0 = y[1] - y[0]
-    w0 = y[3] - y[2]
+    w0 = (y[3] - y[2]) / w  # dr/d(w t)
     amp = math.sqrt(r0 * r0 + w0 * w0)
-    gbound = mu * math.sqrt(1.0 + 4.0 * xi * xi) * amp
+    gbound = mu * w * w * math.sqrt(1.0 + 4.0 * xi * xi) * amp
     g0 = x0 - mu * r0
-    dg0 = v - mu * w0
+    dg0 = v - mu * w * w0
     s = 0.0
     if g0 <= 0.0:
         g0 = 0.0
     if g0 == 0.0:
         if dg0 <= 0.0:
             return 0.0  # leaving along the surface: touching again at once
-        s = dg0 / gbound if gbound > 0.0 else 1.0
-    gs = _gap(s, x0, v, mu, xi, r0, w0)
-    h = 0.25
+        s = dg0 / gbound if gbound > 0.0 else 1.0 / w
+    gs = _gap(s, x0, v, mu, xi, w, r0, w0)
+    h = 0.25 / w
     hit = -1.0
     for _ in range(100_000_000):
         if v > 0.0 and x0 + v * s - mu * amp > 0.0:
             break  # the gap can never close again
-        if v <= 0.0 and s > 1e9:
+        if v <= 0.0 and w * s > 1e9:
             break
-        gb = _gap(s + h, x0, v, mu, xi, r0, w0)
+        gb = _gap(s + h, x0, v, mu, xi, w, r0, w0)
         if gb <= 0.0:
             lo, hi = s, s + h
             for _ in range(200):
                 mid = 0.5 * (lo + hi)
                 if mid <= lo or mid >= hi:
                     break
-                if _gap(mid, x0, v, mu, xi, r0, w0) > 0.0:
+                if _gap(mid, x0, v, mu, xi, w, r0, w0) > 0.0:
                     lo = mid
                 else:
                     hi = mid
             hit = hi
             break
-        if min(gs, gb) - gbound * h * h / 8.0 > 0.0 or h < 1e-12 * max(1.0, s):
+        if min(gs, gb) - gbound * h * h / 8.0 > 0.0 or w * h < 1e-12 * max(1.0, w * s):
             s += h
             gs = gb
             h *= 2.0  # the bound test itself limits h where the gap is small
@@ -190,13 +190,13 @@ def free_flight_linear(y, xp, xi, alpha):
             h *= 0.5
     if hit < 0.0:
         return -1.0
-    r, w = _osc(hit, xi, r0, w0)
-    e_before = 0.5 * mu * (r0 * r0 + w0 * w0)
-    e_after = 0.5 * mu * (r * r + w * w)
+    r, wr = _osc(w * hit, xi, r0, w0)
+    e_before = 0.5 * mu * m1 * w * w * (r0 * r0 + w0 * w0)  # (reduced mass m1 mu)
+    e_after = 0.5 * mu * m1 * w * w * (r * r + wr * wr)
     y[0] = -xp
     y[1] = -xp + r
-    y[2] = v - mu * w
-    y[3] = v + w / m
+    y[2] = v - mu * w * wr
+    y[3] = v + (m1 / m) * w * wr
     y[5] += e_before - e_after
     return hit
 
@@ -273,314 +273,9 @@ def _contact_switch(code, y, iv, kind, cp, mem, how, xmax_c):
 
 
 @njit(cache=True, error_model="numpy")
-def _energies(y, sp, alpha, v0, out, acct):
-    m = 1.0 + alpha
-    e0 = 0.5 * m * v0 * v0
-    vc = (y[2] + alpha * y[3]) / m
-    w = y[3] - y[2]
-    ekin = 0.5 * (y[2] * y[2] + alpha * y[3] * y[3])
-    eel = structure_energy(sp, y[1] - y[0])
-    out[OUT_COR] = vc / v0
-    out[OUT_ETRANS] = vc * vc / (v0 * v0)
-    out[OUT_EVIB] = (0.5 * (alpha / m) * w * w + eel) / e0
-    out[OUT_EDISS] = (y[4] + y[5]) / e0
-    acct[0] = ekin / e0
-    acct[1] = eel / e0
-    acct[2] = y[4] / e0
-    acct[3] = y[5] / e0
-    acct[4] = out[OUT_ETRANS] + out[OUT_EVIB] + out[OUT_EDISS] - 1.0
-
-
-@njit(cache=True, error_model="numpy")
 def _record(hist, n, col, value):
     if n < hist.shape[0]:
         hist[n, col] = value
-
-
-@njit(cache=True, error_model="numpy")
-def solve_scene(
-    alpha, v0, xi, cp, sp, method, rtol, step_frac, integrate_free, etol, max_events, hist, acct
-):
-    """COR of one two-mass scene; ``out`` in the layout of kernels/layout.py.
-
-    method 0 = adaptive DP5(4) (rtol; atol = rtol*v0), 1 = velocity Verlet (step = step_frac of
-    the shortest local period). ``acct`` receives the energy account (N_ACCT entries).
-    """
-    out = np.zeros(N_OUT)
-    y = np.zeros(N_Y)
-    y[2] = -v0
-    y[3] = -v0
-    mem = np.zeros(N_MEM)
-    mem[M_C] = 2.0 * xi * sp[SP_K2]
-    mem[M_ALPHA] = alpha
-    m = 1.0 + alpha
-    ysep = y.copy()  # state at the latest separation: the energies are taken there
-    work = np.full(1, MAX_WORK_TWO_MASS)
-    if method == METHOD_VERLET:
-        status, ncol, tcol = _verlet(y, ysep, cp, sp, mem, step_frac, max_events, work, hist, v0)
-        err = 0.0
-    else:
-        status, ncol, tcol, err = _adaptive(
-            y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, work, hist, v0
-        )
-    _energies(ysep, sp, alpha, v0, out, acct)
-    out[OUT_NCOL] = ncol
-    out[OUT_TCOL] = tcol
-    out[OUT_NEVENTS] = ncol
-    out[OUT_ERR] = err / (m * v0)
-    if status == STATUS_OK and not abs(acct[4]) <= etol:
-        status = STATUS_ENERGY
-    # A passive contact returns at most what it absorbed: net contact work < 0 means the law
-    # created energy (the paper's plastic law can, when eta > 1 makes the loading tangent at a
-    # reload steeper than the unloading slope k1), so the result must not pass as good.
-    if status == STATUS_OK and acct[2] < -etol:
-        status = STATUS_ENERGY
-    if status == STATUS_OK and not (math.isfinite(out[OUT_COR]) and math.isfinite(out[OUT_TCOL])):
-        status = STATUS_NONCONVERGED  # never a non-finite number marked ok
-    if status != STATUS_OK and status != STATUS_ENERGY:
-        out[OUT_COR] = np.nan  # an unfinished sequence has no COR
-    out[OUT_STATUS] = status
-    return out
-
-
-@njit(cache=True, error_model="numpy")
-def _adaptive(y, ysep, cp, sp, mem, xi, rtol, integrate_free, max_events, work, hist, v0):
-    alpha = mem[M_ALPHA]
-    atol = rtol * v0
-    kind = int(cp[0])
-    linear_free = sp[0] == S_LINEAR and not integrate_free
-    W = np.zeros((2, N_Y))
-    B = np.zeros(2)
-    strip = np.zeros(2, dtype=np.int64)
-    err_acc = np.zeros(1)
-    t = 0.0
-    tcol = 0.0
-    ncol = 1
-    # contact-scale step guess and cap: k1 sets the contact period
-    k1 = cp[1] if kind != C_RIGID else 1.0
-    hc = 0.05 / math.sqrt(k1 + 1.0)
-    hf = 0.05
-    h = hc
-    p_in = y[2] + alpha * y[3]
-    _record(hist, 0, H_TSTART, 0.0)
-    _record(hist, 0, H_VIN, y[2] / v0)
-    xmax_c = 0.0
-    if kind == C_RIGID:
-        y[2] = -y[2]
-        ysep[:] = y
-        _record(hist, 0, H_TEND, 0.0)
-        _record(hist, 0, H_VOUT, y[2] / v0)
-        _record(hist, 0, H_IMPULSE, (y[2] + alpha * y[3] - p_in) / v0)
-        mem[M_PHASE] = 0.0
-    else:
-        mem[M_PHASE] = 1.0
-        mem[M_BRANCH] = 1.0
-    entering = True
-    how = ENTER
-    while work[0] > 0.0:
-        work[0] -= 1.0  # a phase switch costs at least one evaluation
-        if mem[M_PHASE] == 1.0:
-            nev = _setup_contact_events(cp, mem, W, B, strip, how)
-            code, t, h = rk_phase(
-                y,
-                t,
-                h,
-                1e300,
-                rtol,
-                atol,
-                cp,
-                sp,
-                mem,
-                W,
-                B,
-                strip,
-                nev,
-                STOP_NEVER,
-                work,
-                err_acc,
-            )
-            if code == EV_FAIL or code == EV_STOP:
-                return _fail(work), ncol, tcol, err_acc[0]
-            how, xmax_c, separated = _contact_switch(code, y, 2, kind, cp, mem, how, xmax_c)
-            if separated:
-                tcol = t
-                ysep[:] = y
-                n = ncol - 1
-                _record(hist, n, H_TEND, t)
-                _record(hist, n, H_VOUT, y[2] / v0)
-                _record(hist, n, H_XMAX, xmax_c)
-                _record(hist, n, H_IMPULSE, (y[2] + alpha * y[3] - p_in) / v0)
-                entering = True
-                h = hf
-        else:
-            if linear_free:
-                s = free_flight_linear(y, mem[M_XP], xi, alpha)
-                if s < 0.0:
-                    return STATUS_OK, ncol, tcol, err_acc[0]
-                t += s
-                h = hc
-                work[0] -= 100.0  # a closed-form free flight: about 100 gap evaluations
-            else:
-                W[0, :] = 0.0
-                W[0, 0] = 1.0
-                B[0] = mem[M_XP]
-                strip[0] = 1 if entering else 0
-                code, t, h = rk_phase(
-                    y,
-                    t,
-                    h,
-                    0.5,
-                    rtol,
-                    atol,
-                    cp,
-                    sp,
-                    mem,
-                    W,
-                    B,
-                    strip,
-                    1,
-                    STOP_NO_CONTACT,
-                    work,
-                    err_acc,
-                )
-                if code == EV_STOP:
-                    return STATUS_OK, ncol, tcol, err_acc[0]
-                if code == EV_FAIL:
-                    return _fail(work), ncol, tcol, err_acc[0]
-                y[0] = -mem[M_XP]
-                h = hc
-            # a new contact starts
-            if ncol >= max_events:
-                return STATUS_EVENT_BUDGET, ncol, tcol, err_acc[0]
-            n = ncol
-            ncol += 1
-            xmax_c = -y[0]
-            p_in = y[2] + alpha * y[3]
-            _record(hist, n, H_TSTART, t)
-            _record(hist, n, H_VIN, y[2] / v0)
-            if kind == C_RIGID:
-                y[2] = -y[2]
-                tcol = t
-                ysep[:] = y
-                _record(hist, n, H_TEND, t)
-                _record(hist, n, H_VOUT, y[2] / v0)
-                _record(hist, n, H_IMPULSE, (y[2] + alpha * y[3] - p_in) / v0)
-                entering = True
-                h = hf
-            else:
-                mem[M_PHASE] = 1.0
-                if contact_elastic(cp) or mem[M_FMAX] == 0.0:
-                    mem[M_BRANCH] = 1.0
-                else:
-                    mem[M_BRANCH] = 0.0
-                how = ENTER
-    return STATUS_WORK_BUDGET, ncol, tcol, err_acc[0]
-
-
-@njit(cache=True, error_model="numpy")
-def _verlet(y, ysep, cp, sp, mem, step_frac, max_events, work, hist, v0):
-    """The paper's scheme: fixed step = step_frac * shortest local period of the scene.
-
-    The shortest period is that of the stiffest linearisation (contact spring k1 engaged, which
-    also bounds the plastic unloading and the scissor's capped slope). One step for the whole
-    scene: switching steps at state-dependent times would add its own O(h) jitter.
-    """
-    alpha = mem[M_ALPHA]
-    k2 = sp[SP_K2]
-    k1 = cp[1]
-    # highest eigenfrequency with the contact spring engaged (k1 bounds the plastic slopes)
-    tr = k1 + k2 + k2 / alpha
-    det = k1 * k2 / alpha
-    lam = 0.5 * tr + math.sqrt(max(0.25 * tr * tr - det, 0.0))
-    h_contact = step_frac * 2.0 * math.pi / math.sqrt(lam)
-    acc = np.zeros(4)
-    fc, pw = accel_verlet(y, cp, sp, mem, acc)
-    acc[2], acc[3] = fc, pw
-    t = 0.0
-    ncol = 1
-    tcol = 0.0
-    in_contact = True
-    xmax_c = 0.0
-    p_in = y[2] + alpha * y[3]
-    _record(hist, 0, H_TSTART, 0.0)
-    _record(hist, 0, H_VIN, y[2] / v0)
-    it = 0
-    while work[0] > 0.0:
-        work[0] -= 2.0
-        it += 1
-        h = h_contact
-        verlet_step(y, acc, h, cp, sp, mem)
-        t += h
-        now = acc[2] > 0.0
-        if now and not in_contact:
-            if ncol >= max_events:
-                return STATUS_EVENT_BUDGET, ncol, tcol
-            _record(hist, ncol, H_TSTART, t)
-            _record(hist, ncol, H_VIN, y[2] / v0)
-            p_in = y[2] + alpha * y[3]
-            xmax_c = 0.0
-            ncol += 1
-        if now:
-            xmax_c = max(xmax_c, -y[0])
-        if in_contact and not now:
-            tcol = t
-            ysep[:] = y
-            n = ncol - 1
-            _record(hist, n, H_TEND, t)
-            _record(hist, n, H_VOUT, y[2] / v0)
-            _record(hist, n, H_XMAX, xmax_c)
-            _record(hist, n, H_IMPULSE, (y[2] + alpha * y[3] - p_in) / v0)
-        in_contact = now
-        if not now:
-            mem[M_XP] = dent(cp, mem)
-            # the test costs a bisection for the scissor: every 8th free step is enough
-            if (it & 7) == 0 and no_contact_possible(y, cp, sp, mem):
-                return STATUS_OK, ncol, tcol
-    return STATUS_WORK_BUDGET, ncol, tcol
-
-
-@njit(cache=True, parallel=True, error_model="numpy")
-def solve_scene_batch(alpha, v0, xi, cp, sp, method, rtol, step_frac, etol, max_events):
-    """``solve_scene`` over rows (alpha[i], v0[i], xi[i], cp[i], sp[i]); returns (n, N_OUT).
-
-    Rows are independent, so results are bit-identical for any number of threads.
-    """
-    n = alpha.shape[0]
-    out = np.full((n, N_OUT), np.nan)  # rows start unfinished: NaN, STATUS_NOT_RUN
-    for i in range(n):
-        out[i, OUT_STATUS] = STATUS_NOT_RUN
-    nb, size, p = row_blocks(n)  # rows spread over the threads (kernels.parallel)
-    for j in prange(nb):
-        b = (j * p) % nb
-        hist = np.zeros((0, 6))
-        for i in range(b * size, min(n, b * size + size)):
-            acct = np.zeros(N_ACCT)
-            out[i] = solve_scene(
-                alpha[i],
-                v0[i],
-                xi[i],
-                cp[i],
-                sp[i],
-                method,
-                rtol,
-                step_frac,
-                False,
-                etol,
-                max_events,
-                hist,
-                acct,
-            )
-    return out
-
-
-# ================================================================================================
-# General chains: masses m[n], link laws lk[n-1] (structure_params rows), dashpots c[n-1], any
-# contact law cp. Both phases are integrated by DP5(4) (the closed-form free flight of a linear
-# chain belongs to the exact chain kernel; here free flight is integrated with the same
-# guaranteed event location, and its end is the proof of integrators.no_contact_possible_chain).
-# ================================================================================================
-
-MAX_WORK_DEFAULT = 4_000_000  # right-hand-side evaluations per scene (about a second for N = 8)
 
 
 @njit(cache=True, error_model="numpy")
@@ -602,6 +297,20 @@ def chain_frequency_bound(m, lk, kc):
 
 
 @njit(cache=True, error_model="numpy")
+def verlet_frequency(m, lk, kc):
+    """The highest angular frequency that sets Verlet's step: exact for two masses (the largest
+    eigenvalue of the 2 x 2 problem with the contact slope kc on m1 and the link at its largest
+    slope, as the paper's step), ``chain_frequency_bound`` for longer chains."""
+    if m.shape[0] != 2:
+        return chain_frequency_bound(m, lk, kc)
+    k = lk[0, SP_K2]
+    tr = (kc + k) / m[0] + k / m[1]
+    det = kc * k / (m[0] * m[1])
+    lam = 0.5 * tr + math.sqrt(max(0.25 * tr * tr - det, 0.0))
+    return math.sqrt(lam)
+
+
+@njit(cache=True, error_model="numpy")
 def _momentum(y, m):
     n = m.shape[0]
     p = 0.0
@@ -611,7 +320,7 @@ def _momentum(y, m):
 
 
 @njit(cache=True, error_model="numpy")
-def _energies_chain(y, m, lk, v0, out, acct):
+def _energies(y, m, lk, v0, out, acct):
     n = m.shape[0]
     mt = 0.0
     ek = 0.0
@@ -636,7 +345,7 @@ def _energies_chain(y, m, lk, v0, out, acct):
 
 
 @njit(cache=True, error_model="numpy")
-def chain_input_ok(m, lk, c, cp, v0):
+def input_ok(m, lk, c, cp, v0):
     """The kernel's own guard (the Python entry checks and names every parameter first)."""
     n = m.shape[0]
     if n < 1 or lk.shape[0] < n - 1 or c.shape[0] < n - 1:
@@ -655,15 +364,18 @@ def chain_input_ok(m, lk, c, cp, v0):
 
 
 @njit(cache=True, error_model="numpy")
-def solve_chain_scene(
-    m, lk, c, cp, v0, method, rtol, step_frac, etol, max_events, max_work, hist, acct
-):
-    """COR of one general chain with any contact and link laws; ``out`` as kernels/layout.py.
+def solve_scene(
+    m, lk, c, cp, v0, method, rtol, step_frac, etol, max_events, max_work, hist, acct,
+    free_closed=True,
+):  # fmt: skip
+    """COR of one chain with any contact and link laws; ``out`` as kernels/layout.py.
 
     m[n] (m[0] = 1 in kernel units), lk[n-1] link laws, c[n-1] dashpots, cp the contact law; all
     masses start at -v0 with m1 on the wall surface. method 0 = adaptive DP5(4) (rtol, atol =
-    rtol*v0), 1 = velocity Verlet (step = step_frac * 2 pi / the Gershgorin frequency bound).
-    ``max_work`` bounds the right-hand-side evaluations (STATUS_WORK_BUDGET). Never raises for
+    rtol*v0), 1 = velocity Verlet (step = step_frac * 2 pi / ``verlet_frequency``).
+    ``max_work`` bounds the right-hand-side evaluations (STATUS_WORK_BUDGET); ``acct`` receives
+    the energy account (N_ACCT entries); ``free_closed`` = False integrates the free flight of
+    two masses with a linear link too (checks of the integrated free flight). Never raises for
     finite input: a failure is a NaN COR with its status.
     """
     out = np.full(N_OUT, np.nan)
@@ -672,7 +384,7 @@ def solve_chain_scene(
     out[OUT_NEVENTS] = 0.0
     for i in range(acct.shape[0]):
         acct[i] = np.nan
-    if not chain_input_ok(m, lk, c, cp, v0):
+    if not input_ok(m, lk, c, cp, v0):
         return out
     n = m.shape[0]
     y = np.zeros(2 * n + 2)
@@ -686,18 +398,18 @@ def solve_chain_scene(
     for i in range(n):
         mt += m[i]
     if method == METHOD_VERLET:
-        status, ncol, tcol = _verlet_chain(
+        status, ncol, tcol = _verlet(
             y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist, v0
         )
         err = 0.0
     else:
-        status, ncol, tcol, err = _adaptive_chain(
-            y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0
+        status, ncol, tcol, err = _adaptive(
+            y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free_closed
         )
     out[OUT_NCOL] = ncol
     out[OUT_NEVENTS] = ncol
     out[OUT_TCOL] = tcol
-    _energies_chain(ysep, m, lk, v0, out, acct)
+    _energies(ysep, m, lk, v0, out, acct)
     out[OUT_ERR] = err / (mt * v0)
     if status == STATUS_OK and not abs(acct[4]) <= etol:
         status = STATUS_ENERGY
@@ -714,8 +426,9 @@ def solve_chain_scene(
 
 
 @njit(cache=True, error_model="numpy")
-def _adaptive_chain(y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0):
+def _adaptive(y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free_closed):
     n = m.shape[0]
+    closed = free_closed and n == 2 and lk[0, SP_KIND] == S_LINEAR
     ny = 2 * n + 2
     atol = rtol * v0
     kind = int(cp[0])
@@ -756,7 +469,7 @@ def _adaptive_chain(y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0
     while True:
         if mem[M_PHASE] == 1.0:
             nev = _setup_contact_events(cp, mem, W, B, strip, how, n)
-            code, t, h = rk_phase_chain(
+            code, t, h = rk_phase(
                 y, t, h, 1e300, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev,
                 STOP_NEVER, work, err_acc,
             )  # fmt: skip
@@ -774,19 +487,28 @@ def _adaptive_chain(y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0
                 entering = True
                 h = hf
         else:
-            W[0, :] = 0.0
-            W[0, 0] = 1.0
-            B[0] = mem[M_XP]
-            strip[0] = 1 if entering else 0
-            code, t, h = rk_phase_chain(
-                y, t, h, hmax_free, rtol, atol, m, lk, c, cp, mem, W, B, strip, 1,
-                STOP_NO_CONTACT, work, err_acc,
-            )  # fmt: skip
-            if code == EV_STOP:
-                return STATUS_OK, ncol, tcol, err_acc[0]
-            if code == EV_FAIL:
-                return _fail(work), ncol, tcol, err_acc[0]
-            y[0] = -mem[M_XP]
+            if closed:
+                s = free_flight_linear(y, mem[M_XP], m[0], m[1], lk[0, SP_K2], c[0])
+                if s < 0.0:
+                    return STATUS_OK, ncol, tcol, err_acc[0]
+                t += s
+                work[0] -= 100.0  # a closed-form free flight: about 100 gap evaluations
+                if work[0] <= 0.0:
+                    return STATUS_WORK_BUDGET, ncol, tcol, err_acc[0]
+            else:
+                W[0, :] = 0.0
+                W[0, 0] = 1.0
+                B[0] = mem[M_XP]
+                strip[0] = 1 if entering else 0
+                code, t, h = rk_phase(
+                    y, t, h, hmax_free, rtol, atol, m, lk, c, cp, mem, W, B, strip, 1,
+                    STOP_NO_CONTACT, work, err_acc,
+                )  # fmt: skip
+                if code == EV_STOP:
+                    return STATUS_OK, ncol, tcol, err_acc[0]
+                if code == EV_FAIL:
+                    return _fail(work), ncol, tcol, err_acc[0]
+                y[0] = -mem[M_XP]
             h = hc
             # a new contact starts
             if ncol >= max_events:
@@ -822,17 +544,18 @@ def _fail(work):
 
 
 @njit(cache=True, error_model="numpy")
-def _verlet_chain(y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist, v0):
-    """The paper's fixed-step velocity Verlet for a general chain (see ``_verlet``): the step is
-    step_frac * 2 pi / w, w the Gershgorin bound on the highest frequency with the contact's
-    slope scale cp[1] engaged."""
+def _verlet(y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist, v0):
+    """The paper's scheme: one fixed step for the whole scene, step_frac * 2 pi / w with w the
+    highest frequency with the contact's slope scale cp[1] engaged (``verlet_frequency``; k1
+    also bounds the plastic unloading and the scissor's capped slope). Switching steps at
+    state-dependent times would add its own O(h) jitter."""
     n = m.shape[0]
-    h = step_frac * 2.0 * math.pi / chain_frequency_bound(m, lk, cp[1])
+    h = step_frac * 2.0 * math.pi / verlet_frequency(m, lk, cp[1])
     damped = False
     for i in range(n - 1):
         damped = damped or c[i] != 0.0
     acc = np.zeros(n + 2)
-    fc, pw = accel_verlet_chain(y, m, lk, c, cp, mem, acc)
+    fc, pw = accel_verlet(y, m, lk, c, cp, mem, acc)
     acc[n], acc[n + 1] = fc, pw
     t = 0.0
     ncol = 1
@@ -846,7 +569,7 @@ def _verlet_chain(y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist,
     while work[0] > 0.0:
         work[0] -= 2.0 if damped else 1.0
         it += 1
-        verlet_step_chain(y, acc, h, m, lk, c, cp, mem, damped)
+        verlet_step(y, acc, h, m, lk, c, cp, mem, damped)
         t += h
         now = acc[n] > 0.0
         if now and not in_contact:
@@ -870,16 +593,14 @@ def _verlet_chain(y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist,
         in_contact = now
         if not now:
             mem[M_XP] = dent(cp, mem)
-            if (it & 7) == 0 and no_contact_possible_chain(y, m, lk, mem[M_XP]):
+            if (it & 7) == 0 and no_contact_possible(y, m, lk, mem[M_XP]):
                 return STATUS_OK, ncol, tcol
     return STATUS_WORK_BUDGET, ncol, tcol
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def solve_chain_scene_batch(
-    m, lk, c, n, cp, v0, method, rtol, step_frac, etol, max_events, max_work
-):
-    """``solve_chain_scene`` over padded rows: m (rows, nmax), lk (rows, nmax-1, N_SP),
+def solve_scene_batch(m, lk, c, n, cp, v0, method, rtol, step_frac, etol, max_events, max_work):
+    """``solve_scene`` over padded rows: m (rows, nmax), lk (rows, nmax-1, N_SP),
     c (rows, nmax-1), n (rows,) int64 masses per row, cp (rows, N_CP), v0 (rows,).
 
     Every row starts as NaN with STATUS_NOT_RUN before any work, so a row the kernel did not
@@ -899,8 +620,8 @@ def solve_chain_scene_batch(
                 out[i, OUT_STATUS] = STATUS_INVALID
                 continue
             acct = np.zeros(N_ACCT)
-            out[i] = solve_chain_scene(
+            out[i] = solve_scene(
                 m[i, :k], lk[i, : k - 1], c[i, : k - 1], cp[i], v0[i], method, rtol, step_frac,
-                etol, max_events, max_work, hist, acct,
+                etol, max_events, max_work, hist, acct, True,
             )  # fmt: skip
     return out

@@ -250,7 +250,13 @@ class Chain:
                 k_law = math.inf
             if k_law is None:
                 raise SceneError(f"contact: the {law!r} law needs k (its stiffness)")
-            k_law = check("k_contact", k_law)
+            try:
+                k_law = check("k_contact", k_law)
+            except SceneError:
+                raise SceneError(
+                    f"contact.k (the {law!r} law's stiffness) must be "
+                    f"{RANGES['k_contact'].text}; got {_show(k_law)}"
+                ) from None
             if law in ("plastic", "hertz") and not math.isfinite(k_law):
                 raise SceneError(
                     f"contact: the {law!r} law needs a finite k > 0 (in the paper's form: beta > 0)"
@@ -276,12 +282,16 @@ class Chain:
         _assign(self, contact=contact, links=links)
         for a in (m, k, c):
             a.setflags(write=False)
-        _check_ratios(m, k, c, kc)
+        # (a Hertz constant is no stiffness: its ratio to the first spring is checked by the law,
+        # at m1's depth, in pack_chain below)
+        hertz = contact is not None and contact["law"] == "hertz"
+        _check_ratios(m, k, c, math.inf if hertz else kc)
         if contact is not None or links is not None:
             # The laws' own parameter checks (restitution.model.laws), before any work.
             from restitution.model.laws import pack_chain
 
-            pack_chain(m, k, c, self.contact_law, self.link_laws, v0)
+            packed = pack_chain(m, k, c, self.contact_law, self.link_laws, v0)
+            object.__setattr__(self, "_packed", (v0, packed))  # kept for the numerical runners
 
     # ------------------------------------------------------------------------------------------
     @classmethod
@@ -432,12 +442,14 @@ LAW_KEYS = ("contact", "eta", "dr", "structure", "L", "ks_ratio", "theta0", "cor
 NUMERICAL_KEYS = (*LAW_KEYS, "rtol", "step")
 # The paper form's law parameters and the law that reads them (given without it: an error).
 LAW_PARAMS = {"plastic": ("eta", "dr"), "scissor": ("L", "ks_ratio", "theta0", "corner")}
+PAPER_CONTACTS = ("linear", "plastic")  # the paper form's contact laws (Section 3.1)
+PAPER_STRUCTURES = ("linear", "scissor")  # and structural links (Section 3.2)
 
 
 def paper_with_laws(alpha, beta, xi, n_masses, law: dict) -> tuple[Chain, dict]:
-    """A paper-form scene with the keywords of ``restitution.solvers.numerical.solve_nonlinear`` as
-    a
-    Chain with law specifications, and the numerical settings (rtol, step) among them."""
+    """A paper-form scene with the law keywords of ``restitution.solve`` (contact, eta, dr,
+    structure, L, ks_ratio, theta0, corner, v0) as a Chain with law specifications, and the
+    numerical settings (rtol, step) among them."""
     unknown = sorted(set(law) - set(NUMERICAL_KEYS))
     if unknown:
         raise SceneError(
@@ -453,6 +465,15 @@ def paper_with_laws(alpha, beta, xi, n_masses, law: dict) -> tuple[Chain, dict]:
     settings = {k: law[k] for k in ("rtol", "step") if k in law}
     contact = law.get("contact", "linear")
     structure = law.get("structure", "linear")
+    for key, value, allowed in (
+        ("contact", contact, PAPER_CONTACTS),
+        ("structure", structure, PAPER_STRUCTURES),
+    ):
+        if not isinstance(value, str) or value not in allowed:
+            raise SceneError(
+                f"{key} must be one of {', '.join(map(repr, allowed))} in the paper's form "
+                f"(other laws: the general form, contact={{...}}, links=[...]); got {_show(value)}"
+            )
     for key, names, needs, given in (
         ("contact", LAW_PARAMS["plastic"], "plastic", contact),
         ("structure", LAW_PARAMS["scissor"], "scissor", structure),

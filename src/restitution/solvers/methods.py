@@ -125,14 +125,26 @@ def _piecewise_applies(ch: Chain) -> str | None:
     return None
 
 
+def _stepping_range(ch: Chain) -> str | None:
+    """Why the stepping kernels cannot take ``ch`` (the laws' handled ranges and the frequency
+    spread of ``laws.pack_chain``; a nonlinear Chain was packed when it was built), or None."""
+    from restitution.solvers.numerical import packed
+
+    try:
+        packed(ch)
+    except SceneError as e:
+        return str(e)
+    return None
+
+
 def _adaptive_applies(ch: Chain) -> str | None:
-    return None  # any chain, any law
+    return _stepping_range(ch)  # any law, within the handled ranges
 
 
 def _verlet_applies(ch: Chain) -> str | None:
     if ch.rigid:
         return "it needs a finite contact law (beta > 0), not a rigid wall"
-    return None
+    return _stepping_range(ch)
 
 
 def _precise_applies(ch: Chain) -> str | None:
@@ -152,64 +164,65 @@ def _reference_applies(ch: Chain) -> str | None:
 # ----------------------------------------------------------------------------------------------
 # Runners
 # ----------------------------------------------------------------------------------------------
-def legacy_laws(ch: Chain) -> dict:
-    """A two-mass chain's laws as keywords of ``restitution.solvers.numerical.solve_nonlinear`` (the
-    scene in its units m1 = 1, omega = 1 with lengths kept: stiffnesses / (m1 omega**2), speeds
-    / omega)."""
-    w = ch.omega
-    law = {"v0": ch.v0 / w}
-    contact = ch.contact
-    if contact is not None:
-        law["contact"] = contact["law"]
-        law.update({k: v for k, v in contact.items() if k in ("eta", "dr")})
-    if ch.links is not None:
-        (spec,) = ch.links
-        if spec["law"] == "scissor":
-            k2 = float(ch.springs[0])
-            law.update(structure="scissor", ks_ratio=spec["ks"] / k2)
-            law.update({k: spec[k] for k in ("L", "theta0", "corner") if k in spec})
-    return law
-
-
-def _two_mass_paper_laws(ch: Chain) -> bool:
-    """Two masses with the laws of the paper's Section 3 (linear, plastic, scissor): solved by
-    ``solve_nonlinear`` as before, so the paper's results are unchanged."""
-    return ch.n_masses == 2 and (ch.contact is None or ch.contact["law"] == "plastic")
-
-
 def _run_numerical(name: str):
-    def run(ch: Chain, opts: Options):
-        from restitution.solvers import numerical as nonlinear
+    """Single runner of a numerical method: the chain (two masses included) on the one
+    nonlinear stack (``restitution.solvers.numerical``); ``reference`` on scipy."""
 
-        if name == "reference" or _two_mass_paper_laws(ch):
-            r = nonlinear.solve_nonlinear(
-                ch.alpha,
-                ch.beta,
-                ch.xi,
-                method=name,
-                rtol=opts.rtol,
-                step=opts.step,
-                max_events=opts.max_events,
-                history=opts.history,
-                **legacy_laws(ch),
+    def run(ch: Chain, opts: Options):
+        from restitution.solvers import numerical
+
+        if name == "reference":
+            out, hist = numerical.solve_reference_chain(
+                ch, opts.rtol, opts.max_events, opts.history
             )
         else:
-            r = nonlinear.solve_nonlinear_chain(
-                ch.masses,
-                ch.springs,
-                ch.dashpots,
-                ch.contact_law,
-                ch.link_laws,
-                ch.v0,
-                name,
-                opts.rtol,
-                opts.max_events,
-                opts.history,
-                step=opts.step,
+            out, hist = numerical.solve_chain(
+                ch, name, opts.rtol, opts.step, opts.max_events, opts.history
             )
-        return r, None
+        return numerical.result(ch, out, name, hist), None
 
     return run
+
+
+def _numerical_many(name: str):
+    """Batch runner of a stepping method: the rows grouped by their ``rtol`` / ``step``
+    settings, each group in parallel blocks of one kernel call (``numerical.solve_chains``). If
+    a block raises, its rows are solved one by one so that only the failing rows are lost (NaN
+    with status ``kernel_error``)."""
+
+    def run_many(table, rows, max_events, bar, block):
+        from restitution.solvers import numerical
+
+        groups: dict[tuple, list] = {}
+        for j, i in enumerate(rows):
+            s = table.settings(int(i))
+            groups.setdefault((s.get("rtol"), s.get("step")), []).append(j)
+        out = np.full((len(rows), L.N_OUT), np.nan)
+        errors = {}
+        for (rtol, step), members in groups.items():
+            given = {k: v for k, v in (("rtol", rtol), ("step", step)) if v is not None}
+            opts = options(False, max_events, **given)
+
+            def solve(chains, opts=opts):
+                return numerical.solve_chains(chains, name, opts.rtol, opts.step, max_events)
+
+            for start in range(0, len(members), block):
+                sel = np.asarray(members[start : start + block])
+                chains = [table.chain(int(rows[j])) for j in sel]
+                try:
+                    done = solve(chains)
+                except Exception:  # noqa: BLE001 - a kernel failure must not lose the table
+                    done = np.full((len(sel), L.N_OUT), np.nan)
+                    for j, ch in enumerate(chains):
+                        try:
+                            done[j] = solve([ch])[0]
+                        except Exception as e:  # noqa: BLE001
+                            errors[int(sel[j])] = f"kernel_error ({type(e).__name__}: {e})"
+                out[sel, : done.shape[1]] = done
+                bar.update(len(sel))
+        return out, errors, {}
+
+    return run_many
 
 
 def row_by_row(name: str):
@@ -296,7 +309,7 @@ METHODS: dict[str, Method] = {
         10,
         _adaptive_applies,
         _run_numerical("adaptive"),
-        row_by_row("adaptive"),
+        _numerical_many("adaptive"),
         "DP5(4), any chain",
     ),  # fmt: skip
     "verlet": Method(
@@ -305,7 +318,7 @@ METHODS: dict[str, Method] = {
         20,
         _verlet_applies,
         _run_numerical("verlet"),
-        row_by_row("verlet"),
+        _numerical_many("verlet"),
         "velocity Verlet",
     ),  # fmt: skip
     "reference": Method(

@@ -217,8 +217,9 @@ class SceneTable:
                 rows = sel if len(firsts) == 1 else lin[groups == g]
                 chosen[rows] = name
                 self._method_code(rows, name)
+        cells = {c: frame[c].to_numpy(dtype=object) for c in law_cols}  # (not .iat per cell)
         for i in np.flatnonzero(legacy):
-            law = {c: frame[c].iat[i] for c in law_cols if not missing_cell(frame[c].iat[i])}
+            law = {c: v[i] for c, v in cells.items() if not missing_cell(v[i])}
             try:
                 ch, _ = paper_with_laws(alpha[i], beta[i], xi[i], int(nm[i]), law)
                 chosen[i] = M.choose(ch, method[i]).name

@@ -27,15 +27,14 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from restitution.kernels import layout as LY
-from restitution.model import laws
-from restitution.model.chain import Chain, SceneError
-from restitution.solvers.numerical import LAW_DEFAULTS, build_laws
+from restitution.model.chain import LAW_KEYS, Chain, SceneError, paper_with_laws
+from restitution.solvers.numerical import packed
 from restitution.solvers.reference import DeadlineExceeded, solve_reference
 from restitution.solvers.result import Result
 
 IVP_METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
 TIME_BUDGET_STATUS = "time_budget_exhausted"
-_LAW_KEYS = tuple(k for k in LAW_DEFAULTS if k not in ("beta", "xi"))
+_LAW_KEYS = LAW_KEYS
 
 
 def _check(method, rtol, atol, steps_per_period, time_budget, max_events):
@@ -102,21 +101,9 @@ def solve_ivp_scene(
 
 
 def _two_masses(scene, method, rtol, atol, steps_per_period, deadline, max_events, law):
-    opts = {**LAW_DEFAULTS, **law}
-    v0 = laws.check_v0(opts["v0"])
-    cp, sp, _ = build_laws(
-        scene.alpha,
-        scene.beta,
-        opts["contact"],
-        opts["eta"],
-        opts["dr"],
-        opts["structure"],
-        opts["L"],
-        opts["ks_ratio"],
-        opts["theta0"],
-        opts["corner"],
-        v0,
-    )
+    ch, _ = paper_with_laws(scene.alpha, scene.beta, scene.xi, 2, dict(law))
+    _, lk, _, cp, _, _ = packed(ch)
+    v0, sp = float(ch.v0), lk[0]
     out, _ = solve_reference(
         scene.alpha,
         v0,
