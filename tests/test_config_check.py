@@ -98,7 +98,8 @@ def test_relations_between_keys():
     found = problems(merged(fig6={"sweep": {**PAPER["fig6"]["sweep"], "x_min": 5, "x_max": 1}}))
     assert found == ["fig6.sweep.x_max = 1: must be greater than fig6.sweep.x_min = 5"]
     found = problems(merged(method="piecewise"))
-    assert "method = 'piecewise' needs beta > 0" in found[0]
+    assert "method = 'piecewise' does not fit fig2a.betas" in found[0]
+    assert "'piecewise' needs beta > 0" in found[0]  # the solver table's own reason
 
 
 def test_lists_are_bounded_and_unique():

@@ -34,7 +34,7 @@ import re
 from collections.abc import Callable, Mapping
 from functools import partial
 
-from restitution.model.chain import SceneError, check
+from restitution.model.chain import Chain, SceneError, check
 
 __all__ = ["MAX_JOBS", "ConfigError", "allowed_text", "check_config", "check_value"]
 
@@ -359,19 +359,20 @@ def _job_checks(config, problems):
 
 
 def _method_checks(config, problems):
+    """A forced method must fit every beta of fig2a: asked of the solver table itself."""
     betas = _get(config, ("fig2a", "betas"))
-    numeric = [b for b in betas if _real(b)] if isinstance(betas, list) else []
+    numeric = [b for b in betas if _real(b) is not None] if isinstance(betas, list) else []
     method = config.get("method", "auto")
-    if method == "impulsive" and any(b > 0 for b in numeric):
-        problems.append(
-            f"method = 'impulsive' needs a rigid wall, but fig2a.betas = {betas!r} has beta > 0: "
-            "use 'auto' (or 'piecewise' with every beta > 0)"
-        )
-    if method == "piecewise" and any(b == 0 for b in numeric):
-        problems.append(
-            f"method = 'piecewise' needs beta > 0, but fig2a.betas = {betas!r} contains 0: "
-            "use 'auto' (or 'impulsive' with betas [0])"
-        )
+    if method == "auto" or not isinstance(method, str):
+        return
+    from restitution.solvers.methods import choose  # (numpy, pandas: only when one is forced)
+
+    for b in numeric:
+        try:
+            choose(Chain.paper(1.0, b), method)
+        except SceneError as error:
+            problems.append(f"method = {method!r} does not fit fig2a.betas = {betas!r}: {error}")
+            return
 
 
 def _law_checks(config, problems):
