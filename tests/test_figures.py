@@ -12,6 +12,7 @@ from matplotlib.colors import to_rgb
 import restitution
 from conftest import load_script
 from restitution import plotting
+from restitution.analysis.sweeps import local_minima
 
 _load = load_script
 
@@ -106,7 +107,10 @@ def test_fig7a_caption_states_the_order_below_the_first_minimum_from_the_data():
         cor = np.where(alpha < 1, 0.8 + shift - 0.5 * alpha, 0.3 + 0.05 * alpha - shift)
         rows.append(pd.DataFrame(dict(alpha=alpha, xi=xi, cor=cor, status="ok", n_collisions=1,
                                       omega_t_col=1.0)))  # fmt: skip
-    data = render_fig7.caption_data(pd.concat(rows), "a", {"xis": [0.1, 1.0], "alpha_max": 10.0})
+    sweep = pd.concat(rows, ignore_index=True)
+    minima = local_minima(sweep, "alpha", by="xi")  # as aggregate_fig7 lists them
+    assert list(minima["alpha"]) == [alpha[alpha < 1][-1]] * 2  # the cusp at alpha = 1
+    data = render_fig7.caption_data(sweep, "a", {"xis": [0.1, 1.0], "alpha_max": 10.0}, minima)
     assert data["low_trend"] == "rises"
     assert data["ordered_share"] == "100%"
 

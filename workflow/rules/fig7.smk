@@ -99,6 +99,7 @@ rule fig7a:
     """Fig. 7(a): COR against alpha, one curve per damping ratio xi."""
     input:
         sweep=rules.aggregate_fig7.output.sweep,
+        minima=rules.aggregate_fig7.output.minima,
         style="src/restitution/restitution.mplstyle",
         paper="config/paper_values.yaml",
         template="workflow/report/fig7a.rst",

@@ -152,13 +152,6 @@ def curves(sweep: pd.DataFrame, xis) -> dict:
     return out
 
 
-def local_minima(curve: pd.DataFrame) -> pd.DataFrame:
-    """Rows of ``curve`` where the COR is below both neighbours (the refined cusps)."""
-    cor = curve["cor"].to_numpy()
-    idx = [i for i in range(1, len(cor) - 1) if cor[i] < cor[i - 1] and cor[i] <= cor[i + 1]]
-    return curve.iloc[idx]
-
-
 def first_reach(curve: pd.DataFrame, n: int) -> float:
     """The smallest alpha at which the contact count of ``curve`` is at least ``n`` (NaN: never)."""
     hit = curve.loc[curve["n_collisions"] >= n, "alpha"]
@@ -239,14 +232,18 @@ def count_order(by_xi: dict, fig7: dict) -> dict:
     }
 
 
-def caption_data(sweep: pd.DataFrame, panel: str, fig7: dict) -> dict:
-    """Numbers and words of the caption of ``panel``, computed from the sweep table."""
+def caption_data(sweep: pd.DataFrame, panel: str, fig7: dict, minima=None) -> dict:
+    """Numbers and words of the caption of ``panel``, computed from the sweep table; panel (a)
+    also from the minima table (``aggregate_fig7``'s minima.csv: columns xi, minimum, alpha, cor).
+    """
     by_xi = curves(sweep, fig7["xis"])
     xis = list(by_xi)
     xi_list = ", ".join(f"{xi:g}" for xi in xis)
     data = {"xi_list": xi_list}
     if panel == "a":
-        minima = {xi: local_minima(c) for xi, c in by_xi.items()}
+        if minima is None:
+            raise ValueError("the caption of Fig. 7(a) needs the minima table of aggregate_fig7")
+        minima = {xi: minima[minima["xi"] == xi].sort_values("minimum") for xi in by_xi}
         first = {xi: m.iloc[0] for xi, m in minima.items() if len(m)}
         second = {xi: m.iloc[1] for xi, m in minima.items() if len(m) > 1}
         low = {xi: c.iloc[0] for xi, c in by_xi.items()}
@@ -353,7 +350,7 @@ def caption_data(sweep: pd.DataFrame, panel: str, fig7: dict) -> dict:
     return data
 
 
-def main(sweep_path, png_path, pdf_path, params, logger, smk=None):
+def main(sweep_path, png_path, pdf_path, params, logger, smk=None, minima_path=None):
 
     from restitution import plotting
     from restitution.tables.io import read_table
@@ -372,7 +369,10 @@ def main(sweep_path, png_path, pdf_path, params, logger, smk=None):
     if smk is not None:
         from render_caption import write_caption
 
-        write_caption(smk, caption_data(sweep, panel, params.fig7), logger)
+        minima = None
+        if minima_path is not None:
+            minima = read_table(minima_path, columns=("xi", "minimum", "alpha", "cor"))
+        write_caption(smk, caption_data(sweep, panel, params.fig7, minima), logger)
 
 
 if __name__ == "__main__":
@@ -387,4 +387,5 @@ if __name__ == "__main__":
             snakemake.params,  # noqa: F821
             log,
             snakemake,  # noqa: F821
+            snakemake.input.get("minima"),  # noqa: F821
         )

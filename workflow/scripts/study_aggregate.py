@@ -4,37 +4,11 @@ Neighbouring chunks share their boundary point (solved twice, identical): kept o
 status is not ok are kept in the table (with their status) and counted in the log.
 """
 
-import numpy as np
 import pandas as pd
 
 
-def minima(table: pd.DataFrame, column: str) -> pd.DataFrame:
-    """Interior local minima of the COR of each curve (rows with status ok only)."""
-    rows = []
-    for (index, curve), part in table[table["status"] == "ok"].groupby(
-        ["curve_index", "curve"], dropna=False
-    ):
-        part = part.sort_values(column)
-        cor = part["cor"].to_numpy()
-        inner = np.flatnonzero((cor[1:-1] < cor[:-2]) & (cor[1:-1] <= cor[2:])) + 1
-        for number, i in enumerate(inner, start=1):
-            row = part.iloc[i]
-            rows.append(
-                {
-                    "curve_index": index,
-                    "curve": curve,
-                    "minimum": number,
-                    column: row[column],
-                    "cor": row["cor"],
-                    "n_collisions": int(row["n_collisions"]),
-                }
-            )
-    columns = ["curve_index", "curve", "minimum", column, "cor", "n_collisions"]
-    return pd.DataFrame(rows, columns=columns)
-
-
 def main(chunk_paths, sweep_path, minima_path, study_mapping, logger):
-    from restitution.analysis.sweeps import log_not_ok
+    from restitution.analysis.sweeps import local_minima, log_not_ok
     from restitution.tables.io import read_table, write_table
     from restitution_workflow.study import check_study
 
@@ -49,7 +23,7 @@ def main(chunk_paths, sweep_path, minima_path, study_mapping, logger):
     )
     log_not_ok(table, logger, study.name, where=column)
     write_table(table, sweep_path, config={"study": study_mapping})
-    found = minima(table, column)
+    found = local_minima(table, column, by=["curve_index", "curve"])
     write_table(found, minima_path)
     logger.info("%s: %d rows, %d COR minima", study.name, len(table), len(found))
 
