@@ -230,5 +230,5 @@ def test_sweep_curve_is_the_refined_sweep_and_logs_it(caplog):
     with caplog.at_level(logging.INFO, logger="test_sweeps"):
         curve = sweeps.sweep_curve(evaluate, "alpha", grid, 8, logger, "demo")
     pd.testing.assert_frame_equal(curve, sweeps.refined_sweep(evaluate(grid), evaluate, "alpha", 8))
-    assert "demo: 1 of 37 scenes not ok" in caplog.text  # the grid point 100
+    assert "demo: 2 of 37 scenes not ok" in caplog.text  # the grid points 56.2 and 100
     assert "demo: 37 rows (24 refined), contacts 0..3" in caplog.text
