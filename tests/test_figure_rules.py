@@ -27,6 +27,7 @@ _load = load_script
 
 
 render_fig7 = _load("render_fig7")
+aggregate_fig7 = _load("aggregate_fig7")
 render_fig8b = _load("render_fig8b")
 workprecision = _load("bench_plot_workprecision")
 
@@ -187,7 +188,8 @@ def test_fig7b_counts_are_drawn_on_a_log_axis_with_an_inset(figures):
 
 def test_fig7b_caption_states_where_each_count_first_appears():
     """Synthetic counts: the second contact moves right with xi, every later count left."""
-    data = render_fig7.caption_data(_fig7_sweep(), "b", FIG7)
+    sweep = _fig7_sweep()
+    data = render_fig7.caption_data(sweep, "b", FIG7, summary=aggregate_fig7.summarise(sweep))
     assert data["reach2_word"] == "moves to larger"
     assert data["n_right"] == "n = 2"
     assert data["n_left"].startswith("n = 3")
@@ -196,7 +198,10 @@ def test_fig7b_caption_states_where_each_count_first_appears():
     assert counts[0] > counts[-1]
     # Reversed order of the onset: the words follow the data.
     flipped = _fig7_sweep(xis=(1.2, 1.0, 0.3, 0.1))
-    assert render_fig7.caption_data(flipped, "b", FIG7)["reach2_word"] == "moves to smaller"
+    summary = aggregate_fig7.summarise(flipped)
+    assert render_fig7.caption_data(flipped, "b", FIG7, summary=summary)["reach2_word"] == (
+        "moves to smaller"
+    )
 
 
 def test_study_plot_colours_a_xi_curve_by_its_xi():

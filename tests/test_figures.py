@@ -12,12 +12,14 @@ from matplotlib.colors import to_rgb
 import restitution
 from conftest import load_script
 from restitution import plotting
+from restitution.analysis.sweeps import local_minima
 
 _load = load_script
 
 
 render_fig2bcd = _load("render_fig2bcd")
 render_fig7 = _load("render_fig7")
+aggregate_fig7 = _load("aggregate_fig7")
 
 
 @pytest.mark.parametrize("beta", [1e-3, 1e-2, 0.1, 1.0])
@@ -91,10 +93,12 @@ def test_fig7c_caption_slope_is_fitted_from_the_data():
         dict(alpha=alpha, xi=0.3, status="ok", omega_t_col=3 * np.sqrt(alpha), cor=0.5,
              n_collisions=1)
     )  # fmt: skip
-    data = render_fig7.caption_data(sweep, "c", {"xis": [0.3], "alpha_max": 1000.0})
+    fig7 = {"xis": [0.3], "alpha_max": 1000.0}
+    data = render_fig7.caption_data(sweep, "c", fig7, summary=aggregate_fig7.summarise(sweep))
     assert data["slopes"] == "0.50" and "one half" in data["slope_word"]
+    assert data["t_last"] == f"{3 * np.sqrt(1000):.3g}"  # the summary's omega t_col at alpha_max
     linear = sweep.assign(omega_t_col=2 * alpha)
-    data = render_fig7.caption_data(linear, "c", {"xis": [0.3], "alpha_max": 1000.0})
+    data = render_fig7.caption_data(linear, "c", fig7, summary=aggregate_fig7.summarise(linear))
     assert data["slopes"] == "1.00" and "linear" in data["slope_word"]
 
 
@@ -106,7 +110,10 @@ def test_fig7a_caption_states_the_order_below_the_first_minimum_from_the_data():
         cor = np.where(alpha < 1, 0.8 + shift - 0.5 * alpha, 0.3 + 0.05 * alpha - shift)
         rows.append(pd.DataFrame(dict(alpha=alpha, xi=xi, cor=cor, status="ok", n_collisions=1,
                                       omega_t_col=1.0)))  # fmt: skip
-    data = render_fig7.caption_data(pd.concat(rows), "a", {"xis": [0.1, 1.0], "alpha_max": 10.0})
+    sweep = pd.concat(rows, ignore_index=True)
+    minima = local_minima(sweep, "alpha", by="xi")  # as aggregate_fig7 lists them
+    assert list(minima["alpha"]) == [alpha[alpha < 1][-1]] * 2  # the cusp at alpha = 1
+    data = render_fig7.caption_data(sweep, "a", {"xis": [0.1, 1.0], "alpha_max": 10.0}, minima)
     assert data["low_trend"] == "rises"
     assert data["ordered_share"] == "100%"
 

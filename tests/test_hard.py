@@ -145,7 +145,7 @@ def test_budget_is_checked_for_the_tiny_scene_too():
     """The one-contact scene cannot exhaust a budget; a budget of zero is refused up front."""
     sc = scene("tiny")
     for method in methods(sc):
-        with pytest.raises(restitution.model.scene.SceneError, match="max_events"):
+        with pytest.raises(restitution.SceneError, match="max_events"):
             restitution.solve(**sc.solve_kwargs(), method=method, max_events=0)
 
 

@@ -202,7 +202,8 @@ def test_changes_rerun_only_what_depends_on_them(reference_run, tmp_path):
 
 
 def test_deleted_tables_are_rebuilt_by_all(reference_run, tmp_path):
-    """A documented table no figure reads (the minima) is planned again by `all` once deleted."""
+    """A documented table (the minima, which Fig. 2(a) and 7(a) read) is planned again by `all`
+    once deleted."""
     work = _damaged_copy(reference_run, tmp_path / "deleted")
     for table in ("results/fig2a/minima.csv", "results/fig7/minima.csv"):
         (work / RUN / table).unlink()

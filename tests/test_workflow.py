@@ -221,7 +221,7 @@ def _load_script(name):
 
 @pytest.mark.parametrize("n_alpha, chunk_size", [(600, 300), (601, 300), (10, 3), (2, 2), (7, 50)])
 def test_chunks_cover_the_grid_with_shared_boundaries(n_alpha, chunk_size):
-    sim = _load_script("simulate_fig2a")
+    sim = _load_script("_common")
     grid = {"alpha_min": 0.1, "alpha_max": 100.0, "n_alpha": n_alpha, "chunk_size": chunk_size}
     n_chunks = -(-(n_alpha - 1) // chunk_size)  # the formula of common.smk's fig2a_n_chunks
     chunks = [sim.chunk_alphas(grid, k) for k in range(n_chunks)]

@@ -32,6 +32,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from restitution.analysis.sweeps import interior_minima
 from restitution.model.chain import SceneError, check
 from restitution_workflow.config_check import MAX_JOBS, ConfigError, check_value, n_chunks
 
@@ -835,12 +836,8 @@ def _refine(
     jumps = np.flatnonzero((count[1:] != count[:-1]) & ok[1:] & ok[:-1])
     lo, hi, n_lo = x[jumps], x[jumps + 1], count[jumps]
     # Interior grid minima of the COR away from a count change: smooth minima, pattern search.
-    inner = (
-        np.flatnonzero(
-            (cor[1:-1] < cor[:-2]) & (cor[1:-1] <= cor[2:]) & ok[1:-1] & ok[:-2] & ok[2:]
-        )
-        + 1
-    )
+    inner = interior_minima(cor)
+    inner = inner[ok[inner - 1] & ok[inner] & ok[inner + 1]]
     inner = inner[(count[inner - 1] == count[inner]) & (count[inner + 1] == count[inner])]
     best, best_cor = x[inner], cor[inner]
     width = np.minimum(x[inner] - x[inner - 1], x[inner + 1] - x[inner]) / 2

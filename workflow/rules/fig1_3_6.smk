@@ -197,6 +197,7 @@ rule fig6b:
     """Draw Fig. 6(b): COR against (N-1)*alpha (log axis), one curve per N."""
     input:
         sweep=rules.aggregate_fig6b.output.sweep,
+        minima=rules.aggregate_fig6b.output.minima,
         style="src/restitution/restitution.mplstyle",
         paper="config/paper_values.yaml",
         template="workflow/report/fig6b.rst",

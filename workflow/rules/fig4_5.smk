@@ -179,6 +179,7 @@ rule fig4b:
     """Draw Fig. 4(b): effect of DR at eta = 0.5."""
     input:
         sweep=rules.simulate_fig4b.output.table,
+        summary=rules.simulate_fig4b.output.summary,
         style="src/restitution/restitution.mplstyle",
         paper="config/paper_values.yaml",
         template="workflow/report/fig4b.rst",
@@ -210,6 +211,7 @@ rule fig4c:
     """Draw Fig. 4(c): several eta at beta = 0.01 with the Eq. 23 bound."""
     input:
         sweep=rules.simulate_fig4c.output.table,
+        summary=rules.simulate_fig4c.output.summary,
         style="src/restitution/restitution.mplstyle",
         paper="config/paper_values.yaml",
         template="workflow/report/fig4c.rst",
@@ -244,6 +246,7 @@ rule fig4d:
     """Draw Fig. 4(d): several eta at beta = 0.1 with the Eq. 23 bound."""
     input:
         sweep=rules.simulate_fig4d.output.table,
+        summary=rules.simulate_fig4d.output.summary,
         style="src/restitution/restitution.mplstyle",
         paper="config/paper_values.yaml",
         template="workflow/report/fig4d.rst",

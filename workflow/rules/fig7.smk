@@ -99,6 +99,7 @@ rule fig7a:
     """Fig. 7(a): COR against alpha, one curve per damping ratio xi."""
     input:
         sweep=rules.aggregate_fig7.output.sweep,
+        minima=rules.aggregate_fig7.output.minima,
         style="src/restitution/restitution.mplstyle",
         paper="config/paper_values.yaml",
         template="workflow/report/fig7a.rst",
@@ -130,6 +131,7 @@ rule fig7b:
     """Fig. 7(b): number of contacts against alpha, one curve per damping ratio xi."""
     input:
         sweep=rules.aggregate_fig7.output.sweep,
+        summary=rules.aggregate_fig7.output.summary,
         style="src/restitution/restitution.mplstyle",
         paper="config/paper_values.yaml",
         template="workflow/report/fig7b.rst",
@@ -161,6 +163,7 @@ rule fig7c:
     """Fig. 7(c): normalised total duration omega*t_col against alpha, one curve per xi."""
     input:
         sweep=rules.aggregate_fig7.output.sweep,
+        summary=rules.aggregate_fig7.output.summary,
         style="src/restitution/restitution.mplstyle",
         paper="config/paper_values.yaml",
         template="workflow/report/fig7c.rst",

@@ -5,6 +5,7 @@ rule fig2a:
     """Draw Fig. 2(a) in the house style (png for the report, pdf for print)."""
     input:
         sweep=rules.aggregate_fig2a.output.sweep,
+        minima=rules.aggregate_fig2a.output.minima,
         style="src/restitution/restitution.mplstyle",
         paper="config/paper_values.yaml",
         template="workflow/report/fig2a.rst",

@@ -16,6 +16,10 @@ Usage at the top of a script's ``if __name__ == "__main__":`` block::
 
 Scripts read ``snakemake.params`` (the config subtree their rule passes), never
 ``snakemake.config``; their work is a ``main(...)`` function that notebooks can call directly.
+The analysis they run is the package's (``restitution.analysis.sweeps``: one refined-sweep body,
+one definition of a COR minimum); the workflow glue they share besides start-up is
+``chunk_alphas`` (one job's share of a chunked alpha grid of the config) and ``log_minima`` (the
+log line of a minima table).
 """
 
 from __future__ import annotations
@@ -95,6 +99,24 @@ def setup(snakemake, numba: bool = True) -> logging.Logger:
         used or "not used",
     )
     return logger
+
+
+def chunk_alphas(grid: dict, chunk: int):
+    """Alphas of chunk ``chunk`` of a config grid (``alpha_min``, ``alpha_max``, ``n_alpha``,
+    ``chunk_size``: config fig2a, fig7), the boundary point shared with the next chunk."""
+    from restitution.analysis import sweeps
+
+    alphas = sweeps.log_grid(grid["alpha_min"], grid["alpha_max"], grid["n_alpha"])
+    return sweeps.chunk(alphas, grid["chunk_size"], chunk)
+
+
+def log_minima(logger: logging.Logger, minima, by: str, along: str = "alpha") -> None:
+    """One log line per curve of a minima table (``sweeps.local_minima``): its (along, COR)."""
+    for key, group in minima.groupby(by):
+        listed = ", ".join(
+            f"({a:.6g}, {c:.6f})" for a, c in zip(group[along], group["cor"], strict=True)
+        )
+        logger.info("%s %g: %d minima (%s, COR): %s", by, key, len(group), along, listed[:400])
 
 
 class Timer:

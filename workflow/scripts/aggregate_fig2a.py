@@ -5,25 +5,13 @@ minima of each curve (the cusps, where one more contact just grazes the wall) ar
 small CSV, so numbers quoted in prose come from a generated file.
 """
 
-import numpy as np
 import pandas as pd
 
 
-def local_minima(sweep: pd.DataFrame) -> pd.DataFrame:
-    """Rows of the sweep (status ok) whose COR is below both neighbours, per beta, numbered."""
-    rows = []
-    for _, curve in sweep[sweep["status"] == "ok"].groupby("beta", sort=True):
-        curve = curve.sort_values("alpha")
-        cor = curve["cor"].to_numpy()
-        inner = np.flatnonzero((cor[1:-1] < cor[:-2]) & (cor[1:-1] <= cor[2:])) + 1
-        found = curve.iloc[inner][["beta", "alpha", "cor", "n_collisions"]].copy()
-        found.insert(1, "minimum", np.arange(1, len(found) + 1))
-        rows.append(found)
-    columns = ["beta", "minimum", "alpha", "cor", "n_collisions"]
-    return pd.concat(rows, ignore_index=True) if rows else pd.DataFrame(columns=columns)
-
-
 def main(chunks, output_path, minima_path, params, logger) -> pd.DataFrame:
+    from _common import log_minima
+
+    from restitution.analysis.sweeps import local_minima
     from restitution.solvers.result import RESULT_COLUMNS
     from restitution.tables.io import read_table, write_table
 
@@ -47,13 +35,9 @@ def main(chunks, output_path, minima_path, params, logger) -> pd.DataFrame:
         )
     config = {"fig2a": params.fig2a, "solver": params.solver}
     write_table(sweep, output_path, config=config)
-    minima = local_minima(sweep)
+    minima = local_minima(sweep, "alpha", by="beta")
     write_table(minima, minima_path, config=config)
-    for beta, group in minima.groupby("beta"):
-        first = ", ".join(
-            f"({a:.5f}, {c:.6f})" for a, c in zip(group.alpha, group.cor, strict=True)
-        )
-        logger.info("beta %g: %d minima (alpha, COR): %s", beta, len(group), first[:400])
+    log_minima(logger, minima, "beta", "alpha")
     return sweep
 
 

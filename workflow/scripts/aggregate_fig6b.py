@@ -14,24 +14,6 @@ BRANCH_TOLERANCE = 1e-9
 SAME_MINIMUM = 1e-6
 
 
-def local_minima(sweep: pd.DataFrame) -> pd.DataFrame:
-    """Rows (status ok) whose COR is below both neighbours along x, per N, numbered."""
-    rows = []
-    for _, curve in sweep[sweep["status"] == "ok"].groupby("n_masses", sort=True):
-        curve = curve.sort_values("x")
-        cor = curve["cor"].to_numpy()
-        inner = np.flatnonzero((cor[1:-1] < cor[:-2]) & (cor[1:-1] <= cor[2:])) + 1
-        found = curve.iloc[inner][["n_masses", "x", "alpha", "cor", "n_collisions"]].copy()
-        # Round-off ripples at the bottom of a bisected cusp: keep the lowest of each cluster.
-        x = found["x"].to_numpy()
-        cluster = np.concatenate([[0], np.cumsum(x[1:] / x[:-1] - 1 > SAME_MINIMUM)])
-        found = found.loc[found.groupby(cluster)["cor"].idxmin().to_numpy()]
-        found.insert(1, "minimum", np.arange(1, len(found) + 1))
-        rows.append(found)
-    columns = ["n_masses", "minimum", "x", "alpha", "cor", "n_collisions"]
-    return pd.concat(rows, ignore_index=True) if rows else pd.DataFrame(columns=columns)
-
-
 def check_first_branch(sweep: pd.DataFrame, logger) -> None:
     """Single-contact rows of a rigid wall must follow e1 = (1 - x)/(1 + x)."""
     single = sweep[(sweep["n_collisions"] == 1) & (sweep["beta"] == 0) & (sweep["status"] == "ok")]
@@ -57,6 +39,9 @@ def check_first_branch(sweep: pd.DataFrame, logger) -> None:
 
 
 def main(tables, output_path, minima_path, params, logger) -> pd.DataFrame:
+    from _common import log_minima
+
+    from restitution.analysis.sweeps import local_minima
     from restitution.tables.io import read_table, write_table
 
     frames = [read_table(path) for path in tables]
@@ -82,11 +67,11 @@ def main(tables, output_path, minima_path, params, logger) -> pd.DataFrame:
     check_first_branch(sweep, logger)
     config = {"fig6": params.fig6}
     write_table(sweep, output_path, config=config)
-    minima = local_minima(sweep)
+    # Round-off ripples at the bottom of a bisected cusp: the lowest of each cluster counts.
+    columns = ["x", "alpha", "cor", "n_collisions"]
+    minima = local_minima(sweep, "x", by="n_masses", columns=columns, merge=SAME_MINIMUM)
     write_table(minima, minima_path, config=config)
-    for n, group in minima.groupby("n_masses"):
-        first = ", ".join(f"({a:.5f}, {c:.6f})" for a, c in zip(group.x, group.cor, strict=True))
-        logger.info("N = %d: %d minima (x, COR): %s", n, len(group), first[:400])
+    log_minima(logger, minima, "n_masses", "x")
     return sweep
 
 

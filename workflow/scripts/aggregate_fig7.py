@@ -8,32 +8,9 @@ exceeds ``max_not_ok_fraction`` the rule fails, so a figure is never drawn from 
 and ``minima.csv`` (the local COR minima, i.e. the cusps, per xi).
 """
 
-import numpy as np
 import pandas as pd
 
-
-def local_minima(sweep: pd.DataFrame, resolution: float = 1e-12) -> pd.DataFrame:
-    """Rows (status ok) whose COR is below both neighbours, per xi, numbered from small alpha.
-
-    Refined points close in on each cusp; where they are closer than ``resolution`` (relative
-    alpha) their COR differences are round-off, so such clusters count as one point (the lowest
-    COR) and round-off wiggles are not reported as minima.
-    """
-    rows = []
-    for _, curve in sweep[sweep["status"] == "ok"].groupby("xi", sort=True):
-        curve = curve.sort_values("alpha")
-        cluster = np.concatenate(
-            [[0], np.cumsum(np.diff(np.log(curve["alpha"].to_numpy())) > resolution)]
-        )
-        lowest = curve.groupby(cluster)["cor"].idxmin()
-        curve = curve.loc[lowest.to_numpy()]
-        cor = curve["cor"].to_numpy()
-        inner = np.flatnonzero((cor[1:-1] < cor[:-2]) & (cor[1:-1] <= cor[2:])) + 1
-        found = curve.iloc[inner][["xi", "alpha", "cor", "n_collisions"]].copy()
-        found.insert(1, "minimum", np.arange(1, len(found) + 1))
-        rows.append(found)
-    columns = ["xi", "minimum", "alpha", "cor", "n_collisions"]
-    return pd.concat(rows, ignore_index=True) if rows else pd.DataFrame(columns=columns)
+RESOLUTION = 1e-12
 
 
 def summarise(sweep: pd.DataFrame) -> pd.DataFrame:
@@ -83,6 +60,9 @@ def check_status(sweep: pd.DataFrame, limit: float, logger) -> None:
 
 
 def main(chunks, sweep_path, summary_path, minima_path, params, logger) -> pd.DataFrame:
+    from _common import log_minima
+
+    from restitution.analysis.sweeps import local_minima
     from restitution.solvers.result import RESULT_COLUMNS
     from restitution.tables.io import read_table, write_table
 
@@ -119,13 +99,11 @@ def main(chunks, sweep_path, summary_path, minima_path, params, logger) -> pd.Da
             row.cor_min,
             row.cor_min_alpha,
         )
-    minima = local_minima(sweep)
+    # Refined points closer than RESOLUTION (relative alpha) differ in COR by round-off only: one
+    # point each (the lowest), so round-off wiggles are not reported as minima.
+    minima = local_minima(sweep, "alpha", by="xi", resolution=RESOLUTION)
     write_table(minima, minima_path, config=config)
-    for xi, group in minima.groupby("xi"):
-        first = ", ".join(
-            f"({a:.4f}, {c:.4f})" for a, c in zip(group.alpha, group.cor, strict=True)
-        )
-        logger.info("xi %g: %d minima (alpha, COR): %s", xi, len(group), first[:400])
+    log_minima(logger, minima, "xi", "alpha")
     return sweep
 
 

@@ -63,23 +63,18 @@ def write_caption(smk, data: dict, logger=None) -> Path:
     return out
 
 
-def local_minima(x, y) -> list[tuple[float, float]]:
-    """(x, y) where y is below both neighbours (curves sorted by x)."""
-    import numpy as np
-
-    y = np.asarray(y)
-    inner = np.flatnonzero((y[1:-1] < y[:-2]) & (y[1:-1] <= y[2:])) + 1
-    x = np.asarray(x)
-    return [(float(x[i]), float(y[i])) for i in inner]
-
-
-def ordering(frame, key: str, along: str = "alpha", value: str = "cor") -> dict:
+def ordering(
+    frame, key: str, first_minima, minima_counts, along: str = "alpha", value: str = "cor"
+) -> dict:
     """How ``value`` orders with ``key`` across curves (one per key), as caption words.
 
     On the ``along`` points all curves share (the base grid; refinement points differ), the share
     of points where ``value`` falls (rises) at every step of ``key``; the mean per curve and
-    whether it falls or rises with ``key``; the first local minimum of each curve and whether it
-    moves to smaller or larger ``along`` as ``key`` grows; and the number of minima per curve.
+    whether it falls or rises with ``key``. The minima come from the table that listed them
+    (``first_minima``: key -> ``along`` of the curve's first local minimum; ``minima_counts``:
+    key -> its number of minima; a key missing from them has none): the first minimum of each
+    curve and whether it moves to smaller or larger ``along`` as ``key`` grows, and the number of
+    minima per curve.
     """
     import numpy as np
 
@@ -87,12 +82,8 @@ def ordering(frame, key: str, along: str = "alpha", value: str = "cor") -> dict:
     table = frame.pivot_table(index=along, columns=key, values=value).dropna()[keys]
     steps = np.diff(table.to_numpy(), axis=1)
     means = table.mean()
-    firsts, counts = [], []
-    for k in keys:
-        curve = frame[frame[key] == k].sort_values(along)
-        minima = local_minima(curve[along], curve[value])
-        firsts.append(minima[0][0] if minima else float("nan"))
-        counts.append(len(minima))
+    firsts = [float(first_minima.get(k, np.nan)) for k in keys]
+    counts = [int(minima_counts.get(k, 0)) for k in keys]
 
     def trend(values, rtol=0.0):
         values = np.asarray(values, dtype=float)

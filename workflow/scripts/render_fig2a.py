@@ -1,23 +1,21 @@
 """Render Fig. 2(a): COR against alpha = m2/m1 on a log axis, one curve per beta.
 
 Only rows with status "ok" are drawn (others are counted in the log). The local minima of each
-curve (the cusps) are written to the log and the first three rigid-wall minima to the caption,
-next to the paper's values (config/paper_values.yaml).
+curve (the cusps), as ``aggregate_fig2a`` listed them in results/fig2a/minima.csv, are written to
+the log and the first three rigid-wall minima to the caption, next to the paper's values
+(config/paper_values.yaml).
 """
 
-import numpy as np
 import pandas as pd
 
 
-def cusp_minima(curve: pd.DataFrame, count: int = 3) -> list[tuple[float, float]]:
-    """(alpha, cor) of the first ``count`` local minima of a curve sorted by alpha."""
-    cor = curve["cor"].to_numpy()
-    inner = np.flatnonzero((cor[1:-1] < cor[:-2]) & (cor[1:-1] <= cor[2:])) + 1
-    alpha = curve["alpha"].to_numpy()
-    return [(float(alpha[i]), float(cor[i])) for i in inner[:count]]
+def first_minima(minima: pd.DataFrame, beta: float, count: int = 3) -> list[tuple[float, float]]:
+    """(alpha, cor) of the first ``count`` minima of the curve ``beta`` in the minima table."""
+    rows = minima[minima["beta"] == beta].sort_values("minimum").head(count)
+    return list(zip(rows["alpha"].astype(float), rows["cor"].astype(float), strict=True))
 
 
-def draw(sweep: pd.DataFrame, betas, logger):
+def draw(sweep: pd.DataFrame, minima: pd.DataFrame, betas, logger):
     """The Fig. 2(a) figure (a matplotlib Figure on an Agg canvas)."""
     from restitution import plotting
 
@@ -45,7 +43,7 @@ def draw(sweep: pd.DataFrame, betas, logger):
         logger.info(
             "beta %g: first minima (alpha, COR) %s",
             beta,
-            ", ".join(f"({a:.4f}, {c:.4f})" for a, c in cusp_minima(curve)),
+            ", ".join(f"({a:.4f}, {c:.4f})" for a, c in first_minima(minima, beta)),
         )
     plotting.log_axis(ax, "x")
     ax.set_xlim(sweep["alpha"].min(), sweep["alpha"].max())
@@ -56,31 +54,31 @@ def draw(sweep: pd.DataFrame, betas, logger):
     return fig
 
 
-def caption_data(sweep: pd.DataFrame) -> dict:
+def caption_data(minima: pd.DataFrame) -> dict:
     """The first three rigid-wall minima of this run (alpha, COR), as caption text."""
-    rigid = sweep[(sweep["beta"] == 0) & (sweep["status"] == "ok")].sort_values("alpha")
-    minima = cusp_minima(rigid) if len(rigid) else []
+    minima = first_minima(minima, 0.0)
     return {
         "rigid_minima_cor": ", ".join(f"{c:.4f}" for _, c in minima) or "none in range",
         "rigid_minima_alpha": ", ".join(f"{a:.4f}" for a, _ in minima) or "none in range",
     }
 
 
-def main(sweep_path, png_path, pdf_path, params, logger, smk=None):
+def main(sweep_path, minima_path, png_path, pdf_path, params, logger, smk=None):
 
     from restitution import plotting
     from restitution.tables.io import read_table
 
     sweep = read_table(sweep_path)
+    minima = read_table(minima_path, columns=("beta", "minimum", "alpha", "cor"))
     missing = sorted(set(params.betas) - set(sweep["beta"].unique()))
     if missing:
         raise ValueError(f"{sweep_path}: no rows for beta = {missing}")
-    fig = draw(sweep, params.betas, logger)
+    fig = draw(sweep, minima, params.betas, logger)
     plotting.save_outputs(fig, png_path, pdf_path, logger)
     if smk is not None:
         from render_caption import write_caption
 
-        write_caption(smk, caption_data(sweep), logger)
+        write_caption(smk, caption_data(minima), logger)
 
 
 if __name__ == "__main__":
@@ -90,6 +88,7 @@ if __name__ == "__main__":
     with Timer(log, "render"):
         main(
             snakemake.input.sweep,  # noqa: F821
+            snakemake.input.minima,  # noqa: F821
             snakemake.output.png,  # noqa: F821
             snakemake.output.pdf,  # noqa: F821
             snakemake.params,  # noqa: F821

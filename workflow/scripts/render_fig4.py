@@ -138,12 +138,15 @@ def draw_sweep(name, sweep, panel, logger):
     return fig
 
 
-def caption_data(name: str, sweep, panel: dict) -> dict:
-    """Trend words and numbers of panel (b), (c) or (d) from its sweep table."""
+def caption_data(name: str, sweep, panel: dict, summary) -> dict:
+    """Trend words and numbers of panel (b), (c) or (d) from its sweep table and its per-curve
+    summary (the minima, as ``simulate_fig4`` listed them)."""
     from render_caption import ordering
 
+    key = "dr" if name == "b" else "eta"
     plastic = sweep[(sweep["contact"] != "linear") & (sweep["status"] == "ok")]
-    data = ordering(plastic, "dr" if name == "b" else "eta")
+    curves = summary[summary["contact"] != "linear"].set_index(key)
+    data = ordering(plastic, key, curves["min1_alpha"], curves["n_minima"])
     if name in ("c", "d"):
         # Where each curve ends: its COR at the largest alpha against its largest COR above a
         # tenth of that alpha (a COR falling again at large alpha shows as a drop).
@@ -158,7 +161,7 @@ def caption_data(name: str, sweep, panel: dict) -> dict:
     return data
 
 
-def main(sweep_path, png_path, pdf_path, params, logger, smk=None):
+def main(sweep_path, png_path, pdf_path, params, logger, smk=None, summary_path=None):
 
     from restitution import plotting
     from restitution.tables.io import read_table
@@ -184,7 +187,10 @@ def main(sweep_path, png_path, pdf_path, params, logger, smk=None):
     if smk is not None and "caption" in smk.output.keys():
         from render_caption import write_caption
 
-        write_caption(smk, caption_data(name, sweep, panel), logger)
+        summary = read_table(
+            summary_path, columns=("contact", "dr", "eta", "min1_alpha", "n_minima")
+        )
+        write_caption(smk, caption_data(name, sweep, panel, summary), logger)
 
 
 if __name__ == "__main__":
@@ -199,4 +205,5 @@ if __name__ == "__main__":
             snakemake.params,  # noqa: F821
             log,
             snakemake,  # noqa: F821
+            snakemake.input.get("summary"),  # noqa: F821
         )

@@ -2,22 +2,14 @@
 curve per N, with the first-contact branch e1 = (1 - x)/(1 + x) (Appendix) as a light grey band.
 
 Only rows with status "ok" are drawn (others are counted in the log). The first minima of each
-curve are written to the log.
+curve, as ``aggregate_fig6b`` listed them in results/fig6/minima.csv, are written to the log.
 """
 
 import numpy as np
 import pandas as pd
 
 
-def cusp_minima(curve: pd.DataFrame, count: int = 3) -> list[tuple[float, float]]:
-    """(x, cor) of the first ``count`` local minima of a curve sorted by x."""
-    cor = curve["cor"].to_numpy()
-    inner = np.flatnonzero((cor[1:-1] < cor[:-2]) & (cor[1:-1] <= cor[2:])) + 1
-    x = curve["x"].to_numpy()
-    return [(float(x[i]), float(cor[i])) for i in inner[:count]]
-
-
-def draw(sweep: pd.DataFrame, n_masses, logger):
+def draw(sweep: pd.DataFrame, minima: pd.DataFrame, n_masses, logger):
     """The Fig. 6(b) figure (a matplotlib Figure on an Agg canvas)."""
     from restitution import plotting
 
@@ -51,7 +43,10 @@ def draw(sweep: pd.DataFrame, n_masses, logger):
         logger.info(
             "N = %d: first minima (x, COR) %s",
             n,
-            ", ".join(f"({a:.4f}, {c:.4f})" for a, c in cusp_minima(curve)),
+            ", ".join(
+                f"({a:.4f}, {c:.4f})"
+                for a, c in minima.loc[minima["n_masses"] == n, ["x", "cor"]].head(3).to_numpy()
+            ),
         )
     plotting.log_axis(ax, "x")
     ax.set_xlim(x_lo, x_hi)
@@ -62,31 +57,35 @@ def draw(sweep: pd.DataFrame, n_masses, logger):
     return fig
 
 
-def caption_data(sweep: pd.DataFrame) -> dict:
-    """How the COR orders with N on the shared x grid, minima counts, from the sweep table."""
+def caption_data(sweep: pd.DataFrame, minima: pd.DataFrame) -> dict:
+    """How the COR orders with N on the shared x grid (sweep table), the first minimum and the
+    number of minima of each curve (minima table)."""
     from render_caption import ordering
 
-    return ordering(sweep[sweep["status"] == "ok"], "n_masses", along="x")
+    first = minima[minima["minimum"] == 1].set_index("n_masses")["x"]
+    counts = minima.groupby("n_masses").size()
+    return ordering(sweep[sweep["status"] == "ok"], "n_masses", first, counts, along="x")
 
 
-def main(sweep_path, png_path, pdf_path, params, logger, smk=None):
+def main(sweep_path, minima_path, png_path, pdf_path, params, logger, smk=None):
 
     from restitution import plotting
     from restitution.tables.io import read_table
 
     sweep = read_table(sweep_path)
+    minima = read_table(minima_path, columns=("n_masses", "minimum", "x", "cor"))
     for column in ("x", "n_masses", "cor", "status"):
         if column not in sweep:
             raise ValueError(f"{sweep_path}: no column {column!r} (not a Fig. 6(b) sweep table)")
     missing = sorted(set(params.n_masses) - set(sweep["n_masses"].unique()))
     if missing:
         raise ValueError(f"{sweep_path}: no rows for N = {missing}")
-    fig = draw(sweep, params.n_masses, logger)
+    fig = draw(sweep, minima, params.n_masses, logger)
     plotting.save_outputs(fig, png_path, pdf_path, logger)
     if smk is not None:
         from render_caption import write_caption
 
-        write_caption(smk, caption_data(sweep), logger)
+        write_caption(smk, caption_data(sweep, minima), logger)
 
 
 if __name__ == "__main__":
@@ -96,6 +95,7 @@ if __name__ == "__main__":
     with Timer(log, "render"):
         main(
             snakemake.input.sweep,  # noqa: F821
+            snakemake.input.minima,  # noqa: F821
             snakemake.output.png,  # noqa: F821
             snakemake.output.pdf,  # noqa: F821
             snakemake.params,  # noqa: F821

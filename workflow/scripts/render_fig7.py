@@ -94,8 +94,9 @@ def draw(sweep: pd.DataFrame, panel: str, fig7: dict, logger):
     else:
         plotting.log_axis(ax, "y")
         # The fitted large-alpha power law (caption: slope per xi), drawn below the curves.
-        data = caption_data(sweep, "c", fig7)
-        slope = float(np.mean([float(v) for v in data["slopes"].split(", ")]))
+        # The mean of the slopes as the caption prints them (two decimals).
+        slopes = fitted_slopes(curves(sweep, fig7["xis"]), fig7)
+        slope = float(np.mean([float(f"{v:.2f}") for v in slopes]))
         hi = float(fig7["alpha_max"])
         a = np.geomspace(hi / 10, hi, 50)
         ref = sweep[(sweep["alpha"] >= hi / 10) & (sweep["status"] == "ok")]["omega_t_col"]
@@ -150,13 +151,6 @@ def curves(sweep: pd.DataFrame, xis) -> dict:
         rows = sweep[(sweep["xi"] == xi) & (sweep["status"] == "ok")]
         out[xi] = rows.sort_values("alpha").reset_index(drop=True)
     return out
-
-
-def local_minima(curve: pd.DataFrame) -> pd.DataFrame:
-    """Rows of ``curve`` where the COR is below both neighbours (the refined cusps)."""
-    cor = curve["cor"].to_numpy()
-    idx = [i for i in range(1, len(cor) - 1) if cor[i] < cor[i - 1] and cor[i] <= cor[i + 1]]
-    return curve.iloc[idx]
 
 
 def first_reach(curve: pd.DataFrame, n: int) -> float:
@@ -239,14 +233,35 @@ def count_order(by_xi: dict, fig7: dict) -> dict:
     }
 
 
-def caption_data(sweep: pd.DataFrame, panel: str, fig7: dict) -> dict:
-    """Numbers and words of the caption of ``panel``, computed from the sweep table."""
+def fitted_slopes(by_xi: dict, fig7: dict) -> list[float]:
+    """Slope of log(omega t_col) against log(alpha) over the top decade of alpha, per curve."""
+    lo = float(fig7["alpha_max"]) / 10
+    slopes = []
+    for c in by_xi.values():
+        sel = c["alpha"] >= lo
+        slope = np.polyfit(np.log(c.loc[sel, "alpha"]), np.log(c.loc[sel, "omega_t_col"]), 1)
+        slopes.append(float(slope[0]))
+    return slopes
+
+
+def caption_data(sweep: pd.DataFrame, panel: str, fig7: dict, minima=None, summary=None) -> dict:
+    """Numbers and words of the caption of ``panel``, computed from the sweep table and read from
+    what ``aggregate_fig7`` listed: panel (a) from its minima table (minima.csv: xi, minimum,
+    alpha, cor), panels (b) and (c) from its per-xi summary (summary.csv: peak_collisions,
+    peak_alpha_min, collisions_at_alpha_max, omega_t_col_at_alpha_max).
+    """
+    if panel in ("b", "c"):
+        if summary is None:
+            raise ValueError(f"the caption of Fig. 7({panel}) needs the summary of aggregate_fig7")
+        summary = summary.set_index("xi")
     by_xi = curves(sweep, fig7["xis"])
     xis = list(by_xi)
     xi_list = ", ".join(f"{xi:g}" for xi in xis)
     data = {"xi_list": xi_list}
     if panel == "a":
-        minima = {xi: local_minima(c) for xi, c in by_xi.items()}
+        if minima is None:
+            raise ValueError("the caption of Fig. 7(a) needs the minima table of aggregate_fig7")
+        minima = {xi: minima[minima["xi"] == xi].sort_values("minimum") for xi in by_xi}
         first = {xi: m.iloc[0] for xi, m in minima.items() if len(m)}
         second = {xi: m.iloc[1] for xi, m in minima.items() if len(m) > 1}
         low = {xi: c.iloc[0] for xi, c in by_xi.items()}
@@ -283,13 +298,13 @@ def caption_data(sweep: pd.DataFrame, panel: str, fig7: dict) -> dict:
             ordered_share=f"{100 * ordered.mean():.0f}%",
         )
     elif panel == "b":
-        parts, ends = [], []
-        for xi, c in by_xi.items():
-            peak = int(c["n_collisions"].max())
-            where = c.loc[c["n_collisions"] == peak, "alpha"]
-            parts.append(f"{peak} at alpha = {_fmt(where.iloc[0])} (xi = {xi:g})")
-            ends.append(str(int(c["n_collisions"].iloc[-1])))
-        peaks = [int(c["n_collisions"].max()) for c in by_xi.values()]
+        rows = summary.loc[xis]
+        parts = [
+            f"{int(r.peak_collisions)} at alpha = {_fmt(r.peak_alpha_min)} (xi = {xi:g})"
+            for xi, r in rows.iterrows()
+        ]
+        ends = [str(int(n)) for n in rows["collisions_at_alpha_max"]]
+        peaks = [int(n) for n in rows["peak_collisions"]]
         steps = np.diff(peaks)
         data.update(
             peaks="; ".join(parts),
@@ -306,11 +321,7 @@ def caption_data(sweep: pd.DataFrame, panel: str, fig7: dict) -> dict:
     elif panel == "c":
         hi = float(fig7["alpha_max"])
         lo = hi / 10
-        slopes = []
-        for c in by_xi.values():
-            sel = c["alpha"] >= lo
-            slope = np.polyfit(np.log(c.loc[sel, "alpha"]), np.log(c.loc[sel, "omega_t_col"]), 1)
-            slopes.append(float(slope[0]))
+        slopes = fitted_slopes(by_xi, fig7)
         mean = float(np.mean(slopes))
         # Where omega t_col falls between its jumps (grid steps at the same contact count).
         single, jumps, falls_small, falls_large = [], [], [], []
@@ -328,7 +339,7 @@ def caption_data(sweep: pd.DataFrame, panel: str, fig7: dict) -> dict:
             falls_small.append(f"{100 * fall[small].mean():.0f}%" if small.any() else "-")
             falls_large.append(f"{100 * fall[large].mean():.0f}%" if large.any() else "-")
         first = min(float(c["omega_t_col"].iloc[0]) for c in by_xi.values())
-        last = [float(c["omega_t_col"].iloc[-1]) for c in by_xi.values()]
+        last = [float(t) for t in summary.loc[xis, "omega_t_col_at_alpha_max"]]
         data.update(
             fit_lo=f"{lo:g}",
             fit_hi=f"{hi:g}",
@@ -353,7 +364,9 @@ def caption_data(sweep: pd.DataFrame, panel: str, fig7: dict) -> dict:
     return data
 
 
-def main(sweep_path, png_path, pdf_path, params, logger, smk=None):
+def main(
+    sweep_path, png_path, pdf_path, params, logger, smk=None, minima_path=None, summary_path=None
+):
 
     from restitution import plotting
     from restitution.tables.io import read_table
@@ -372,7 +385,12 @@ def main(sweep_path, png_path, pdf_path, params, logger, smk=None):
     if smk is not None:
         from render_caption import write_caption
 
-        write_caption(smk, caption_data(sweep, panel, params.fig7), logger)
+        minima = summary = None
+        if minima_path is not None:
+            minima = read_table(minima_path, columns=("xi", "minimum", "alpha", "cor"))
+        if summary_path is not None:
+            summary = read_table(summary_path, columns=("xi", "peak_collisions"))
+        write_caption(smk, caption_data(sweep, panel, params.fig7, minima, summary), logger)
 
 
 if __name__ == "__main__":
@@ -387,4 +405,6 @@ if __name__ == "__main__":
             snakemake.params,  # noqa: F821
             log,
             snakemake,  # noqa: F821
+            snakemake.input.get("minima"),  # noqa: F821
+            snakemake.input.get("summary"),  # noqa: F821
         )

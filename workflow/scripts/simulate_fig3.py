@@ -35,20 +35,13 @@ SAME_MINIMUM = 1e-5
 # ---------------------------------------------------------------------------------------------
 # Fig. 3(a)
 # ---------------------------------------------------------------------------------------------
-def solve_betas(alpha: float, betas, solver: dict, progress: bool = False) -> pd.DataFrame:
+def solve_betas(alpha: float, betas, solver: dict) -> pd.DataFrame:
     """One row per beta at mass ratio ``alpha`` (two masses, no dashpot)."""
-    import restitution
+    from restitution.analysis import sweeps
 
-    scenes = pd.DataFrame(
-        {
-            "alpha": float(alpha),
-            "beta": np.asarray(betas, dtype=np.float64),
-            "xi": 0.0,
-            "n_masses": 2,
-            "method": solver["method"],
-        }
+    return sweeps.solve_along(
+        "beta", betas, {"alpha": alpha}, method=solver["method"], max_events=solver["max_events"]
     )
-    return restitution.solve_many(scenes, max_events=solver["max_events"], progress=progress)
 
 
 def polish_minima(table: pd.DataFrame, alpha: float, solver: dict, steps: int, logger):
@@ -60,10 +53,11 @@ def polish_minima(table: pd.DataFrame, alpha: float, solver: dict, steps: int, l
     narrowed ``steps`` times (factor 0.618 each), so smooth minima are drawn at their depth too; a
     minimum at a cusp stays at the cusp (the COR is continuous there).
     """
+    from restitution.analysis.sweeps import interior_minima
+
     table = table[table["status"] == "ok"].sort_values("beta")
     beta = np.log(table["beta"].to_numpy())
-    cor = table["cor"].to_numpy()
-    inner = np.flatnonzero((cor[1:-1] < cor[:-2]) & (cor[1:-1] <= cor[2:])) + 1
+    inner = interior_minima(table["cor"].to_numpy())
     if steps == 0 or len(inner) == 0:
         return table.iloc[:0]
     golden = (np.sqrt(5.0) - 1.0) / 2.0
@@ -96,25 +90,9 @@ def polish_minima(table: pd.DataFrame, alpha: float, solver: dict, steps: int, l
     return pd.concat(rows, ignore_index=True)
 
 
-def local_minima(sweep: pd.DataFrame) -> pd.DataFrame:
-    """Rows (status ok) whose COR is below both neighbours along beta, per alpha, numbered."""
-    rows = []
-    for _, curve in sweep[sweep["status"] == "ok"].groupby("alpha", sort=True):
-        curve = curve.sort_values("beta")
-        cor = curve["cor"].to_numpy()
-        inner = np.flatnonzero((cor[1:-1] < cor[:-2]) & (cor[1:-1] <= cor[2:])) + 1
-        found = curve.iloc[inner][["alpha", "beta", "cor", "n_collisions"]].copy()
-        # Round-off ripples at the bottom of a polished minimum: keep the lowest of each cluster.
-        beta = found["beta"].to_numpy()
-        cluster = np.concatenate([[0], np.cumsum(beta[1:] / beta[:-1] - 1 > SAME_MINIMUM)])
-        found = found.loc[found.groupby(cluster)["cor"].idxmin().to_numpy()]
-        found.insert(1, "minimum", np.arange(1, len(found) + 1))
-        rows.append(found)
-    columns = ["alpha", "minimum", "beta", "cor", "n_collisions"]
-    return pd.concat(rows, ignore_index=True) if rows else pd.DataFrame(columns=columns)
-
-
 def main_sweep(params, sweep_path, minima_path, logger, progress=False) -> pd.DataFrame:
+    from _common import log_minima
+
     from restitution.analysis import sweeps
     from restitution.tables.io import write_table
 
@@ -122,16 +100,15 @@ def main_sweep(params, sweep_path, minima_path, logger, progress=False) -> pd.Da
     grid = sweeps.log_grid(sweep["beta_min"], sweep["beta_max"], sweep["n_beta"])
     curves = []
     for alpha in sweep["alphas"]:
-        table = solve_betas(alpha, grid, solver, progress=progress).assign(refined=False)
-        extra = sweeps.refine_count_changes(
-            table,
+        curve = sweeps.sweep_curve(
             partial(solve_betas, alpha, solver=solver),
             "beta",
+            grid,
             sweep["refine_steps"],
             logger,
-            label=f"alpha {alpha:g}",
+            f"alpha {alpha:g}",
+            progress,
         )
-        curve = pd.concat([table, extra.assign(refined=True)], ignore_index=True)
         steps = min(sweep["refine_steps"], POLISH_STEPS)
         polished = polish_minima(curve, alpha, solver, steps, logger)
         curves.append(pd.concat([curve, polished.assign(refined=True)], ignore_index=True))
@@ -140,20 +117,12 @@ def main_sweep(params, sweep_path, minima_path, logger, progress=False) -> pd.Da
         .drop_duplicates(subset=["alpha", "beta"], keep="first")
         .sort_values(["alpha", "beta"], ignore_index=True)
     )
-    sweeps.log_not_ok(result, logger)
     config = {"fig3": {"sweep": sweep}, "solver": solver}
     write_table(result, sweep_path, config=config)
-    minima = local_minima(result)
+    # Round-off ripples at the bottom of a polished minimum: the lowest of each cluster counts.
+    minima = sweeps.local_minima(result, "beta", by="alpha", merge=SAME_MINIMUM)
     write_table(minima, minima_path, config=config)
-    for alpha, group in minima.groupby("alpha"):
-        logger.info(
-            "alpha %g: COR minima (beta, COR, contacts) %s",
-            alpha,
-            ", ".join(
-                f"({b:.6g}, {c:.6f}, {n})"
-                for b, c, n in zip(group.beta, group.cor, group.n_collisions, strict=True)
-            ),
-        )
+    log_minima(logger, minima, "alpha", "beta")
     return result
 
 
@@ -174,35 +143,37 @@ def compression_curve(alpha: float, beta: float, t_max: float, n_times: int, his
 
 
 def marginal_beta(alpha: float, bracket, steps: int, solver: dict, logger) -> dict:
-    """Bisect ``bracket`` (geometric midpoints) on the contact count; one row of the CSV."""
+    """Bisect ``bracket`` (geometric midpoints) on the contact count; one row of the CSV.
+
+    The bisection is ``restitution.analysis.sweeps.refine_count_changes`` on the two ends; the
+    final bracket is the largest beta evaluated with the count of the low end and the smallest
+    beta evaluated with another count (the brackets nest). Steps past the round-off repeat an end
+    and change nothing.
+    """
     import restitution
+    from restitution.analysis import sweeps
 
     lo, hi = (float(b) for b in bracket)
     if not 0 < lo < hi:
         raise ValueError(
             f"fig3.compression.marginal_bracket = {list(bracket)!r}: need 0 < low < high"
         )
-
-    def count(beta):
-        r = restitution.solve(alpha, beta, method=solver["method"], max_events=solver["max_events"])
-        return r.n_collisions, r.cor
-
-    n_lo, cor_lo = count(lo)
-    n_hi, cor_hi = count(hi)
+    evaluate = partial(solve_betas, alpha, solver=solver)
+    ends = evaluate([lo, hi])
+    n_lo, n_hi = (int(n) for n in ends["n_collisions"])
     if n_lo == n_hi:
         raise ValueError(
             f"fig3.compression.marginal_bracket = {list(bracket)!r}: the number of contacts is "
             f"{n_lo} at both ends (alpha = {alpha}); widen the bracket around the change"
         )
-    for _ in range(steps):
-        mid = float(np.sqrt(lo * hi))
-        if mid in (lo, hi):
-            break
-        n_mid, cor_mid = count(mid)
-        if n_mid == n_lo:
-            lo, cor_lo = mid, cor_mid
-        else:
-            hi, n_hi, cor_hi = mid, n_mid, cor_mid
+    rows = pd.concat(
+        [ends, sweeps.refine_count_changes(ends, evaluate, "beta", steps)], ignore_index=True
+    )
+    below = rows[rows["n_collisions"] == n_lo]
+    above = rows[rows["n_collisions"] != n_lo]
+    low, high = below.loc[below["beta"].idxmax()], above.loc[above["beta"].idxmin()]
+    lo, hi, n_hi = float(low["beta"]), float(high["beta"]), int(high["n_collisions"])
+    cor_lo, cor_hi = float(low["cor"]), float(high["cor"])
     beta_star = float(np.sqrt(lo * hi))
     last = restitution.solve(alpha, lo if n_lo > n_hi else hi, history=True).history
     row = {

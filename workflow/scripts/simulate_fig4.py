@@ -17,7 +17,7 @@ the log (warning); a row above it by more than its own error estimate fails the 
 summary (first minima, largest COR, smallest margin to the bound, rows not ok) is written as CSV,
 so numbers quoted in prose come from a generated file.
 
-The minima summary (``local_minima``, ``minima_columns``) is shared with ``simulate_fig5.py``.
+The minima summary (``minima_columns``) is shared with ``simulate_fig5.py``.
 """
 
 import numpy as np
@@ -29,21 +29,18 @@ V0 = 1.0  # kappa scales as v0**(1 - eta) at fixed DR, so the COR does not depen
 # ---------------------------------------------------------------------------------------------
 # Minima summary (also used by simulate_fig5.py)
 # ---------------------------------------------------------------------------------------------
-def local_minima(curve: pd.DataFrame, count: int = 3) -> list[tuple[float, float]]:
-    """(alpha, cor) of the first ``count`` local minima of a curve (rows sorted by alpha)."""
-    cor = curve["cor"].to_numpy()
-    inner = np.flatnonzero((cor[1:-1] < cor[:-2]) & (cor[1:-1] <= cor[2:])) + 1
-    alpha = curve["alpha"].to_numpy()
-    return [(float(alpha[i]), float(cor[i])) for i in inner[:count]]
-
-
 def minima_columns(curve: pd.DataFrame, count: int = 3) -> dict:
+    """Summary columns of one curve: its first ``count`` COR minima, how many it has, its lowest
+    and its largest COR (rows with status ok; ``restitution.analysis.sweeps.local_minima``)."""
+    from restitution.analysis.sweeps import local_minima
+
     ok = curve[curve["status"] == "ok"].sort_values("alpha")
-    found = local_minima(ok, count)
+    found = local_minima(ok, "alpha")
     row = {}
     for k in range(count):
-        a, c = found[k] if k < len(found) else (np.nan, np.nan)
-        row[f"min{k + 1}_alpha"], row[f"min{k + 1}_cor"] = a, c
+        a, c = found.iloc[k][["alpha", "cor"]] if k < len(found) else (np.nan, np.nan)
+        row[f"min{k + 1}_alpha"], row[f"min{k + 1}_cor"] = float(a), float(c)
+    row["n_minima"] = len(found)
     i = ok["cor"].idxmin() if len(ok) else None
     row["cor_min"] = float(ok.loc[i, "cor"]) if i is not None else np.nan
     row["alpha_at_cor_min"] = float(ok.loc[i, "alpha"]) if i is not None else np.nan
@@ -135,23 +132,11 @@ def main(params, output_path, summary_path, logger) -> pd.DataFrame:
     for law in curves(panel):
         label = f"fig4{params.name} {law['contact']} eta={law['eta']:g} DR={law['dr']:g}"
         evaluate = evaluator(law, sweep, solver)
-        curve = sweeps.refined_sweep(
-            evaluate(alphas), evaluate, "alpha", sweep["refine_steps"], logger, label
-        )
-        row = dict(law, n_rows=len(curve), n_not_ok=sweeps.log_not_ok(curve, logger, label))
+        curve = sweeps.sweep_curve(evaluate, "alpha", alphas, sweep["refine_steps"], logger, label)
+        row = dict(law, n_rows=len(curve), n_not_ok=int((curve["status"] != "ok").sum()))
         row.update(minima_columns(curve))
         if law["contact"] == "plastic":
             row.update(check_bound(curve, logger, label))
-        logger.info(
-            "%s: %d rows, contacts %d..%d, COR %.4f..%.4f, max error estimate %.2g",
-            label,
-            len(curve),
-            curve["n_collisions"].min(),
-            curve["n_collisions"].max(),
-            curve["cor"].min(),
-            curve["cor"].max(),
-            curve["error_estimate"].max(),
-        )
         tables.append(curve)
         summary.append(row)
     result = pd.concat(tables, ignore_index=True)

@@ -130,21 +130,9 @@ def main(params, output_path, summary_path, logger, scan_path=None) -> pd.DataFr
     for law in curves(spring, panel):
         label = f"fig5b {law['structure']} L={law['L']:g} v0={law['v0']:g}"
         evaluate = evaluator(law, panel, solver)
-        curve = sweeps.refined_sweep(
-            evaluate(alphas), evaluate, "alpha", panel["refine_steps"], logger, label
-        )
-        row = dict(law, n_rows=len(curve), n_not_ok=sweeps.log_not_ok(curve, logger, label))
+        curve = sweeps.sweep_curve(evaluate, "alpha", alphas, panel["refine_steps"], logger, label)
+        row = dict(law, n_rows=len(curve), n_not_ok=int((curve["status"] != "ok").sum()))
         row.update(minima_columns(curve))
-        logger.info(
-            "%s: %d rows, contacts %d..%d, COR min %.4f at alpha %.4g, max error estimate %.2g",
-            label,
-            len(curve),
-            curve["n_collisions"].min(),
-            curve["n_collisions"].max(),
-            row["cor_min"],
-            row["alpha_at_cor_min"],
-            curve["error_estimate"].max(),
-        )
         tables.append(curve)
         summary.append(row)
     result = pd.concat(tables, ignore_index=True)

@@ -9,32 +9,28 @@ once, one ``solve_many`` call per step) and every point evaluated is kept, so ea
 minimum is drawn down to its depth.
 """
 
-from functools import partial
-
 import numpy as np
 import pandas as pd
 
 
-def solve_x(x, n: int, beta: float, solver: dict, progress: bool = False) -> pd.DataFrame:
-    """One row per x = (N-1)*alpha for chain length ``n`` (column ``x`` added)."""
-    import restitution
+def solve_x(x, n: int, beta: float, solver: dict) -> pd.DataFrame:
+    """One row per x = (N-1)*alpha for chain length ``n`` (column ``x`` added first)."""
+    from restitution.analysis import sweeps
 
-    x = np.asarray(x, dtype=np.float64)
-    scenes = pd.DataFrame(
-        {
-            "alpha": x / (n - 1),
-            "beta": float(beta),
-            "xi": 0.0,
-            "n_masses": int(n),
-            "method": solver["method"],
-        }
+    result = sweeps.solve_along(
+        "alpha",
+        np.asarray(x, dtype=np.float64) / (n - 1),
+        {"beta": beta, "n_masses": n},
+        method=solver["method"],
+        max_events=solver["max_events"],
     )
-    result = restitution.solve_many(scenes, max_events=solver["max_events"], progress=progress)
-    result.insert(0, "x", x)
+    result.insert(0, "x", np.asarray(x, dtype=np.float64))
     return result
 
 
 def main(params, output_path, n: int, logger, progress=False) -> pd.DataFrame:
+    from functools import partial
+
     from restitution.analysis import sweeps
     from restitution.tables.io import write_table
 
@@ -45,23 +41,9 @@ def main(params, output_path, n: int, logger, progress=False) -> pd.DataFrame:
     logger.info(
         "N = %d, beta %g: %d grid x in [%g, %g]", n, sweep["beta"], len(grid), grid[0], grid[-1]
     )
-    result = sweeps.refined_sweep(
-        solve_x(grid, n, sweep["beta"], solver, progress=progress),
-        partial(solve_x, n=n, beta=sweep["beta"], solver=solver),
-        "x",
-        sweep["refine_steps"],
-        logger,
-        label=f"N = {n}",
-    )
-    sweeps.log_not_ok(result, logger, label=f"N = {n}")
-    logger.info(
-        "N = %d: %d rows (%d refined), contacts %d..%d, COR min %.6f",
-        n,
-        len(result),
-        result["refined"].sum(),
-        result["n_collisions"].min(),
-        result["n_collisions"].max(),
-        result["cor"].min(),
+    evaluate = partial(solve_x, n=n, beta=sweep["beta"], solver=solver)
+    result = sweeps.sweep_curve(
+        evaluate, "x", grid, sweep["refine_steps"], logger, f"N = {n}", progress
     )
     write_table(
         result, output_path, config={"fig6": {"sweep": sweep}, "solver": solver, "n_masses": n}

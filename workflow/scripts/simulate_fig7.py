@@ -13,36 +13,14 @@ Chunk k holds grid indices k*chunk_size .. (k+1)*chunk_size inclusive (shared bo
 dropped again by aggregate_fig7).
 """
 
-from functools import partial
-
-import numpy as np
 import pandas as pd
 
 
-def chunk_alphas(grid: dict, chunk: int) -> np.ndarray:
-    """Grid alphas of one chunk of config['fig7'], the boundary point shared with the next."""
-    from restitution.analysis import sweeps
-
-    alphas = sweeps.log_grid(grid["alpha_min"], grid["alpha_max"], grid["n_alpha"])
-    return sweeps.chunk(alphas, grid["chunk_size"], chunk)
-
-
-def solve(alphas, beta: float, xi: float, solver: dict, progress: bool = False) -> pd.DataFrame:
-    import restitution
-
-    scenes = pd.DataFrame(
-        {
-            "alpha": np.asarray(alphas, dtype=np.float64),
-            "beta": float(beta),
-            "xi": float(xi),
-            "n_masses": 2,
-            "method": solver["method"],
-        }
-    )
-    return restitution.solve_many(scenes, max_events=solver["max_events"], progress=progress)
-
-
 def main(params, output_path, xi: float, chunk: int, logger, progress=False) -> pd.DataFrame:
+    from functools import partial
+
+    from _common import chunk_alphas
+
     from restitution.analysis import sweeps
     from restitution.tables.io import write_table
 
@@ -63,22 +41,15 @@ def main(params, output_path, xi: float, chunk: int, logger, progress=False) -> 
         alphas[0],
         alphas[-1],
     )
-    result = sweeps.refined_sweep(
-        solve(alphas, beta, xi, solver, progress=progress),
-        partial(solve, beta=beta, xi=xi, solver=solver),
+    evaluate = partial(
+        sweeps.solve_along,
         "alpha",
-        grid["refine_steps"],
-        logger,
-        progress=progress,
+        scene={"beta": beta, "xi": xi},
+        method=solver["method"],
+        max_events=solver["max_events"],
     )
-    sweeps.log_not_ok(result, logger, where="alpha")
-    logger.info(
-        "%d rows (%d refined), contacts %d..%d, COR min %.6f",
-        len(result),
-        result["refined"].sum(),
-        result["n_collisions"].min(),
-        result["n_collisions"].max(),
-        result["cor"].min(),
+    result = sweeps.sweep_curve(
+        evaluate, "alpha", alphas, grid["refine_steps"], logger, f"xi {xi:g}", progress
     )
     write_table(result, output_path, config={"grid": grid, "solver": solver, "xi": xi})
     return result

@@ -19,6 +19,7 @@ def minima(table: pd.DataFrame, axis) -> pd.DataFrame:
     within that the COR is flat to round-off, and the pattern search's points there show several
     local minima of the same depth. ``axis`` is the study's first axis
     (``restitution_workflow.study.Axis``)."""
+    from restitution.analysis.sweeps import interior_minima
     from restitution_workflow.study import MINIMA_MERGE
 
     column = axis.param
@@ -31,7 +32,7 @@ def minima(table: pd.DataFrame, axis) -> pd.DataFrame:
     ):
         part = part.sort_values(column)
         cor = part["cor"].to_numpy()
-        inner = np.flatnonzero((cor[1:-1] < cor[:-2]) & (cor[1:-1] <= cor[2:])) + 1
+        inner = interior_minima(cor)
         x = scale(part[column].to_numpy(dtype=float)[inner])
         groups = np.split(inner, np.flatnonzero(np.diff(x) > tolerance) + 1) if len(inner) else []
         for number, group in enumerate(groups, start=1):

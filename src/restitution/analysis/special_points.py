@@ -37,6 +37,7 @@ import pandas as pd
 from numba import njit, prange
 from scipy.optimize import brentq
 
+from restitution.analysis.sweeps import interior_minima
 from restitution.kernels.parallel import row_blocks
 
 TWO_PI = 2.0 * math.pi
@@ -329,7 +330,7 @@ def smooth_minima(solver, alpha_min: float, alpha_max: float, n_grid: int = 400)
 
     grid = np.geomspace(alpha_min, alpha_max, n_grid)
     cor, cnt = solver(grid)
-    inner = np.flatnonzero((cor[1:-1] < cor[:-2]) & (cor[1:-1] <= cor[2:])) + 1
+    inner = interior_minima(cor)
     rows = []
     for i in inner:
         if not cnt[i - 1] == cnt[i] == cnt[i + 1]:

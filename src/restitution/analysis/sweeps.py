@@ -9,20 +9,37 @@ one interval, bisection resolves one of the changes.
 
 - :func:`log_grid` -- the log-spaced grid of a sweep;
 - :func:`chunk` -- one job's share of a grid, the boundary point shared with the next chunk;
+- :func:`solve_along` -- ``restitution.solve_many`` over paper scenes that differ in one column;
 - :func:`refine_count_changes` -- the bisection, returning the new rows;
 - :func:`refined_sweep` -- grid rows plus refined rows, flagged, de-duplicated and sorted;
-- :func:`log_not_ok` -- the warning for rows whose status is not ``ok``.
+- :func:`sweep_curve` -- one curve of a sweep job: grid, refinement, status warning, summary log;
+- :func:`log_not_ok` -- the warning for rows whose status is not ``ok``;
+- :func:`interior_minima` and :func:`local_minima` -- the local minima of a curve (the cusps and
+  any smooth minimum), the one definition every figure, table and caption uses.
 """
 
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 import pandas as pd
 
-__all__ = ["chunk", "log_grid", "log_not_ok", "refine_count_changes", "refined_sweep"]
+__all__ = [
+    "chunk",
+    "interior_minima",
+    "local_minima",
+    "log_grid",
+    "log_not_ok",
+    "refine_count_changes",
+    "refined_sweep",
+    "solve_along",
+    "sweep_curve",
+]
+
+# The paper's scene columns in the order ``solve_along`` writes them, with their defaults.
+_PAPER_SCENE = {"alpha": None, "beta": 0.0, "xi": 0.0, "n_masses": 2}
 
 
 def log_grid(lo: float, hi: float, n: int) -> np.ndarray:
@@ -83,6 +100,63 @@ def chunk(grid: np.ndarray, size: int, index: int) -> np.ndarray:
             f"chunk {index} is outside the grid of {len(grid)} points ({size} a chunk)"
         )
     return grid[start : min(start + size, len(grid) - 1) + 1]
+
+
+def solve_along(
+    column: str,
+    values,
+    scene: Mapping | None = None,
+    method: str = "auto",
+    max_events: int = 100_000,
+    progress: bool = False,
+) -> pd.DataFrame:
+    """Solve paper scenes that differ only in ``column``: one row per value, in order.
+
+    Parameters
+    ----------
+    column : str
+        The swept column: ``alpha``, ``beta`` or ``xi``.
+    values : array_like
+        Its values.
+    scene : mapping, optional
+        The fixed columns among ``alpha, beta, xi, n_masses`` (defaults: beta 0, xi 0, two
+        masses; ``alpha`` is required unless swept).
+    method, max_events, progress
+        Passed to :func:`restitution.solve_many` (``method`` as the column of every row).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``alpha, beta, xi, n_masses, method`` and the result columns.
+
+    Examples
+    --------
+    >>> table = solve_along("alpha", [0.5, 2.0], {"beta": 0.1})  # doctest: +SKIP
+    >>> list(table.columns[:5])  # doctest: +SKIP
+    ['alpha', 'beta', 'xi', 'n_masses', 'method']
+    """
+    from restitution.api import solve_many
+
+    if column not in ("alpha", "beta", "xi"):
+        raise ValueError(f"solve_along: column must be 'alpha', 'beta' or 'xi', got {column!r}")
+    scene = dict(scene or {})
+    unknown = sorted(set(scene) - set(_PAPER_SCENE) | ({column} & set(scene)))
+    if unknown:
+        raise ValueError(
+            f"solve_along: scene may fix only {sorted(set(_PAPER_SCENE) - {column})} "
+            f"(not the swept {column!r}), got {unknown}"
+        )
+    columns = {**_PAPER_SCENE, **scene}
+    if column != "alpha" and columns["alpha"] is None:
+        raise ValueError("solve_along: scene needs an 'alpha' when another column is swept")
+    frame = {
+        name: np.asarray(values, dtype=np.float64)
+        if name == column
+        else (int(value) if name == "n_masses" else float(value))
+        for name, value in columns.items()
+    }
+    scenes = pd.DataFrame({**frame, "method": method})
+    return solve_many(scenes, max_events=max_events, progress=progress)
 
 
 def refine_count_changes(
@@ -214,6 +288,69 @@ def refined_sweep(
     )
 
 
+def sweep_curve(
+    evaluate: Callable[[np.ndarray], pd.DataFrame],
+    column: str,
+    grid: np.ndarray,
+    steps: int,
+    logger: logging.Logger | None = None,
+    label: str = "",
+    progress: bool = False,
+) -> pd.DataFrame:
+    """One curve of a sweep job: the grid evaluated, its cusps refined, the rows not ok warned.
+
+    The body every refined sweep of the workflow shares: :func:`refined_sweep` of
+    ``evaluate(grid)``, then (with a ``logger``) :func:`log_not_ok` and one summary line (rows,
+    refined rows, contact counts, COR range, largest error estimate where there is one).
+
+    Parameters
+    ----------
+    evaluate : callable
+        ``evaluate(values) -> DataFrame``, as for :func:`refine_count_changes`; its table needs
+        the columns ``n_collisions``, ``cor`` and ``status``.
+    column : str
+        The swept column.
+    grid : numpy.ndarray
+        The grid values (e.g. :func:`log_grid` or one :func:`chunk` of it).
+    steps : int
+        Bisection steps per change of the contact count.
+    logger, label, progress
+        As for :func:`refine_count_changes`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        As :func:`refined_sweep`.
+
+    Examples
+    --------
+    >>> def evaluate(x):
+    ...     x = np.asarray(x)
+    ...     return pd.DataFrame({"x": x, "n_collisions": (x > 2.0).astype(int),
+    ...                          "cor": 1.0 / (1.0 + x), "status": "ok"})
+    >>> curve = sweep_curve(evaluate, "x", log_grid(1.0, 4.0, 3), 10)
+    >>> len(curve), int(curve["refined"].sum())
+    (13, 10)
+    """
+    table = refined_sweep(evaluate(grid), evaluate, column, steps, logger, label, progress)
+    if logger is not None:
+        log_not_ok(table, logger, label, where=column)
+        prefix = f"{label}: " if label else ""
+        errors = table["error_estimate"].max() if "error_estimate" in table else np.nan
+        logger.info(
+            "%s%d rows (%d refined), contacts %d..%d, COR %.6f..%.6f, largest error estimate %.2g",
+            prefix,
+            len(table),
+            table["refined"].sum(),
+            table["n_collisions"].min(),
+            table["n_collisions"].max(),
+            table["cor"].min(),
+            table["cor"].max(),
+            errors,
+        )
+    return table
+
+
 def log_not_ok(
     table: pd.DataFrame, logger: logging.Logger, label: str = "", where: str | None = None
 ) -> int:
@@ -257,3 +394,110 @@ def log_not_ok(
                 table.loc[bad, where].head(5).tolist(),
             )
     return int(bad.sum())
+
+
+def interior_minima(values) -> np.ndarray:
+    """Indices of the interior local minima of a sequence (a curve sorted along its axis).
+
+    Point ``i`` is a minimum when it is below its left neighbour and not above its right one, so
+    a flat bottom counts once, at its first point. The ends never count.
+
+    Parameters
+    ----------
+    values : array_like
+        The values along the curve (a point that is NaN or next to a NaN is never a minimum).
+
+    Returns
+    -------
+    numpy.ndarray
+        The indices, increasing.
+
+    Examples
+    --------
+    >>> interior_minima([3.0, 1.0, 2.0, 0.5, 0.5, 4.0])
+    array([1, 3])
+    """
+    v = np.asarray(values, dtype=np.float64)
+    if v.ndim != 1:
+        raise ValueError(f"interior_minima: values must be one-dimensional, got shape {v.shape}")
+    return np.flatnonzero((v[1:-1] < v[:-2]) & (v[1:-1] <= v[2:])) + 1
+
+
+def local_minima(
+    table: pd.DataFrame,
+    along: str,
+    by: str | Sequence[str] = (),
+    value: str = "cor",
+    columns: Sequence[str] | None = None,
+    resolution: float | None = None,
+    merge: float | None = None,
+) -> pd.DataFrame:
+    """The local minima of ``value`` along ``along`` of every curve of ``table``, numbered.
+
+    Only rows whose ``status`` is ``ok`` count (all rows if there is no ``status`` column). Each
+    curve (one value of the ``by`` columns; the whole table if none) is sorted along ``along``
+    and its :func:`interior_minima` are listed from small ``along`` up as ``minimum`` 1, 2, ...
+
+    Two options remove round-off from refined cusps, whose last points lie a few ulps apart:
+
+    - ``resolution``: before the minima are looked for, points of a curve closer than this on
+      the log axis (``log(x[i+1]/x[i]) <= resolution``) are one point, the lowest;
+    - ``merge``: minima closer than this (relative: ``x[k+1]/x[k] - 1 <= merge``) are one
+      minimum, the lowest.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The sweep: columns ``along``, ``value``, the ``by`` columns and ``columns``.
+    along : str
+        The curve's axis (positive where ``resolution`` or ``merge`` are used).
+    by : str or sequence of str
+        The columns that name a curve (NaN is a name of its own).
+    value : str
+        The column whose minima are sought.
+    columns : sequence of str, optional
+        The columns listed after ``minimum``; default ``(along, value, "n_collisions")``.
+    resolution, merge : float, optional
+        As above (``>= 0``); None or 0 leaves the points as they are.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``*by, "minimum", *columns``, curves in sorted order, a fresh index.
+
+    Examples
+    --------
+    >>> sweep = pd.DataFrame({"beta": 0.0, "alpha": [0.5, 1.0, 2.0, 4.0, 8.0],
+    ...                       "cor": [0.4, 0.2, 0.5, 0.3, 0.6], "n_collisions": [1, 2, 2, 3, 3]})
+    >>> local_minima(sweep, "alpha", by="beta")
+       beta  minimum  alpha  cor  n_collisions
+    0   0.0        1    1.0  0.2             2
+    1   0.0        2    4.0  0.3             3
+    """
+    by = [by] if isinstance(by, str) else list(by)
+    columns = [along, value, "n_collisions"] if columns is None else list(columns)
+    for name, option in (("resolution", resolution), ("merge", merge)):
+        if option is not None and not option >= 0:
+            raise ValueError(f"local_minima: {name} must be >= 0 (or None), got {option!r}")
+    missing = sorted({along, value, *by, *columns} - set(table.columns))
+    if missing:
+        raise ValueError(f"local_minima: the table has no column {missing} (along = {along!r})")
+    ok = table[table["status"] == "ok"] if "status" in table else table
+    curves = ok.groupby(by, sort=True, dropna=False) if by else [((), ok)]
+    found = []
+    for _, curve in curves:
+        curve = curve.sort_values(along).reset_index(drop=True)
+        if resolution:
+            step = np.diff(np.log(curve[along].to_numpy()))
+            cluster = np.concatenate([[0], np.cumsum(step > resolution)])
+            curve = curve.loc[curve.groupby(cluster)[value].idxmin().to_numpy()]
+        rows = curve.iloc[interior_minima(curve[value].to_numpy())][[*by, *columns]].copy()
+        if merge:
+            x = rows[along].to_numpy()
+            cluster = np.concatenate([[0], np.cumsum(x[1:] / x[:-1] - 1 > merge)])
+            rows = rows.loc[rows.groupby(cluster)[value].idxmin().to_numpy()]
+        rows.insert(len(by), "minimum", np.arange(1, len(rows) + 1))
+        found.append(rows)
+    if not found:
+        return pd.DataFrame(columns=[*by, "minimum", *columns])
+    return pd.concat(found, ignore_index=True)

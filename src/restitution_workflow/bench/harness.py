@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from restitution.model.scene import SceneError
+from restitution.model.ranges import SceneError
 from restitution_workflow.bench.ivp import IVP_METHODS, TIME_BUDGET_STATUS, solve_ivp_scene
 
 FAMILIES = ("exact", "adaptive", "verlet", *IVP_METHODS)
