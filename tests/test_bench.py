@@ -20,7 +20,7 @@ import yaml
 from conftest import REPO, run_snakemake
 from restitution import solve
 from restitution.analysis.special_points import alpha_star
-from restitution.model.scene import SceneError
+from restitution.model.ranges import SceneError
 from restitution.tables.io import read_provenance, read_table
 from restitution_workflow.bench import harness
 from restitution_workflow.bench.harness import (

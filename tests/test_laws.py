@@ -9,7 +9,7 @@ from scipy.integrate import quad
 import restitution
 from conftest import solve_paper_law
 from restitution.model import laws
-from restitution.model.scene import SceneError
+from restitution.model.ranges import SceneError
 
 K2 = 2.0 / 3.0  # alpha = 2
 

@@ -142,7 +142,7 @@ def test_auto_uses_the_exact_kernels_for_linear_scenes():
 def test_many_matches_single_scenes_and_names_a_bad_row(method, setting):
     import pandas as pd
 
-    from restitution.model.scene import SceneError
+    from restitution.model.ranges import SceneError
 
     value = 1e-10 if setting == "rtol" else 0.02
     frame = pd.DataFrame(SCENES).assign(xi=lambda f: f["xi"].fillna(0.0))

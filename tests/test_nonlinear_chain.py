@@ -19,7 +19,7 @@ import restitution
 from conftest import solve_general_law as solve_nonlinear_chain
 from conftest import solve_general_many as solve_nonlinear_chain_many
 from restitution.model import laws
-from restitution.model.scene import SceneError
+from restitution.model.ranges import SceneError
 from restitution.solvers.methods import choose
 
 RTOL_REF = 1e-12

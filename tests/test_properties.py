@@ -272,11 +272,11 @@ def test_units_rescaling_matches_dimensional_integration(alpha, beta, xi, n, m1,
 
 
 def test_nondimensional_rejects_bad_input():
-    with pytest.raises(restitution.model.scene.SceneError, match="m1 must be a positive"):
+    with pytest.raises(restitution.SceneError, match="m1 must be a positive"):
         nondimensional(m1=0.0, m2=1.0, k2=1.0, V0=1.0)
-    with pytest.raises(restitution.model.scene.SceneError, match="k1 must be a positive"):
+    with pytest.raises(restitution.SceneError, match="k1 must be a positive"):
         nondimensional(m1=1.0, m2=1.0, k2=1.0, V0=1.0, k1=-5.0)
-    with pytest.raises(restitution.model.scene.SceneError, match="c .dashpot"):
+    with pytest.raises(restitution.SceneError, match="c .dashpot"):
         nondimensional(m1=1.0, m2=1.0, k2=1.0, V0=1.0, c=-1.0)
-    with pytest.raises(restitution.model.scene.SceneError, match="V0 must be a positive"):
+    with pytest.raises(restitution.SceneError, match="V0 must be a positive"):
         nondimensional(m1=1.0, m2=1.0, k2=1.0, V0=float("nan"))

@@ -28,7 +28,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from restitution.model.ranges import MAX_MASSES, RANGES, Range, SceneError, _real, _show
+from restitution.model.ranges import (
+    MAX_MASSES,
+    RANGES,
+    Range,
+    SceneError,
+    _real,
+    _show,
+    missing_cell,
+)
 
 # The one table of parameter ranges (``RANGES``, with ``Range``) lives in ``_base`` so that
 # ``restitution.model.laws`` reads the same table; it is checked here (``check``, ``check_column``).
@@ -457,10 +465,12 @@ def paper_with_laws(alpha, beta, xi, n_masses, law: dict) -> tuple[Chain, dict]:
             f"n_masses, method, history, max_events, masses, springs, dashpots, k_contact, "
             f"contact, links, {', '.join(NUMERICAL_KEYS)}"
         )
-    for k, v in law.items():  # (a table passes only its given cells)
-        if v is None:
+    for k, v in law.items():  # (a table passes only its given cells: a missing one is an error)
+        if missing_cell(v):
             allowed = RANGES[k].text if k in RANGES else "a law name"
-            raise SceneError(f"{k} must be {allowed}; got None (leave it out for the default)")
+            raise SceneError(
+                f"{k} must be {allowed}; got {_show(v)} (leave it out for the default)"
+            )
     paper = Chain.paper(alpha, beta, xi, n_masses)
     settings = {k: law[k] for k in ("rtol", "step") if k in law}
     contact = law.get("contact", "linear")
