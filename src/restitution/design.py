@@ -20,7 +20,16 @@ Method
    on its own), searched by an inner optimiser (the worst case near a cusp need not be a corner of
    the error box), is minimised instead.
 
-Every design's COR is re-checked by a fresh solver call (``cor_check``).
+4. **Bounds**: a ratio on or within 1 % of its bound is tested by relaxing the bound by 0.1 %
+   (the other ratios kept); the bound is *active* (``Design.bound_active``) when the objective
+   falls there: the design is then the bound's, not a free optimum. ``Design.active`` lists every
+   active constraint (active bounds, the grazing condition of a cusp optimum). Tapered chains
+   bound their step ratio, not their end mass (which only has to stay within the solvers' ratio
+   range), so a long chain may taper as fast as a short one.
+
+``warm_starts`` puts given chains (e.g. the optimum of a family this one contains) into the
+search's first population. Every design's COR is re-checked by a fresh solver call
+(``cor_check``).
 
 Units: ratios to m_1 and k_12; the chain is scaled to omega = 1 (omega^2 = k_12/m_1 + k_12/m_2)
 for the solver, so beta = k_12/k_contact as in the paper.
@@ -76,7 +85,16 @@ class Design:
     cor_check : float
         COR re-solved by a fresh ``restitution.solve`` call.
     bounds_hit : list of str
-        Parameters that sit on a bound (e.g. ``["m_3/m_1 = 100 (upper)"]``).
+        Parameters on or within 1 % of a bound, each with the COR just past the bound
+        (e.g. ``["m_3/m_1 = 0.01 at lower bound 0.01 (active: COR 0.0987 past it)"]``).
+    bound_active : bool
+        Some bound is active: the COR falls when that bound is relaxed by 0.1 %, so the design
+        depends on the bound (a free optimum would lie beyond it).
+    active : list of str
+        Every constraint active at the design: the active bounds and the grazing condition the
+        optimum sits on (``"grazing new n=2"``); empty for a smooth interior minimum.
+    warm_starts : int
+        Points put into the search's first population (``x0``), e.g. a smaller family's optimum.
     grazing : tuple or None
         (n, kind) of the grazing condition the polish solved, or None.
     method : str
@@ -100,6 +118,9 @@ class Design:
     method: str = ""
     evaluations: int = 0
     parameter: float = math.nan  # the family's one parameter (uniform: alpha; tapered: ratio)
+    bound_active: bool = False
+    active: list = field(default_factory=list)
+    warm_starts: int = 0
 
     def row(self) -> dict:
         """One table row (lists for the chain)."""
@@ -116,6 +137,9 @@ class Design:
             masses=[float(x) for x in self.masses],
             springs=[float(x) for x in self.springs],
             bounds_hit="; ".join(self.bounds_hit),
+            bound_active=bool(self.bound_active),
+            active="; ".join(self.active) or "none (smooth interior minimum)",
+            warm_starts=int(self.warm_starts),
             grazing="" if self.grazing is None else f"{self.grazing[1]} n={self.grazing[0]}",
             method=self.method,
             evaluations=self.evaluations,
@@ -133,6 +157,22 @@ class Family:
     n_masses: int
     dim: int
     names: tuple
+
+    def coords(self, masses, springs=None):
+        """Log-parameters x of the chain (mass ratios, spring ratios): the inverse of
+        :meth:`chain` on the family (a chain outside it: its nearest reading, e.g. m_2/m_1 for
+        ``uniform`` and ``tapered``)."""
+        m = np.asarray(masses, dtype=float)
+        m = m / m[0]
+        if m.size != self.n_masses:
+            raise ValueError(f"a warm start of {m.size} masses for a family of {self.n_masses}")
+        if self.name in ("uniform", "tapered"):
+            return np.array([math.log(m[1])])
+        x = np.log(m[1:])
+        if self.name == "masses+springs":
+            k = np.ones(self.n_masses - 1) if springs is None else np.asarray(springs, float)
+            x = np.r_[x, np.log(k[1:] / k[0])]
+        return x
 
     def chain(self, x):
         n = self.n_masses
@@ -478,14 +518,71 @@ def _check(n_masses, beta, bounds, tolerance, vary, seed=1, popsize=15, maxiter=
         raise SceneError(f"progress must be a callable (e.g. print) or None; got {_show(progress)}")
 
 
-def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, progress, polish):
+def _box_of(fam: Family, bounds):
+    """(lower, upper) log-bounds of the family's parameters.
+
+    Every ratio (m_i/m_1, k_i/k_12; uniform: alpha) within ``bounds``. Tapered chains: the step
+    ratio r = m_(i+1)/m_i within ``bounds`` and the end mass r**(N-1) within the ratios the solvers
+    handle (``chain.RATIOS``, 1e-8..1e8), not within ``bounds``: bounding the end mass by
+    ``bounds`` would cut a long chain off from the tapers a short one reaches (at N = 7 the
+    decreasing chain could not taper faster than r = 0.464, issue 26)."""
+    lo, hi = math.log(bounds[0]), math.log(bounds[1])
+    if fam.name != "tapered":
+        return [lo] * fam.dim, [hi] * fam.dim
+    r_lo, r_hi = RATIOS["masses[i]/masses[0]"]
+    steps = fam.n_masses - 1
+    return [max(lo, math.log(r_lo) / steps)], [min(hi, math.log(r_hi) / steps)]
+
+
+def _first_population(fam, lb, ub, popsize, seed, starts):
+    """The search's first population: a scrambled Sobol sample of the box with the warm starts
+    (clipped into the box) in its first rows."""
+    import warnings
+
+    from scipy.stats import qmc
+
+    size = max(5, popsize * fam.dim)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # Sobol's balance warning for sizes not a power of 2
+        unit = qmc.Sobol(fam.dim, scramble=True, seed=seed).random(size)
+    pop = np.asarray(lb) + unit * (np.asarray(ub) - np.asarray(lb))
+    for i, x in enumerate(starts[: size - 1]):
+        pop[i] = np.clip(x, lb, ub)
+    return pop
+
+
+def _relaxed(objective, fam, x, lb, ub, f_x):
+    """Bounds the design sits on or near (within 1 % in the ratio), each tested by relaxing it:
+    the objective 0.1 % past the bound (the other ratios kept). [(text, active)], active when the
+    objective falls there (a free optimum would lie beyond the bound)."""
+    out = []
+    r_lo, r_hi = (math.log(v) for v in RATIOS["masses[i]/masses[0]"])
+    for j, (name, xi, low, up) in enumerate(zip(fam.names, x, lb, ub, strict=True)):
+        for edge, which, step in ((low, "lower", -1e-3), (up, "upper", 1e-3)):
+            gap = abs(xi - edge)
+            if gap >= 0.01:
+                continue
+            word = "at" if gap < 1e-6 else f"within {100 * (math.exp(gap) - 1):.2g} % of"
+            text = f"{name} = {math.exp(xi):.4g} {word} {which} bound {math.exp(edge):.4g}"
+            y = np.array(x, dtype=float)
+            y[j] = edge + step
+            m, _ = fam.chain(y)
+            lm = np.log(m / m[0])
+            if lm.min() < r_lo or lm.max() > r_hi:
+                out.append((f"{text} (the solvers' ratio range: not relaxed)", True))
+                continue
+            f_y = objective(y)
+            active = f_y < f_x - 1e-12
+            state = "active" if active else "not active"
+            out.append((f"{text} ({state}: COR {f_y:.6g} 0.1 % past it)", active))
+    return out
+
+
+def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, progress, polish,
+              starts=()):  # fmt: skip
     objective = _Objective(fam, beta, tolerance, max_events)
-    lb = [math.log(bounds[0])] * fam.dim
-    ub = [math.log(bounds[1])] * fam.dim
-    if fam.name == "tapered":
-        # Ratio per step r: the end mass r**(N-1) stays within the bounds.
-        lb = [math.log(bounds[0]) / (fam.n_masses - 1)]
-        ub = [math.log(bounds[1]) / (fam.n_masses - 1)]
+    lb, ub = _box_of(fam, bounds)
+    starts = [np.asarray(fam.coords(*s), dtype=float) for s in starts]
     gen = [0]
 
     def callback(intermediate_result):
@@ -508,7 +605,7 @@ def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, 
         updating="deferred",
         polish=False,
         callback=callback,
-        init="sobol",
+        init=_first_population(fam, lb, ub, popsize, seed, starts) if starts else "sobol",
         vectorized=True,
     )
     x, graz = res.x, None
@@ -541,15 +638,13 @@ def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, 
     r = objective.solve(m, k)
     masses, springs, kc = scaled_chain(m, k, beta)
     check = solve_scaled(masses, springs, kc, max_events=max_events)
-    hit = []
-    for name, xi, low, up in zip(fam.names, x, lb, ub, strict=True):
-        # "near": within 1 % of a bound, where the local polish may stop short of it while the
-        # COR still falls towards it (the optimum then depends on the bound too).
-        for edge, which in ((low, "lower"), (up, "upper")):
-            gap = abs(xi - edge)
-            if gap < 0.01:
-                word = "at" if gap < 1e-6 else f"within {100 * (math.exp(gap) - 1):.2g} % of"
-                hit.append(f"{name} = {math.exp(xi):.4g} {word} {which} bound {math.exp(edge):.4g}")
+    # "near": within 1 % of a bound, where the local polish may stop short of it while the COR
+    # still falls towards it; the bound is active when the COR falls past it (relaxed by 0.1 %).
+    f_x = objective(x)
+    hits = _relaxed(objective, fam, x, lb, ub, f_x)
+    active = [text for text, on in hits if on]
+    if graz is not None:
+        active.append(f"grazing {graz[1]} n={graz[0]}")
     return Design(
         family=fam.name,
         n_masses=fam.n_masses,
@@ -561,12 +656,41 @@ def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, 
         worst_cor=objective.worst(x) if tolerance > 0.0 else math.nan,
         tolerance=tolerance,
         cor_check=check.cor,
-        bounds_hit=hit,
+        bounds_hit=[text for text, _ in hits],
+        bound_active=any(on for _, on in hits),
+        active=active,
+        warm_starts=len(starts),
         grazing=graz,
         method=method,
         evaluations=objective.calls,
         parameter=math.exp(x[0]) if fam.dim == 1 else math.nan,
     )
+
+
+def _starts(warm_starts, n_masses: int) -> list:
+    """Warm starts as [(masses, springs)], each checked (SceneError naming ``warm_starts``)."""
+    out = []
+    try:
+        items = list(warm_starts)
+    except TypeError:
+        raise SceneError(
+            f"warm_starts must be a sequence of Design or (masses, springs); got "
+            f"{_show(warm_starts)}"
+        ) from None
+    for item in items:
+        m, k = (item.masses, item.springs) if isinstance(item, Design) else item
+        m = np.asarray(m, dtype=float)
+        k = np.ones(n_masses - 1) if k is None else np.asarray(k, dtype=float)
+        if m.shape != (n_masses,) or k.shape != (n_masses - 1,):
+            raise SceneError(
+                f"warm_starts must hold chains of n_masses = {n_masses} masses and "
+                f"{n_masses - 1} springs; got {m.size} masses, {k.size} springs"
+            )
+        if not (np.all(np.isfinite(m)) and np.all(m > 0) and np.all(np.isfinite(k))
+                and np.all(k > 0)):  # fmt: skip
+            raise SceneError("warm_starts must hold finite positive masses and springs")
+        out.append((m, k))
+    return out
 
 
 def minimize_cor(
@@ -582,6 +706,7 @@ def minimize_cor(
     max_events: int = 100_000,
     polish: bool = True,
     progress=print,
+    warm_starts=(),
 ) -> Design:
     """Chain of ``n_masses`` masses with the smallest COR (see the module docstring).
 
@@ -601,6 +726,10 @@ def minimize_cor(
         Of ``differential_evolution`` (seeded: the same result on every run and thread count).
     progress : callable or None
         Called with one line per generation (default ``print``; a logger's ``info`` works).
+    warm_starts : sequence of Design or of (masses, springs)
+        Chains of ``n_masses`` masses put into the search's first population (clipped into the
+        bounds), e.g. the optimum of a smaller family: the search then ends at most at their
+        COR. The rest of the population is the usual Sobol sample.
 
     Returns
     -------
@@ -615,10 +744,11 @@ def minimize_cor(
     _check(n_masses, beta, bounds, tolerance, vary, seed, popsize, maxiter, max_events, polish,
            progress)  # fmt: skip
     fam = family(vary, n_masses)
+    starts = _starts(warm_starts, n_masses)
     bounds = (float(_real(bounds[0])), float(_real(bounds[1])))
     return _optimise(
         fam, float(_real(beta)), bounds, float(_real(tolerance)), seed, popsize, maxiter,
-        max_events, progress, polish,
+        max_events, progress, polish, starts,
     )  # fmt: skip
 
 
@@ -631,9 +761,12 @@ def best_uniform(
     popsize: int = 15,
     maxiter: int = 200,
     progress=print,
+    warm_starts=(),
 ) -> Design:
-    """The paper's uniform chain (Fig. 6: m_2..m_N all alpha m_1, equal springs), best alpha."""
+    """The paper's uniform chain (Fig. 6: m_2..m_N all alpha m_1, equal springs), best alpha.
+    ``warm_starts`` as in :func:`minimize_cor` (each read as its m_2/m_1)."""
     _check(n_masses, beta, bounds, 0.0, "masses", seed, popsize, maxiter, 100_000, True, progress)
+    starts = _starts(warm_starts, n_masses)
     bounds = (float(_real(bounds[0])), float(_real(bounds[1])))
     return _optimise(
         family("uniform", n_masses),
@@ -646,6 +779,7 @@ def best_uniform(
         100_000,
         progress,
         True,
+        starts,
     )
 
 
@@ -659,10 +793,14 @@ def best_tapered(
     popsize: int = 15,
     maxiter: int = 200,
     progress=print,
+    warm_starts=(),
 ) -> Design:
     """Geometric chain m_i = r**(i-1) m_1, equal springs, best r < 1 ("decreasing" from the wall)
-    or r > 1 ("increasing"); the end mass r**(N-1) stays within ``bounds``."""
+    or r > 1 ("increasing"); the step ratio r within ``bounds`` and the end mass r**(N-1) within
+    the ratios the solvers handle (1e-8..1e8). ``warm_starts`` as in :func:`minimize_cor` (each
+    read as its m_2/m_1)."""
     _check(n_masses, beta, bounds, 0.0, "masses", seed, popsize, maxiter, 100_000, True, progress)
+    starts = _starts(warm_starts, n_masses)
     bounds = (float(_real(bounds[0])), float(_real(bounds[1])))
     if direction not in ("decreasing", "increasing"):
         raise SceneError(f"direction must be 'decreasing' or 'increasing'; got {_show(direction)}")
@@ -683,6 +821,7 @@ def best_tapered(
         100_000,
         progress,
         True,
+        starts,
     )
     d.family = f"tapered ({direction})"
     return d

@@ -47,6 +47,8 @@ rule simulate_fig8a_curves:
             subcategory="Fig. 8",
             labels={"figure": "8(a)", "quantity": "table: count-step curves"},
         ),
+        untraced="results/fig8/untraced.parquet",
+        minima="results/fig8/minima.parquet",
     log:
         "logs/fig8/simulate_curves.log",
     benchmark:
@@ -72,6 +74,8 @@ rule fig8a:
             chunk=range(config["fig8"]["map"]["chunks"]),
         ),
         curves=rules.simulate_fig8a_curves.output.table,
+        untraced=rules.simulate_fig8a_curves.output.untraced,
+        minima=rules.simulate_fig8a_curves.output.minima,
         template="workflow/report/fig8a.rst",
         style="src/restitution/restitution.mplstyle",
         code=script_code("render_fig8a.py"),
@@ -104,9 +108,39 @@ rule fig8a:
 # ---------------------------------------------------------------------------------------------
 # Fig. 8(b): minimum-COR designs against N
 # ---------------------------------------------------------------------------------------------
+DESIGNS = config["fig8"]["design"]
+if DESIGNS["restart_seed"] == DESIGNS["seed"]:
+    raise WorkflowError(
+        "Invalid configuration: fig8.design.restart_seed must differ from fig8.design.seed "
+        f"(both {DESIGNS['seed']}): the second start of every design must be independent"
+    )
+#: Families whose optima a family contains at the same N (its warm starts, design_fig8b.py).
+CONTAINS = {
+    "masses": ["uniform", "tapered_decreasing", "tapered_increasing"],
+    "masses_springs": ["masses"],
+    "robust": ["masses"],
+}
+
+
+def _designed(family, n):
+    """Whether `all` or `extra` runs this design (a warm start must be a design of the run)."""
+    return any(n in DESIGNS[group].get(family, []) for group in ("all", "extra"))
+
+
+def design_warm_starts(wildcards):
+    """Tables of the warm starts of one design: the families it contains at N, itself at N - 1."""
+    family, n = wildcards.family, int(wildcards.n)
+    wanted = [(f, n) for f in CONTAINS.get(family, [])]
+    if family in CONTAINS:
+        wanted.append((family, n - 1))
+    return [f"results/design/{f}_N{m}.parquet" for f, m in wanted if _designed(f, m)]
+
+
 rule design_fig8b:
-    """One design: the minimum-COR chain of one family and one N, re-checked by a fresh solve."""
+    """One design: the minimum-COR chain of one family and one N from a warm and a cold start,
+    re-checked by a fresh solve."""
     input:
+        warm=design_warm_starts,
         code=script_code("design_fig8b.py"),
     output:
         table="results/design/{family}_N{n}.parquet",
@@ -216,7 +250,7 @@ rule fig8b:
         # through the design table.
         design={
             key: config["fig8"]["design"][key]
-            for key in ("beta", "tolerance", "bounds", "seed", "popsize", "maxiter")
+            for key in ("beta", "tolerance", "bounds", "seed", "restart_seed", "popsize", "maxiter")
         },
     script:
         "../scripts/render_fig8b.py"
