@@ -22,6 +22,15 @@ if not BENCH["scaling"]["sweep_alpha_min"] < BENCH["scaling"]["sweep_alpha_max"]
     )
 
 
+def ivp_settings():
+    """The solve_ivp settings the work-precision diagram states (its baseline)."""
+    from restitution.bench.ivp import IVP_METHODS
+
+    keys = ("ivp_rtols", "ivp_atol_over_rtol", "ivp_steps_per_period", "max_events")
+    methods = [f for f in BENCH["families"] if f in IVP_METHODS]
+    return {"methods": methods, **{key: BENCH[key] for key in keys}}
+
+
 rule bench_run:
     """Time and score every setting of one method family on every benchmark scene."""
     input:
@@ -92,6 +101,8 @@ rule bench_workprecision:
         "logs/workprecision/plot.log",
     conda:
         "../envs/restitution.yaml"
+    params:
+        ivp=ivp_settings(),
     script:
         "../scripts/bench_plot_workprecision.py"
 
@@ -136,6 +147,8 @@ rule bench_scaling_plot:
         "logs/workprecision/scaling_plot.log",
     conda:
         "../envs/restitution.yaml"
+    params:
+        match_error=BENCH["scaling"]["match_error"],
     script:
         "../scripts/bench_plot_scaling.py"
 

@@ -250,7 +250,17 @@ rule fig8b:
         # through the design table.
         design={
             key: config["fig8"]["design"][key]
-            for key in ("beta", "tolerance", "bounds", "seed", "restart_seed", "popsize", "maxiter")
+            for key in (
+                "beta",
+                "tolerance",
+                "bounds",
+                "seed",
+                "restart_seed",
+                "popsize",
+                "maxiter",
+                "robust_popsize",
+                "robust_maxiter",
+            )
         },
     script:
         "../scripts/render_fig8b.py"

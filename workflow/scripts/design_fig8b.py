@@ -49,8 +49,11 @@ def warm_starts(tables, n: int) -> tuple:
 def run(family: str, n: int, d: dict, seed: int, starts, progress):
     from restitution import design
 
-    common = dict(beta=d["beta"], bounds=tuple(d["bounds"]), seed=seed, popsize=d["popsize"],
-                  maxiter=d["maxiter"], progress=progress, warm_starts=starts)  # fmt: skip
+    robust = family == "robust"
+    popsize = d["robust_popsize"] if robust else d["popsize"]
+    maxiter = d["robust_maxiter"] if robust else d["maxiter"]
+    common = dict(beta=d["beta"], bounds=tuple(d["bounds"]), seed=seed, popsize=popsize,
+                  maxiter=maxiter, progress=progress, warm_starts=starts)  # fmt: skip
     if family == "uniform":
         return design.best_uniform(n, **common)
     if family.startswith("tapered_"):

@@ -54,21 +54,27 @@ def draw(table: pd.DataFrame, params):
     other = np.where(_column(ok, "start", "warm") == "warm", _column(ok, "cor_cold", np.nan),
                      _column(ok, "cor_warm", np.nan))  # fmt: skip
     ys = [ok["y"].to_numpy()]
+    handles, labels = [], []
     for index, (family, label) in enumerate(STYLE.items()):
         style = {**plotting.marked_style(index), "ms": 4.5}
         rows = ok[ok["family"] == family].sort_values("n_masses")
         if rows.empty:
             continue
-        ax.plot(rows["n_masses"], rows["y"], **{**style, "marker": "none"}, lw=1.0, label="_")
+        ax.plot(rows["n_masses"], rows["y"], **{**style, "marker": "none"}, lw=1.0,
+                label=f"_{label} (line)")  # fmt: skip
         free = ~active[rows.index]
         ax.plot(rows["n_masses"][free], rows["y"][free], **{**style, "ls": "none"},
-                label=label)  # fmt: skip
+                label=f"_{label}")  # fmt: skip
         ax.plot(rows["n_masses"][~free], rows["y"][~free], **{**style, "ls": "none"},
                 mfc="white", label=f"_{label} (bound active)")  # fmt: skip
+        handles.append(Line2D([], [], **style, lw=1.0))
+        labels.append(label)
         if family == "robust":
             ys.append(rows["cor"].to_numpy())
-            ax.plot(rows["n_masses"], rows["cor"], **{**style, "ls": ":"}, lw=0.6, mfc="white",
-                    ms=3, label="robust (nominal)")  # fmt: skip
+            nominal = {**style, "ls": ":", "ms": 3, "mfc": "white"}
+            ax.plot(rows["n_masses"], rows["cor"], **nominal, lw=0.6, label="_robust (nominal)")
+            handles.append(Line2D([], [], **nominal, lw=0.6))
+            labels.append("robust (nominal)")
         differs = rows.index[(spread[rows.index] > SPREAD_SHOWN).to_numpy()]
         for i in differs:
             o = other[ok.index.get_loc(i)]
@@ -89,7 +95,6 @@ def draw(table: pd.DataFrame, params):
     ax.set_xticks(sorted(ok["n_masses"].unique()))
     ax.set_xlabel("number of masses N")
     ax.set_ylabel("smallest " + plotting.COR_LABEL)
-    handles, labels = ax.get_legend_handles_labels()
     grey = dict(color="0.3", ls="none", marker="o", ms=4.5)
     handles += [Line2D([], [], **grey), Line2D([], [], **grey, mfc="white"),
                 Line2D([], [], color="0.3", lw=0.8, marker="_", ms=6)]  # fmt: skip
