@@ -61,7 +61,7 @@ def one_minus_cor(grid: pd.DataFrame, limits: dict) -> pd.DataFrame:
     return table.pivot_table(index="beta", columns="alpha", values="value", dropna=False)
 
 
-def count_labels(grid: pd.DataFrame, limits: dict, n_max: int, min_width: float = 0.35):
+def count_labels(grid: pd.DataFrame, limits: dict, n_max: int, min_width: float = 0.2):
     """[(n, alpha, beta)]: where to write each count n <= n_max, the middle (in ln alpha) of its
     widest run along one row of beta in [1e-3, 0.05] inside the resolved range, when at least
     ``min_width`` wide in ln alpha."""
@@ -86,7 +86,7 @@ def draw(grid, curves, params, logger, untraced=None, minima=None, limits=None):
     from restitution import plotting
 
     limits = limits or {b: math.inf for b in grid["beta"].unique()}
-    fig = plotting.new_figure("double", aspect=0.55)
+    fig = plotting.new_figure("double", aspect=0.6)
     ax = fig.add_subplot()
     n_bad = int((grid["status"] != "ok").sum())
     if n_bad:
@@ -112,11 +112,11 @@ def draw(grid, curves, params, logger, untraced=None, minima=None, limits=None):
                 ax.plot(c["alpha"], c["beta"], color="black", lw=0.9, ls=MIN_LS,
                         path_effects=_halo(0.9))  # fmt: skip
             else:
-                ax.plot(c["alpha"], c["beta"], color="black", ls="none", marker="o", ms=1.5)
+                ax.plot(c["alpha"], c["beta"], color="black", ls="none", marker="o", ms=2,
+                        path_effects=_halo(0.5))  # fmt: skip
     if untraced is not None and len(untraced):
         shown = untraced[untraced["resolved"] & (untraced["beta"] > 0)]
-        ax.plot(shown["alpha"], shown["beta"], ls="none", marker="x", ms=3, mew=0.7,
-                color="black", path_effects=_halo(0.7))  # fmt: skip
+        ax.plot(shown["alpha"], shown["beta"], **UNTRACED, label="_untraced")
     cut = dict(color="0.25", lw=0.6, ls=":")
     for beta in params.fig2a_betas:
         ax.axhline(beta, **cut, path_effects=_halo(0.6))
@@ -134,14 +134,15 @@ def draw(grid, curves, params, logger, untraced=None, minima=None, limits=None):
         Line2D([], [], color="black", lw=0.9, path_effects=_halo(0.9)),
         Line2D([], [], color="black", lw=0.9, ls="--", path_effects=_halo(0.9)),
         Line2D([], [], color="black", lw=0.9, ls=MIN_LS, path_effects=_halo(0.9)),
-        Line2D([], [], color="black", ls="none", marker="x", ms=3, mew=0.7),
+        Line2D([], [], **{**UNTRACED, "ms": 3}),
         Line2D([], [], **cut),
         Patch(facecolor=MASK_GREY, edgecolor="none"),
     ]
     labels = ["new contact grazes", "contact splits", r"smooth COR minimum ($\beta > 0$)",
               "count step no curve traces", "Fig. 2(a), 3(a) cuts",
               "grid cannot resolve the cusps"]  # fmt: skip
-    ax.legend(handles, labels, loc="upper left", fontsize=7, framealpha=0.9)
+    # Below the map (constrained layout reserves the room): inside, it would hide data.
+    fig.legend(handles, labels, loc="outside lower center", ncol=3, fontsize=7, frameon=False)
     ax.set_facecolor(MASK_GREY)
     bar = fig.colorbar(mesh, ax=ax, pad=0.02, extend="min")
     bar.set_label(r"$1 - e$ (log scale; numbers on the map: contacts)")
@@ -150,6 +151,8 @@ def draw(grid, curves, params, logger, untraced=None, minima=None, limits=None):
 
 #: 1 - COR below this is drawn in the colour map's lowest colour (colour bar extends "min").
 VMIN = 1e-3
+#: The grid's count steps no traced curve explains: small open circles (visible on any colour).
+UNTRACED = dict(ls="none", marker="o", ms=1.8, mfc="white", mec="black", mew=0.3)
 #: Counts labelled on the map (regions wide enough for the number).
 N_LABELS = 12
 #: Line style of the smooth minima; grey behind masked cells and unfinished scenes.

@@ -55,15 +55,23 @@ def unexplained_steps(steps, curves) -> list:
     return [s for s in steps if not _crossings(curves, s[2], s[0], s[1])]
 
 
-def resolved_limit(alpha, n, min_cells: int) -> float:
-    """Largest alpha up to which one grid row resolves its count steps: below the first step
-    that lies fewer than ``min_cells`` cells after the previous one or changes the count by more
-    than one (the cusps there are closer than the grid; its colours alias). inf: all resolved."""
-    steps = np.flatnonzero(np.diff(n) != 0)
-    for k, i in enumerate(steps):
-        close = k > 0 and i - steps[k - 1] < min_cells
-        if close or abs(int(n[i + 1]) - int(n[i])) > 1:
-            return float(alpha[steps[k - 1] if k > 0 else i])
+def resolved_limit(alpha, n, min_cells: int, run: int = 2) -> float:
+    """Largest alpha up to which one grid row resolves its count steps: below the first of
+    ``run`` consecutive steps each fewer than ``min_cells`` cells after the one before (a step of
+    two counts at once counts as two steps 0 cells apart). There the cusps come closer than the
+    grid and its colours alias; an isolated close pair (two curves crossing) does not end the
+    range. inf: all resolved."""
+    cells = []  # (position, gap to the previous step in cells)
+    last = None
+    for i in np.flatnonzero(np.diff(n) != 0):
+        for _ in range(max(1, abs(int(n[i + 1]) - int(n[i])))):
+            cells.append((i, math.inf if last is None else i - last))
+            last = i
+    close = 0
+    for k, (_, gap) in enumerate(cells):
+        close = close + 1 if gap < min_cells else 0
+        if close >= run:
+            return float(alpha[cells[k - run][0]])
     return math.inf
 
 
@@ -85,7 +93,7 @@ def smooth_minima(grid: pd.DataFrame, limits: dict, logger) -> pd.DataFrame:
     (so no count step, no cusp, between them), within the row's resolved range. It is refined by
     bounded Brent on ln alpha with ``restitution.solve`` and kept when the refined point is
     interior (not at the bracket's ends) and has the same count. Points of consecutive rows
-    within 0.05 in ln alpha form one curve.
+    within 0.15 in ln alpha form one curve.
     """
     from scipy.optimize import minimize_scalar
 
@@ -120,7 +128,7 @@ def smooth_minima(grid: pd.DataFrame, limits: dict, logger) -> pd.DataFrame:
         k, x = row_of[beta], math.log(alpha)
         best = None
         for c, (kr, xr) in enumerate(ends):
-            if kr == k - 1 and abs(xr - x) < 0.05 and (best is None or abs(xr - x) < best[0]):
+            if kr == k - 1 and abs(xr - x) < 0.15 and (best is None or abs(xr - x) < best[0]):
                 best = (abs(xr - x), c)
         if best is None:
             curves.append([])
