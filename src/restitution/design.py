@@ -20,7 +20,7 @@ Method
    on its own), searched by an inner optimiser (the worst case near a cusp need not be a corner of
    the error box), is minimised instead.
 
-4. **Bounds**: a ratio on or within 1 % of its bound is tested by relaxing the bound by 0.1 %
+4. **Bounds**: a ratio on or within 1 % of its bound is tested by relaxing the bound by 1e-6
    (the other ratios kept); the bound is *active* (``Design.bound_active``) when the objective
    falls there: the design is then the bound's, not a free optimum. ``Design.active`` lists every
    active constraint (active bounds, the grazing condition of a cusp optimum). Tapered chains
@@ -53,6 +53,7 @@ log = logging.getLogger(__name__)
 
 DEFAULT_BOUNDS = (0.01, 100.0)
 MAX_MASSES = 16
+RELAX = 1e-6  # log step past a bound of the activity test (``_relaxed``)
 _BAD = 10.0  # objective of a scene the solver could not finish (never a minimum: COR <= 1)
 
 
@@ -88,7 +89,7 @@ class Design:
         Parameters on or within 1 % of a bound, each with the COR just past the bound
         (e.g. ``["m_3/m_1 = 0.01 at lower bound 0.01 (active: COR 0.0987 past it)"]``).
     bound_active : bool
-        Some bound is active: the COR falls when that bound is relaxed by 0.1 %, so the design
+        Some bound is active: the COR falls when that bound is relaxed (by 1e-6), so the design
         depends on the bound (a free optimum would lie beyond it).
     active : list of str
         Every constraint active at the design: the active bounds and the grazing condition the
@@ -553,12 +554,14 @@ def _first_population(fam, lb, ub, popsize, seed, starts):
 
 def _relaxed(objective, fam, x, lb, ub, f_x):
     """Bounds the design sits on or near (within 1 % in the ratio), each tested by relaxing it:
-    the objective 0.1 % past the bound (the other ratios kept). [(text, active)], active when the
-    objective falls there (a free optimum would lie beyond the bound)."""
+    the objective ``RELAX`` (relative 1e-6) past the bound, the other ratios kept. [(text,
+    active)], active when the objective falls there (a free optimum would lie beyond the bound).
+    The step is small so that the first-order change decides: a minimum a hair inside the bound
+    rises past it only at second order."""
     out = []
     r_lo, r_hi = (math.log(v) for v in RATIOS["masses[i]/masses[0]"])
     for j, (name, xi, low, up) in enumerate(zip(fam.names, x, lb, ub, strict=True)):
-        for edge, which, step in ((low, "lower", -1e-3), (up, "upper", 1e-3)):
+        for edge, which, step in ((low, "lower", -RELAX), (up, "upper", RELAX)):
             gap = abs(xi - edge)
             if gap >= 0.01:
                 continue
@@ -574,7 +577,7 @@ def _relaxed(objective, fam, x, lb, ub, f_x):
             f_y = objective(y)
             active = f_y < f_x - 1e-12
             state = "active" if active else "not active"
-            out.append((f"{text} ({state}: COR {f_y:.6g} 0.1 % past it)", active))
+            out.append((f"{text} ({state}: COR {f_y - f_x:+.2g} just past it)", active))
     return out
 
 
@@ -639,7 +642,7 @@ def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, 
     masses, springs, kc = scaled_chain(m, k, beta)
     check = solve_scaled(masses, springs, kc, max_events=max_events)
     # "near": within 1 % of a bound, where the local polish may stop short of it while the COR
-    # still falls towards it; the bound is active when the COR falls past it (relaxed by 0.1 %).
+    # still falls towards it; the bound is active when the COR falls just past it (RELAX).
     f_x = objective(x)
     hits = _relaxed(objective, fam, x, lb, ub, f_x)
     active = [text for text, on in hits if on]
