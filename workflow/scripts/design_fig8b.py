@@ -9,9 +9,10 @@ Two independent starts per design (issue 26):
 
 * **warm**: seed ``seed``; the first population holds the optima this family contains (warm
   starts, the input tables): for ``masses`` the uniform and both tapered chains of the same N and
-  the free-mass chain of N - 1 with one more mass equal to its last; for ``masses_springs`` the
-  free-mass chain of N and its own N - 1 design extended; for ``robust`` the same for its family.
-  A family is then never worse than the families it contains.
+  the free-mass chain of N - 1 extended by one mass (equal to its last, and a light end mass at
+  the lower bound); for ``masses_springs`` the free-mass chain of N and its own N - 1 design
+  extended; for ``robust`` the same for its family. A family's search then starts at most at the
+  COR of the chains it contains.
 * **cold**: seed ``restart_seed``, no warm start, the same search settings.
 
 The row is the better of the two; ``cor_warm`` and ``cor_cold`` (robust: their worst CORs) and
@@ -25,24 +26,33 @@ import numpy as np
 import pandas as pd
 
 
-def extend(masses, springs, n: int):
-    """The chain of ``n`` masses that continues a shorter one (last mass and spring 1 repeated)."""
+def extend(masses, springs, n: int, end_mass=None):
+    """The chain of ``n`` masses that continues a shorter one: one more mass equal to the last
+    (or ``end_mass``, a ratio to m_1) on a spring k_12, repeated until it has ``n`` masses."""
     m, k = list(masses), list(springs)
     while len(m) < n:
-        m.append(m[-1])
+        m.append(m[-1] if end_mass is None else end_mass)
         k.append(1.0)
     return np.array(m), np.array(k)
 
 
-def warm_starts(tables, n: int) -> tuple:
-    """([(masses, springs)], [source]) of the warm-start tables (rows of this N or N - 1)."""
+def warm_starts(tables, n: int, light: float) -> tuple:
+    """([(masses, springs)], [source]) of the warm-start tables: a design of this N as it is;
+    one of N - 1 extended twice, by a mass equal to its last and by a light end mass ``light``
+    (the lower bound: nearly the N - 1 chain, so the search can start from that chain's COR)."""
     from restitution.io import read_table
 
     starts, sources = [], []
     for path in tables:
         row = read_table(path).iloc[0]
-        starts.append(extend(row["masses"], row["springs"], n))
-        sources.append(f"{row['family']} N={int(row['n_masses'])}")
+        name = f"{row['family']} N={int(row['n_masses'])}"
+        if int(row["n_masses"]) == n:
+            starts.append(extend(row["masses"], row["springs"], n))
+            sources.append(name)
+            continue
+        for end, how in ((None, "last mass repeated"), (light, f"end mass {light:g}")):
+            starts.append(extend(row["masses"], row["springs"], n, end))
+            sources.append(f"{name} + {how}")
     return starts, sources
 
 
@@ -85,7 +95,7 @@ def main(params, output_path, family: str, n: int, logger, tables=()) -> pd.Data
     from restitution.io import write_table
 
     d = dict(params.design)
-    starts, sources = warm_starts(tables, n)
+    starts, sources = warm_starts(tables, n, float(d["bounds"][0]))
     rows = {}
     for start, seed, given in (("warm", d["seed"], starts), ("cold", d["restart_seed"], [])):
         result = run(family, n, d, seed, given, progress=logger.info)

@@ -136,7 +136,8 @@ def caption_data(table: pd.DataFrame) -> dict:
     robust = ok[ok["family"] == "robust"]
     recheck = (ok["cor_resolved"] - ok["cor"]).abs().max()
     differ = ok[ok["restart_spread"] > SPREAD_SHOWN].sort_values(["family", "n_masses"])
-    cold_better = ok[ok["start"] == "cold"]
+    cold_better = ok[(ok["start"] == "cold") & (ok["restart_spread"] > SPREAD_SHOWN)]
+    warm_better = ok[(ok["start"] == "warm") & (ok["restart_spread"] > SPREAD_SHOWN)]
     grazing = ok[ok["grazing"].str.len() > 0]
     return dict(
         n_designs=len(table),
@@ -160,12 +161,13 @@ def caption_data(table: pd.DataFrame) -> dict:
         spread_shown=f"{SPREAD_SHOWN:g}",
         spread_max=fmt(ok["restart_spread"].max(), 2),
         differ_list="; ".join(
-            f"{LABEL[r.family]} N = {r.n_masses}: warm {fmt(r.cor_warm, 4)}, cold "
-            f"{fmt(r.cor_cold, 4)}"
+            f"{LABEL[r.family]} N = {r.n_masses}: warm {fmt(r.cor_warm, 6)}, cold "
+            f"{fmt(r.cor_cold, 6)}"
             for r in differ.itertuples()
         )
         or "none",  # fmt: skip
         n_cold_better=len(cold_better),
+        n_warm_better=len(warm_better),
         robust_price=(
             ", ".join(
                 f"N = {int(r.n_masses)}: {fmt(r.worst_cor - r.cor, 2)}" for r in robust.itertuples()
