@@ -19,13 +19,14 @@ Method
 3. **Robust variant**: the worst COR over independent mass errors of +-``tolerance`` (each mass
    on its own), searched by an inner optimiser (the worst case near a cusp need not be a corner of
    the error box), is minimised instead.
-
-4. **Bounds**: a ratio on or within 1 % of its bound is tested by relaxing the bound by 1e-6
-   (the other ratios kept); the bound is *active* (``Design.bound_active``) when the objective
-   falls there: the design is then the bound's, not a free optimum. ``Design.active`` lists every
-   active constraint (active bounds, the grazing condition of a cusp optimum). Tapered chains
-   bound their step ratio, not their end mass (which only has to stay within the solvers' ratio
-   range), so a long chain may taper as fast as a short one.
+4. **Bounds**: a ratio on or within 1 % of its bound is tested by relaxing the bound: the
+   objective 1e-6 past it (the other ratios kept) and after a short local re-optimisation (the
+   polish, or Powell for robust designs) with the bound moved out by 1 %; the bound is *active*
+   (``Design.bound_active``) when either falls: the design is then the bound's, not a free
+   optimum (a cusp optimum whose grazing manifold meets a bound falls only along the manifold).
+   ``Design.active`` lists every active constraint (active bounds, the grazing condition of a
+   cusp optimum). Tapered chains bound their step ratio, not their end mass (which only has to
+   stay within the solvers' ratio range), so a long chain may taper as fast as a short one.
 
 ``warm_starts`` puts given chains (e.g. the optimum of a family this one contains) into the
 search's first population. Every design's COR is re-checked by a fresh solver call
@@ -54,6 +55,7 @@ log = logging.getLogger(__name__)
 DEFAULT_BOUNDS = (0.01, 100.0)
 MAX_MASSES = 16
 RELAX = 1e-6  # log step past a bound of the activity test (``_relaxed``)
+RELAX_BOX = 0.01  # a bound moved out by this (log: 1 %) for the local re-optimisation there
 _BAD = 10.0  # objective of a scene the solver could not finish (never a minimum: COR <= 1)
 
 
@@ -552,32 +554,46 @@ def _first_population(fam, lb, ub, popsize, seed, starts):
     return pop
 
 
-def _relaxed(objective, fam, x, lb, ub, f_x):
-    """Bounds the design sits on or near (within 1 % in the ratio), each tested by relaxing it:
-    the objective ``RELAX`` (relative 1e-6) past the bound, the other ratios kept. [(text,
-    active)], active when the objective falls there (a free optimum would lie beyond the bound).
-    The step is small so that the first-order change decides: a minimum a hair inside the bound
-    rises past it only at second order."""
+def _relaxed(objective, fam, x, lb, ub, f_x, local=None):
+    """Bounds the design sits on or near (within 1 % in the ratio), each tested by relaxing it.
+
+    Two tests; the bound is active (a free optimum lies beyond it) when either lowers the
+    objective by more than 1e-12: (1) the objective ``RELAX`` (relative 1e-6) past the bound,
+    the other ratios kept (small, so that the first-order change decides); (2) ``local(x, box)``,
+    a local re-optimisation from the design in the box with this bound moved out by
+    ``RELAX_BOX`` (1 %), started from the design pushed onto the relaxed bound: an optimum on a
+    grazing manifold that meets the bound is only lowered by moving along the manifold, i.e. by
+    changing the other ratios too. [(text, active)]."""
     out = []
     r_lo, r_hi = (math.log(v) for v in RATIOS["masses[i]/masses[0]"])
     for j, (name, xi, low, up) in enumerate(zip(fam.names, x, lb, ub, strict=True)):
-        for edge, which, step in ((low, "lower", -RELAX), (up, "upper", RELAX)):
+        for edge, which, sign in ((low, "lower", -1.0), (up, "upper", 1.0)):
             gap = abs(xi - edge)
             if gap >= 0.01:
                 continue
             word = "at" if gap < 1e-6 else f"within {100 * (math.exp(gap) - 1):.2g} % of"
             text = f"{name} = {math.exp(xi):.4g} {word} {which} bound {math.exp(edge):.4g}"
             y = np.array(x, dtype=float)
-            y[j] = edge + step
+            y[j] = edge + sign * RELAX_BOX
             m, _ = fam.chain(y)
             lm = np.log(m / m[0])
             if lm.min() < r_lo or lm.max() > r_hi:
                 out.append((f"{text} (the solvers' ratio range: not relaxed)", True))
                 continue
-            f_y = objective(y)
-            active = f_y < f_x - 1e-12
-            state = "active" if active else "not active"
-            out.append((f"{text} ({state}: COR {f_y - f_x:+.2g} just past it)", active))
+            y[j] = edge + sign * RELAX
+            step = objective(y) - f_x
+            moved = math.nan
+            if local is not None:
+                box = [list(b) for b in zip(lb, ub, strict=True)]
+                box[j][0 if sign < 0 else 1] = edge + sign * RELAX_BOX
+                pushed = np.array(x, dtype=float)
+                pushed[j] = edge + sign * RELAX_BOX  # onto the relaxed bound, then re-optimised
+                moved = min(local(pushed, [tuple(b) for b in box]), f_x) - f_x
+            active = step < -1e-12 or moved < -1e-12
+            words = f"COR {step:+.2g} just past it"
+            if math.isfinite(moved):
+                words += f", {moved:+.2g} re-optimised with the bound 1 % out"
+            out.append((f"{text} ({'active' if active else 'not active'}: {words})", active))
     return out
 
 
@@ -644,7 +660,20 @@ def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, 
     # "near": within 1 % of a bound, where the local polish may stop short of it while the COR
     # still falls towards it; the bound is active when the COR falls just past it (RELAX).
     f_x = objective(x)
-    hits = _relaxed(objective, fam, x, lb, ub, f_x)
+
+    def local(x0, box):
+        """The objective after a short local search from x0 in ``box`` (the activity test)."""
+        if tolerance == 0.0:
+            objective.spent, objective.limit = 0, 1000 * fam.dim + 2000
+            y, _, _ = _polish(fam, beta, x0, objective, None, box)
+            objective.limit = math.inf
+            return objective.cor(y)
+        res = minimize(lambda z: float(objective.batch(np.asarray(z)[:, None])[0]), x0,
+                       method="Powell", bounds=box,
+                       options={"xtol": 1e-8, "ftol": 1e-12, "maxfev": 20 * fam.dim})  # fmt: skip
+        return float(res.fun)
+
+    hits = _relaxed(objective, fam, x, lb, ub, f_x, local if polish or tolerance > 0 else None)
     active = [text for text, on in hits if on]
     if graz is not None:
         active.append(f"grazing {graz[1]} n={graz[0]}")
