@@ -230,7 +230,7 @@ def test_scaling_plot_draws_fit_lines_over_their_ranges():
     for ln in lines:
         assert min(ln.get_xdata()) == pytest.approx(10.0) and max(ln.get_xdata()) == 100.0
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
-    assert any("fit 10..100" in t for t in labels)
+    assert any("fit 10..100" in t for t in labels)  # the fit range in the legend
     # The unmatched point: hollow, unjoined; the joined DOP853 line stops at alpha = 100.
     joined = [ln for ln in ax.lines if ln.get_label().startswith("DOP853")][0]
     assert max(joined.get_xdata()) == 100.0

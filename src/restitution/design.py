@@ -671,7 +671,9 @@ def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, 
         res = minimize(lambda z: float(objective.batch(np.asarray(z)[:, None])[0]), x0,
                        method="Powell", bounds=box,
                        options={"xtol": 1e-8, "ftol": 1e-12, "maxfev": 20 * fam.dim})  # fmt: skip
-        return float(res.fun)
+        # Powell ran on the batch objective (the error box's sample); compare like with like:
+        # the worst case of its result searched as the design's was (``worst``).
+        return objective(res.x)
 
     hits = _relaxed(objective, fam, x, lb, ub, f_x, local if polish or tolerance > 0 else None)
     active = [text for text, on in hits if on]

@@ -5,6 +5,8 @@ fitted power law is drawn over its fit range, its exponent +- standard error and
 legend.
 """
 
+import math
+
 import numpy as np
 
 # A method or a thread count is none of beta, xi, alpha: black and a grey with its own marker and
@@ -26,6 +28,10 @@ def _fit(fits, kind, family, threads=1, quantity="time_s"):
 
 
 def _range(value: float) -> str:
+    """A fit-range end: plain below 1000, a power of ten as 10^k, else 3 digits."""
+    if value >= 1000:
+        k = math.log10(value)
+        return rf"$10^{{{round(k)}}}$" if abs(k - round(k)) < 1e-9 else f"{value:.3g}"
     return f"{value:g}"
 
 
@@ -34,8 +40,8 @@ def _label(fits, kind, family, threads=1, quantity="time_s"):
     f = _fit(fits, kind, family, threads, quantity)
     if f is None:
         return ""
-    return (rf" ($\propto x^{{{f['exponent']:.2f} \pm {f['stderr']:.2f}}}$, "
-            f"fit {_range(f['x_min'])}..{_range(f['x_max'])})")  # fmt: skip
+    power = rf"$\propto x^{{{f['exponent']:.2f} \pm {f['stderr']:.2f}}}$"
+    return "\n" + f"{power}, fit {_range(f['x_min'])}..{_range(f['x_max'])}"
 
 
 def _fit_line(ax, fits, kind, family, threads=1, quantity="time_s", **style):
@@ -47,6 +53,9 @@ def _fit_line(ax, fits, kind, family, threads=1, quantity="time_s", **style):
     ax.plot(x, f["prefactor"] * x ** f["exponent"], **{**FIT, **style}, label="_fit")
 
 
+IVP_WORD = "solve_ivp timed at matched accuracy:"
+#: Each panel's legend below its axes (inside, the long fit texts would cover the data).
+BELOW = dict(loc="upper left", bbox_to_anchor=(0.0, -0.2), fontsize=7, frameon=False)
 POINTS = dict(ms=3, lw=0.8)  # every measured series: points joined by thin lines
 FIT = dict(color="0.55", lw=2.2, ls="-", alpha=0.45, zorder=1)  # fitted law under the points
 
@@ -56,7 +65,7 @@ def draw(table, fits, match_error=None):
 
     from restitution import plotting
 
-    fig = plotting.new_figure("double", aspect=0.36)
+    fig = plotting.new_figure("double", aspect=0.5)
     ax_a, ax_n, ax_s = fig.subplots(1, 3)
     ok = table[table["status"] == "ok"]
     a = table[table["kind"] == "alpha"]
@@ -80,8 +89,7 @@ def draw(table, fits, match_error=None):
     ax_a.set_xlabel(r"mass ratio $\alpha$")
     ax_a.set_ylabel("time per scene (s)")
     if match_error is not None:
-        ax_a.set_title(rf"solve_ivp at matched accuracy: |COR error| $\leq$ {match_error:g}",
-                       fontsize=7)  # fmt: skip
+        ax_a.set_title(rf"{IVP_WORD} |COR error| $\leq$ {match_error:g}", fontsize=7)
     lines = ax_a.get_legend_handles_labels()
     more = twin.get_legend_handles_labels()
     handles = lines[0] + more[0] + [Line2D([], [], **FIT)]
@@ -90,14 +98,14 @@ def draw(table, fits, match_error=None):
         handles.append(Line2D([], [], ls="none", marker="s", ms=4, color=OTHER["color"],
                               mfc="white"))  # fmt: skip
         labels.append("no rtol matched (hollow)")
-    ax_a.legend(handles, labels, loc="upper left", fontsize=7)
+    ax_a.legend(handles, labels, **BELOW)
     c = ok[ok["kind"] == "chain"]
     ax_n.plot(c["x"], c["time_s"], **POINTS, **FIRST,
               label=f"exact{_label(fits, 'chain', 'exact')}")  # fmt: skip
     _fit_line(ax_n, fits, "chain", "exact")
     ax_n.set_xlabel("number of masses N")
     ax_n.set_ylabel("time per scene (s)")
-    ax_n.legend(loc="upper left", fontsize=7)
+    ax_n.legend(**BELOW)
     s = table[table["kind"] == "sweep"]
     for threads, g in s.groupby("threads"):
         fitted = _label(fits, "sweep", "solve_many", threads)
@@ -106,7 +114,7 @@ def draw(table, fits, match_error=None):
         _fit_line(ax_s, fits, "sweep", "solve_many", threads)
     ax_s.set_xlabel("scenes in one solve_many call")
     ax_s.set_ylabel("time per sweep (s)")
-    ax_s.legend(loc="upper left", fontsize=7)
+    ax_s.legend(**BELOW)
     for ax in (ax_a, ax_n, ax_s):
         plotting.log_axis(ax, "x")
         ax.set_yscale("log")
