@@ -65,13 +65,13 @@ def draw(table: pd.DataFrame, params):
         free = ~active[rows.index]
         ax.plot(rows["n_masses"][free], rows["y"][free], **{**style, "ls": "none"},
                 label=f"_{label}")  # fmt: skip
-        ax.plot(rows["n_masses"][~free], rows["y"][~free], **{**style, "ls": "none"},
-                mfc="white", label=f"_{label} (bound active)")  # fmt: skip
+        ax.plot(rows["n_masses"][~free], rows["y"][~free], **{**style, "ls": "none", "ms": 6},
+                mfc="white", mew=1.3, zorder=4, label=f"_{label} (bound active)")  # fmt: skip
         handles.append(Line2D([], [], **style, lw=1.0))
         labels.append(label)
         if family == "robust":
             ys.append(rows["cor"].to_numpy())
-            nominal = {**style, "ls": ":", "ms": 3, "mfc": "white"}
+            nominal = {**style, "ls": ":", "ms": 2.5}  # small, filled: not "bound active"
             ax.plot(rows["n_masses"], rows["cor"], **nominal, lw=0.6, label="_robust (nominal)")
             handles.append(Line2D([], [], **nominal, lw=0.6))
             labels.append("robust (nominal)")
@@ -96,7 +96,7 @@ def draw(table: pd.DataFrame, params):
     ax.set_xlabel("number of masses N")
     ax.set_ylabel("smallest " + plotting.COR_LABEL)
     grey = dict(color="0.3", ls="none", marker="o", ms=4.5)
-    handles += [Line2D([], [], **grey), Line2D([], [], **grey, mfc="white"),
+    handles += [Line2D([], [], **grey), Line2D([], [], **{**grey, "ms": 6}, mfc="white", mew=1.3),
                 Line2D([], [], color="0.3", lw=0.8, marker="_", ms=6)]  # fmt: skip
     labels += ["free optimum", "a bound is active", "other start (where they differ)"]
     ax.legend(handles, labels, loc="upper left", bbox_to_anchor=(1.0, 1.0))
