@@ -149,6 +149,10 @@ def draw(grid, curves, params, logger, untraced=None, minima=None, limits=None):
     return fig
 
 
+#: The caption's measure of how a linear COR scale saturates: the share of the grid above
+#: SATURATED_COR (and of its part beyond SATURATED_ALPHA, the comb of many contacts).
+SATURATED_COR = 0.9
+SATURATED_ALPHA = 3.0
 #: 1 - COR below this is drawn in the colour map's lowest colour (colour bar extends "min").
 VMIN = 1e-3
 #: The grid's count steps no traced curve explains: small open circles (visible on any colour).
@@ -179,7 +183,7 @@ def caption_data(grid, curves, coverage, untraced=None, minima=None, limits=None
     limits = limits or {b: math.inf for b in grid["beta"].unique()}
     lim = pd.Series(limits)
     masked = grid["alpha"] > grid["beta"].map(limits)
-    above = ok[ok["alpha"] > 3.0]
+    above = ok[ok["alpha"] > SATURATED_ALPHA]
     data = dict(
         n_scenes=len(grid),
         n_not_ok=int((grid["status"] != "ok").sum()),
@@ -198,8 +202,10 @@ def caption_data(grid, curves, coverage, untraced=None, minima=None, limits=None
         max_count_rigid=int(rigid["n_collisions"].max()),
         max_count_soft=int(soft["n_collisions"].max()),
         beta_soft=fmt(soft["beta"].iloc[0]),
-        share_above_09=f"{100 * (ok['cor'] > 0.9).mean():.0f}",
-        share_above_09_a3=f"{100 * (above['cor'] > 0.9).mean():.0f}",
+        share_above_09=f"{100 * (ok['cor'] > SATURATED_COR).mean():.0f}",
+        share_above_09_a3=f"{100 * (above['cor'] > SATURATED_COR).mean():.0f}",
+        saturated_cor=f"{SATURATED_COR:g}",
+        saturated_alpha=f"{SATURATED_ALPHA:g}",
         masked=f"{100 * masked.mean():.0f}",
         limit_rigid=fmt(limits.get(0.0, math.inf), 3),
         limit_min=fmt(lim.min(), 3),
