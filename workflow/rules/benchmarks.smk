@@ -22,15 +22,6 @@ if not BENCH["scaling"]["sweep_alpha_min"] < BENCH["scaling"]["sweep_alpha_max"]
     )
 
 
-def ivp_settings():
-    """The solve_ivp settings the work-precision diagram states (its baseline)."""
-    from restitution.bench.ivp import IVP_METHODS
-
-    keys = ("ivp_rtols", "ivp_atol_over_rtol", "ivp_steps_per_period", "max_events")
-    methods = [f for f in BENCH["families"] if f in IVP_METHODS]
-    return {"methods": methods, **{key: BENCH[key] for key in keys}}
-
-
 rule bench_run:
     """Time and score every setting of one method family on every benchmark scene."""
     input:

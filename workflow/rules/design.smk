@@ -108,34 +108,6 @@ rule fig8a:
 # ---------------------------------------------------------------------------------------------
 # Fig. 8(b): minimum-COR designs against N
 # ---------------------------------------------------------------------------------------------
-DESIGNS = config["fig8"]["design"]
-if DESIGNS["restart_seed"] == DESIGNS["seed"]:
-    raise WorkflowError(
-        "Invalid configuration: fig8.design.restart_seed must differ from fig8.design.seed "
-        f"(both {DESIGNS['seed']}): the second start of every design must be independent"
-    )
-#: Families whose optima a family contains at the same N (its warm starts, design_fig8b.py).
-CONTAINS = {
-    "masses": ["uniform", "tapered_decreasing", "tapered_increasing"],
-    "masses_springs": ["masses"],
-    "robust": ["masses"],
-}
-
-
-def _designed(family, n):
-    """Whether `all` or `extra` runs this design (a warm start must be a design of the run)."""
-    return any(n in DESIGNS[group].get(family, []) for group in ("all", "extra"))
-
-
-def design_warm_starts(wildcards):
-    """Tables of the warm starts of one design: the families it contains at N, itself at N - 1."""
-    family, n = wildcards.family, int(wildcards.n)
-    wanted = [(f, n) for f in CONTAINS.get(family, [])]
-    if family in CONTAINS:
-        wanted.append((family, n - 1))
-    return [f"results/design/{f}_N{m}.parquet" for f, m in wanted if _designed(f, m)]
-
-
 rule design_fig8b:
     """One design: the minimum-COR chain of one family and one N from a warm and a cold start,
     re-checked by a fresh solve."""
