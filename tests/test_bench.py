@@ -308,3 +308,23 @@ def test_smoke_benchmarks_end_to_end(tmp_path):
     for name in ("workprecision", "scaling"):
         for ext in ("png", "pdf"):
             assert (tmp_path / "figures/benchmarks" / f"{name}.{ext}").stat().st_size > 1000
+
+
+def test_scaling_times_solve_ivp_at_matched_accuracy():
+    """The scaling panel's solve_ivp setting is the loosest rtol whose COR is within the match
+    error of the exact one (same contact count): it meets that, and the next looser does not."""
+    import restitution
+    from restitution_workflow.bench.scaling import matched_setting
+
+    rtols = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10]
+    exact = restitution.solve(alpha=10.0)
+    rtol, err, r, matched = matched_setting(10.0, 0.0, exact, "DOP853", rtols, 1e-6, 30.0)
+    assert matched and err <= 1e-6 and r.n_collisions == exact.n_collisions
+    assert err == abs(r.cor - exact.cor)
+    looser = [t for t in rtols if t > rtol]
+    if looser:
+        q = solve_ivp_scene(10.0, 0.0, method="DOP853", rtol=min(looser), atol=min(looser))
+        assert q.n_collisions != exact.n_collisions or abs(q.cor - exact.cor) > 1e-6
+    # An unreachable match returns the tightest rtol tried, not matched.
+    rtol, err, _, matched = matched_setting(10.0, 0.0, exact, "DOP853", [1e-3], 1e-15, 30.0)
+    assert not matched and rtol == 1e-3 and err > 1e-15

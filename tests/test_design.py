@@ -67,6 +67,58 @@ def test_optimum_rides_a_bound_and_says_so():
     assert d.masses[1] == pytest.approx(0.5, rel=1e-6)
     assert d.bounds_hit and "at upper bound" in d.bounds_hit[0]
     assert d.cor == pytest.approx(restitution.solve(alpha=0.5).cor, abs=1e-9)
+    # The bound is active: the COR falls past it (checked here by the solver alone).
+    assert restitution.solve(alpha=0.5 * 1.001).cor < d.cor
+    assert d.bound_active and "(active" in d.bounds_hit[0]
+    assert d.active == [d.bounds_hit[0]]
+    assert d.row()["bound_active"] is True
+
+
+def test_free_optimum_has_no_active_bound_and_names_its_cusp():
+    d = design.minimize_cor(2, progress=None)
+    assert not d.bound_active and d.bounds_hit == []
+    assert d.active == ["grazing new n=1"]
+    assert d.row()["active"] == "grazing new n=1"
+
+
+def test_bound_near_but_not_active_is_told_apart():
+    # Upper bound just (0.5 %) above alpha*_1: the optimum is the free cusp inside the bound, and
+    # past the bound the COR rises (the square-root side of the cusp).
+    star = special_points.special_points(1)["alpha_star"][0]
+    d = design.minimize_cor(2, bounds=(0.01, star * 1.005), progress=None)
+    assert d.masses[1] == pytest.approx(star, abs=1e-9)
+    assert d.bounds_hit and "not active" in d.bounds_hit[0]
+    assert not d.bound_active
+    assert restitution.solve(alpha=star * 1.005 * 1.001).cor > d.cor
+
+
+def test_warm_start_bounds_the_search_by_the_contained_family():
+    """With the uniform optimum in its first population, a tiny search cannot end above it."""
+    u = design.best_uniform(4, progress=None)
+    d = design.minimize_cor(4, popsize=2, maxiter=1, polish=False, progress=None,
+                            warm_starts=[u])  # fmt: skip
+    assert d.warm_starts == 1
+    assert d.cor <= u.cor + 1e-15
+    with pytest.raises(ValueError, match="warm_starts"):
+        design.minimize_cor(4, progress=None, warm_starts=[([1.0, 0.5], None)])
+    with pytest.raises(ValueError, match="warm_starts"):
+        design.minimize_cor(4, progress=None, warm_starts=5)
+
+
+def test_long_tapered_chain_is_not_cut_off_by_its_end_mass():
+    """Issue 26: bounding the end mass r**(N-1) by 0.01 made r >= 0.464 at N = 7, so the
+    decreasing chain lost the first cusp (COR 0.39 instead of ~0.14). The step ratio is bounded
+    now; a fine grid of r (independent of the optimiser) confirms the optimum."""
+    d = design.best_tapered(7, direction="decreasing", progress=None)
+    r = np.geomspace(1e-8 ** (1 / 6), 1.0, 6001)
+    chains = [design.scaled_chain(x ** np.arange(7), np.ones(6), 0.0) for x in r]
+    frame = pd.DataFrame({"masses": [list(c[0]) for c in chains],
+                          "springs": [list(c[1]) for c in chains],
+                          "k_contact": [c[2] for c in chains]})  # fmt: skip
+    grid = restitution.solve_many(frame)["cor"].min()
+    assert d.cor <= grid + 1e-12
+    assert d.parameter < 0.01 ** (1 / 6)  # the taper the old bound excluded
+    assert d.cor < 0.2
 
 
 def test_finite_beta_optimum_beats_a_fine_grid():

@@ -30,6 +30,7 @@ render_fig7 = _load("render_fig7")
 aggregate_fig7 = _load("aggregate_fig7")
 render_fig8b = _load("render_fig8b")
 workprecision = _load("bench_plot_workprecision")
+scaling_plot = _load("bench_plot_scaling")
 
 
 # --- the audit -----------------------------------------------------------------------------------
@@ -133,31 +134,111 @@ def _fig8b_table():
     for family in render_fig8b.STYLE:
         for n in (2, 3, 4):
             rows.append(dict(family=family, n_masses=n, cor=0.2 - 0.01 * n, worst_cor=0.21,
-                             status="ok"))  # fmt: skip
-    return pd.DataFrame(rows)
+                             status="ok", bound_active=(family == "masses" and n == 4),
+                             start="warm", cor_warm=0.2 - 0.01 * n, cor_cold=0.2 - 0.01 * n,
+                             restart_spread=0.0))  # fmt: skip
+    table = pd.DataFrame(rows)
+    # One design whose cold start ended higher (spread shown as a bar).
+    i = table.index[(table["family"] == "uniform") & (table["n_masses"] == 3)][0]
+    table.loc[i, ["cor_cold", "restart_spread"]] = [0.3, 0.3 - table.loc[i, "cor"]]
+    return table
 
 
 def _workprecision_records():
     rows = []
     for scene in ("a", "b"):
         for family in ("exact", *workprecision.METHODS):
-            for setting in (1e-3, 1e-6):
+            for setting in (1e-3, 1e-6, 1e-9):
                 rows.append(dict(scene=scene, family=family, setting=setting, status="ok",
                                  cor_error=setting, time_s=1 / setting * 1e-6, contacts_ok=True,
                                  reference_bound=1e-12))  # fmt: skip
-    return pd.DataFrame(rows)
+    table = pd.DataFrame(rows)
+    # The loosest RK45 setting of scene "a" has the wrong contact count; exact errors lie in the
+    # reference's band (1e-15 < 1e-12).
+    wrong = (table["scene"] == "a") & (table["family"] == "RK45") & (table["setting"] == 1e-3)
+    table.loc[wrong, "contacts_ok"] = False
+    table.loc[table["family"] == "exact", "cor_error"] = 1e-15
+    return table
 
 
 def _figures():
     figs = {f"fig7{p}": render_fig7.draw(_fig7_sweep(), p, FIG7, LOG) for p in "abc"}
     figs["fig8b"] = render_fig8b.draw(_fig8b_table(), None)
-    figs["workprecision"] = workprecision.draw(_workprecision_records(), {})
+    figs["workprecision"] = workprecision.draw(_workprecision_records(), {}, IVP)
     return figs
+
+
+IVP = {"methods": ["RK45"], "ivp_rtols": [1e-3, 1e-6], "ivp_atol_over_rtol": 1.0,
+       "ivp_steps_per_period": 0, "max_events": 100}  # fmt: skip
 
 
 @pytest.fixture(scope="module")
 def figures():
     return _figures()
+
+
+def test_fig8b_marks_bound_active_designs_hollow_and_shows_restart_spread(figures):
+    ax = figures["fig8b"].axes[0]
+    marks = [ln for ln in ax.lines if ln.get_linestyle() == "None"]
+    hollow = [ln for ln in marks if ln.get_markerfacecolor() in ("white", (1.0, 1.0, 1.0, 1.0))
+              and len(ln.get_xdata()) and ln.get_label().endswith("(bound active)")]  # fmt: skip
+    # Exactly the one bound-active design (free masses, N = 4) is hollow.
+    assert [(list(ln.get_xdata()), list(ln.get_ydata())) for ln in hollow] == [([4], [0.16])]
+    # The restart spread: a vertical bar from 0.17 to the other start's 0.3 at N = 3.
+    bars = [ln for ln in ax.lines if list(ln.get_xdata()) == [3, 3]]
+    assert bars and sorted(bars[0].get_ydata()) == pytest.approx([0.17, 0.3])
+    # y-axis on the data (log), not 0..1.
+    lo, hi = ax.get_ylim()
+    assert ax.get_yscale() == "log" and 0.16 / 1.2 < lo < 0.16 and 0.3 < hi < 0.3 * 1.2
+
+
+def test_workprecision_invalid_points_hollow_unjoined_and_in_band_as_upper_limits(figures):
+    ax = figures["workprecision"].axes[0]  # scene "a"
+    rk45 = [ln for ln in ax.lines if ln.get_label() == "RK45"][0]
+    # The joined line holds only the two valid settings (1e-6, 1e-9), not the wrong-count one.
+    assert sorted(rk45.get_xdata()) == pytest.approx([1e-9, 1e-6])
+    wrong = [ln for ln in ax.lines if ln.get_label() == "_wrong contact count"]
+    assert len(wrong) == 1 and list(wrong[0].get_xdata()) == pytest.approx([1e-3])
+    assert wrong[0].get_linestyle() == "None" and wrong[0].get_markerfacecolor() == "white"
+    # Exact errors (1e-15) inside the band (1e-12) are drawn at the bound with an upper-limit
+    # arrow, never at the measured value.
+    exact = [ln for ln in ax.lines if ln.get_label() == "exact"][0]
+    assert set(exact.get_xdata()) == {1e-12}
+    assert any(c.get_label() == "_upper limit" for c in ax.containers)
+    # The baseline's settings are stated on the figure.
+    title = figures["workprecision"].legends[0].get_title().get_text()
+    assert "no max_step" in title and "RK45" in title and "atol = 1 rtol" in title
+
+
+def test_scaling_plot_draws_fit_lines_over_their_ranges():
+    table = pd.DataFrame([
+        dict(kind="alpha", family=f, x=x, threads=1, n_scenes=1, n_collisions=int(x),
+             time_s=x * (1e-6 if f == "exact" else 1e-3), status="ok")
+        for f in ("exact", "DOP853") for x in (1.0, 10.0, 100.0)
+    ] + [dict(kind="alpha", family="DOP853", x=1000.0, threads=1, n_scenes=1, n_collisions=1000,
+              time_s=1.0, status="not_matched")] + [
+        dict(kind=k, family=f, x=x, threads=1, n_scenes=1, n_collisions=1, time_s=x * 1e-5,
+             status="ok")
+        for k, f in (("chain", "exact"), ("sweep", "solve_many")) for x in (2.0, 8.0, 32.0)
+    ])  # fmt: skip
+    fits = pd.DataFrame([dict(kind="alpha", family=f, threads=1, quantity="time_s", exponent=1.0,
+                              stderr=0.01, prefactor=p, x_min=10.0, x_max=100.0, n_points=2)
+                         for f, p in (("exact", 1e-6), ("DOP853", 1e-3))])  # fmt: skip
+    fig = scaling_plot.draw(table, fits, match_error=1e-6)
+    ax = fig.axes[0]
+    lines = [ln for ln in ax.lines if ln.get_label() == "_fit"]
+    assert len(lines) == 2
+    for ln in lines:
+        assert min(ln.get_xdata()) == pytest.approx(10.0) and max(ln.get_xdata()) == 100.0
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert any("fit 10..100" in t for t in labels)  # the fit range in the legend
+    # The unmatched point: hollow, unjoined; the joined DOP853 line stops at alpha = 100.
+    joined = [ln for ln in ax.lines if ln.get_label().startswith("DOP853")][0]
+    assert max(joined.get_xdata()) == 100.0
+    hollow = [ln for ln in ax.lines if ln.get_label() == "_unmatched"]
+    assert list(hollow[0].get_xdata()) == [1000.0] and hollow[0].get_markerfacecolor() == "white"
+    assert "matched accuracy" in ax.get_title()
+    assert plotting.audit_figure(fig) == []
 
 
 @pytest.mark.parametrize("name", ["fig7a", "fig7b", "fig7c", "fig8b", "workprecision"])

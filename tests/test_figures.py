@@ -1,6 +1,7 @@
 """Figure helpers checked against closed forms and the solver: Fig. 2(b)'s small-alpha limit, the
 colour sets of restitution.plotting, and the caption data of Fig. 7(c) on synthetic tables."""
 
+import logging
 import math
 from pathlib import Path
 
@@ -152,3 +153,45 @@ def test_paper_figure_scripts_define_no_colours_of_their_own():
     for path in scripts:
         hexes = re.findall(r"#[0-9A-Fa-f]{6}\b", path.read_text())
         assert not hexes, (path.name, hexes)
+
+
+# --- Fig. 8(a): resolution mask and smooth minima ---------------------------------------------
+
+curves8a = load_script("simulate_fig8a_curves")
+ROOT = Path(__file__).resolve().parents[1]
+LOG = logging.getLogger("test_figures")
+
+
+def test_resolved_limit_ends_at_the_first_close_pair_of_count_steps():
+    alpha = np.arange(40, dtype=float)
+    # Steps 10 cells apart, then 5, 5, then 2 and 2 apart: unresolved from the step at 29 (the
+    # last one before the close pair) on.
+    n = np.repeat([1, 2, 3, 4, 5, 6, 7], [10, 10, 5, 5, 2, 2, 6])
+    assert curves8a.resolved_limit(alpha, n, min_cells=3) == 29.0
+    # One isolated close pair (two curves crossing) does not end the range.
+    n = np.repeat([1, 2, 3, 4], [10, 2, 10, 18])
+    assert curves8a.resolved_limit(alpha, n, min_cells=3) == math.inf
+    # A step of two counts at once is two steps 0 cells apart: with a close one before it, the
+    # range ends.
+    n = np.repeat([1, 2, 4], [10, 2, 28])
+    assert curves8a.resolved_limit(alpha, n, min_cells=3) == 9.0
+
+
+def test_smooth_minimum_at_beta_1_is_the_papers():
+    """The smooth minimum of the COR along alpha at beta = 1, refined from a coarse grid row,
+    against the paper's value (config/paper_values.yaml: 0.91 at alpha = 3.42) and a fine grid
+    of the solver."""
+    import yaml
+
+    paper = yaml.safe_load((ROOT / "config" / "paper_values.yaml").read_text())
+    alpha = np.geomspace(1.0, 10.0, 60)
+    grid = restitution.solve_many(pd.DataFrame({"alpha": alpha, "beta": 1.0}))
+    grid["alpha"], grid["beta"] = alpha, 1.0
+    minima = curves8a.smooth_minima(grid, {1.0: math.inf}, LOG)
+    near = minima[(minima["alpha"] > 2.5) & (minima["alpha"] < 5.0)]
+    assert len(near) == 1
+    assert round(near["cor"].iloc[0], 2) == float(paper["beta1_min_cor"])
+    assert near["alpha"].iloc[0] == pytest.approx(float(paper["beta1_min_alpha"]), abs=0.02)
+    fine = np.linspace(near["alpha"].iloc[0] * 0.99, near["alpha"].iloc[0] * 1.01, 2001)
+    cor = restitution.solve_many(pd.DataFrame({"alpha": fine, "beta": 1.0}))["cor"]
+    assert near["cor"].iloc[0] <= cor.min() + 1e-12

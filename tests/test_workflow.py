@@ -45,7 +45,7 @@ BAD_CONFIGS = {
     ),
     "method that does not fit the betas": (
         {"method": "impulsive"},
-        ["method = 'impulsive' needs a rigid wall", "fig2a.betas = [0.0, 0.001"],
+        ["method = 'impulsive' does not fit", "fig2a.betas = [0.0, 0.001", "needs beta = 0"],
     ),
     "alpha range reversed": (
         {"fig2a": {"alpha_min": 10.0, "alpha_max": 1.0}},

@@ -365,13 +365,16 @@ def _method_checks(config, problems):
     method = config.get("method", "auto")
     if method == "auto" or not isinstance(method, str):
         return
-    from restitution.solvers.methods import choose  # (numpy, pandas: only when one is forced)
+    from restitution.solvers.methods import METHODS  # (numpy, pandas: only when one is forced)
 
+    if method not in METHODS:
+        return  # (the schema names the allowed methods)
     for b in numeric:
-        try:
-            choose(Chain.paper(1.0, b), method)
-        except SceneError as error:
-            problems.append(f"method = {method!r} does not fit fig2a.betas = {betas!r}: {error}")
+        reason = METHODS[method].applies(Chain.paper(1.0, b))
+        if reason is not None:
+            problems.append(
+                f"method = {method!r} does not fit fig2a.betas = {betas!r} (beta = {b!r}): {reason}"
+            )
             return
 
 

@@ -92,6 +92,8 @@ rule bench_workprecision:
         "logs/workprecision/plot.log",
     conda:
         "../envs/restitution.yaml"
+    params:
+        ivp=ivp_settings(),
     script:
         "../scripts/bench_plot_workprecision.py"
 
@@ -136,6 +138,8 @@ rule bench_scaling_plot:
         "logs/workprecision/scaling_plot.log",
     conda:
         "../envs/restitution.yaml"
+    params:
+        match_error=BENCH["scaling"]["match_error"],
     script:
         "../scripts/bench_plot_scaling.py"
 

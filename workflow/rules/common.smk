@@ -269,3 +269,44 @@ def fig2a_chunk_tables():
         beta=[beta_label(b) for b in config["fig2a"]["betas"]],
         chunk=range(fig2a_n_chunks()),
     )
+
+
+# Fig. 8(b) designs (rules/design.smk): warm starts and the config check of the two seeds.
+DESIGNS = config["fig8"]["design"]
+if DESIGNS["restart_seed"] == DESIGNS["seed"]:
+    raise WorkflowError(
+        "Invalid configuration: fig8.design.restart_seed must differ from fig8.design.seed "
+        f"(both {DESIGNS['seed']}): the second start of every design must be independent"
+    )
+#: Families whose optima a family contains at the same N (its warm starts, design_fig8b.py).
+CONTAINS = {
+    "masses": ["uniform", "tapered_decreasing", "tapered_increasing"],
+    "masses_springs": ["masses"],
+    "robust": ["masses"],
+}
+
+
+def _designed(family, n):
+    """Whether `all` or `extra` runs this design (a warm start must be a design of the run)."""
+    return any(n in DESIGNS[group].get(family, []) for group in ("all", "extra"))
+
+
+def design_warm_starts(wildcards):
+    """Tables of the warm starts of one design: the families it contains at N, itself at N - 1."""
+    family, n = wildcards.family, int(wildcards.n)
+    wanted = [(f, n) for f in CONTAINS.get(family, [])]
+    if family in CONTAINS:
+        wanted.append((family, n - 1))
+    return [f"results/design/{f}_N{m}.parquet" for f, m in wanted if _designed(f, m)]
+
+
+# Benchmarks (rules/benchmarks.smk).
+def ivp_settings():
+    """The solve_ivp settings the work-precision diagram states (its baseline). Every family but
+    the package's own (exact, adaptive, verlet) is a solve_ivp method (the schema's enum); not
+    imported from restitution_workflow.bench.ivp, which would load scipy at every workflow parse.
+    """
+    keys = ("ivp_rtols", "ivp_atol_over_rtol", "ivp_steps_per_period", "max_events")
+    own = ("exact", "adaptive", "verlet")
+    methods = [f for f in config["benchmarks"]["families"] if f not in own]
+    return {"methods": methods, **{key: config["benchmarks"][key] for key in keys}}

@@ -47,6 +47,8 @@ rule simulate_fig8a_curves:
             subcategory="Fig. 8",
             labels={"figure": "8(a)", "quantity": "table: count-step curves"},
         ),
+        untraced="results/fig8/untraced.parquet",
+        minima="results/fig8/minima.parquet",
     log:
         "logs/fig8/simulate_curves.log",
     benchmark:
@@ -72,6 +74,8 @@ rule fig8a:
             chunk=range(config["fig8"]["map"]["chunks"]),
         ),
         curves=rules.simulate_fig8a_curves.output.table,
+        untraced=rules.simulate_fig8a_curves.output.untraced,
+        minima=rules.simulate_fig8a_curves.output.minima,
         template="workflow/report/fig8a.rst",
         style="src/restitution/restitution.mplstyle",
         code=script_code("render_fig8a.py"),
@@ -105,8 +109,10 @@ rule fig8a:
 # Fig. 8(b): minimum-COR designs against N
 # ---------------------------------------------------------------------------------------------
 rule design_fig8b:
-    """One design: the minimum-COR chain of one family and one N, re-checked by a fresh solve."""
+    """One design: the minimum-COR chain of one family and one N from a warm and a cold start,
+    re-checked by a fresh solve."""
     input:
+        warm=design_warm_starts,
         code=script_code("design_fig8b.py"),
     output:
         table="results/design/{family}_N{n}.parquet",
@@ -216,7 +222,17 @@ rule fig8b:
         # through the design table.
         design={
             key: config["fig8"]["design"][key]
-            for key in ("beta", "tolerance", "bounds", "seed", "popsize", "maxiter")
+            for key in (
+                "beta",
+                "tolerance",
+                "bounds",
+                "seed",
+                "restart_seed",
+                "popsize",
+                "maxiter",
+                "robust_popsize",
+                "robust_maxiter",
+            )
         },
     script:
         "../scripts/render_fig8b.py"

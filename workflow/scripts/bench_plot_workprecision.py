@@ -1,10 +1,12 @@
 """Work-precision diagrams: time per scene against COR error, one panel per scene.
 
-One line per method family (its settings joined from loose to tight), the exact solvers as single
-points. A red cross marks a result with the wrong number of contacts; errors below the floor
-(round-off, exactly 0) are drawn at the floor; the grey band (in the legend) is the reference's
-own error bound, below which a measured error only says "at most the bound". Panel titles are
-mathtext built from each scene's parameters.
+One line per method family (its settings joined from loose to tight, through the valid points
+only), the exact solvers as single points. A result with the wrong number of contacts is a hollow,
+unjoined marker of its method. The grey band (in the legend) is the reference's own error bound:
+a measured error inside it only says "at most the bound", so it is drawn at the bound with an
+arrow to the left (an upper limit); errors below the floor (round-off, exactly 0) would be drawn at
+the floor. The solve_ivp baseline's settings (rtol range, atol, no max_step) are stated above the
+legend. Panel titles are mathtext built from each scene's parameters.
 """
 
 import math
@@ -22,42 +24,52 @@ def _styles() -> dict:
 
     styles = {"exact": dict(color="black", marker="*", ms=7, ls="none")}
     for index, method in enumerate(METHODS):
-        styles[method] = {**plotting.marked_style(index), "ms": 3, "mfc": "white"}
+        styles[method] = {**plotting.marked_style(index), "ms": 3}  # filled: valid points
     return styles
 
 
-def draw(records, titles):
+def draw(records, titles, ivp=None):
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
     from restitution import plotting
 
     scenes = list(dict.fromkeys(records["scene"]))
     ncols = 3
     nrows = math.ceil(len(scenes) / ncols)
-    fig = plotting.new_figure("double", aspect=0.27 * nrows + 0.1)
+    fig = plotting.new_figure("double", aspect=0.27 * nrows + 0.14)
     axes = np.atleast_1d(fig.subplots(nrows, ncols, squeeze=False)).ravel()
     ok = records[(records["status"] == "ok") & records["cor_error"].notna()]
+    n_limits = 0
     for ax, scene in zip(axes, scenes, strict=False):
         sub = ok[ok["scene"] == scene]
+        bound = records.loc[records["scene"] == scene, "reference_bound"].max()
+        bound = bound if np.isfinite(bound) and bound > 0 else 0.0
         for family, style in _styles().items():
             g = sub[sub["family"] == family]
             if g.empty:
                 continue
             g = g.sort_values("setting", ascending=False)
             err = np.maximum(g["cor_error"].to_numpy(), FLOOR)
-            ax.plot(err, g["time_s"], lw=0.8, label=family, **style)
-            wrong = ~g["contacts_ok"].to_numpy(bool)
-            if wrong.any():
-                ax.plot(
-                    err[wrong],
-                    g["time_s"].to_numpy()[wrong],
-                    ls="none",
-                    marker="x",
-                    color="red",
-                    ms=6,
-                    mew=1.0,
-                    zorder=5,
-                )
-        bound = records.loc[records["scene"] == scene, "reference_bound"].max()
-        if np.isfinite(bound) and bound > 0:
+            t = g["time_s"].to_numpy()
+            valid = g["contacts_ok"].to_numpy(bool)
+            # A measured error inside the reference's band says only "at most the bound": drawn
+            # at the bound with an arrow to the left (an upper limit).
+            limit = err <= bound
+            x = np.where(limit, bound, err)
+            # The line joins the valid points only; a point with the wrong contact count is
+            # hollow and unjoined (no line implies it belongs to the method's curve).
+            ax.plot(x[valid], t[valid], lw=0.8, label=family, **style)
+            if (~valid).any():
+                ax.plot(x[~valid], t[~valid], ls="none", marker=style["marker"], ms=4,
+                        mew=0.9, color=style["color"], mfc="white",
+                        label="_wrong contact count")  # fmt: skip
+            if limit.any():
+                n_limits += int(limit.sum())
+                ax.errorbar(x[limit], t[limit], xerr=0.9 * x[limit], xuplims=True, ls="none",
+                            color=style["color"], lw=0.6, capsize=2,
+                            label="_upper limit")  # fmt: skip
+        if bound > 0:
             ax.axvspan(FLOOR / 3, bound, color="0.9", zorder=0, lw=0)
         ax.set_xscale("log")
         ax.set_yscale("log")
@@ -76,17 +88,31 @@ def draw(records, titles):
             if lab not in labels:
                 handles.append(h)
                 labels.append(lab)
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch
-
-    handles.append(Line2D([], [], ls="none", marker="x", color="red", ms=6))
-    labels.append("wrong contact count")
+    handles.append(Line2D([], [], ls="none", marker="o", ms=4, mew=0.9, color="0.3",
+                          mfc="white"))  # fmt: skip
+    labels.append("hollow, unjoined: wrong contact count")
+    handles.append(Line2D([], [], ls="none", marker=r"$\leftarrow$", ms=8, color="0.3"))
+    labels.append("at most the reference's bound")
     handles.append(Patch(color="0.9", lw=0))
     labels.append("below the reference's error bound")
     # The house style uses constrained layout: "outside" reserves room below the panels.
-    fig.legend(handles, labels, loc="outside lower center", ncol=min(len(labels), 6),
-               frameon=False)  # fmt: skip
+    legend = fig.legend(handles, labels, loc="outside lower center", ncol=min(len(labels), 5),
+                        frameon=False)  # fmt: skip
+    if ivp is not None:
+        legend.set_title(baseline_text(ivp), prop={"size": 7})
     return fig
+
+
+def baseline_text(ivp: dict) -> str:
+    """The solve_ivp baseline's settings in words (stated on the figure)."""
+    rtols = sorted(float(v) for v in ivp["ivp_rtols"])
+    methods = ", ".join(ivp.get("methods", [])) or "none run"
+    step = ivp["ivp_steps_per_period"]
+    step_text = (f"max_step = shortest period / {step:g}" if step else
+                 "no max_step (events checked at its own step ends)")  # fmt: skip
+    return (f"solve_ivp baseline ({methods}): rtol {rtols[0]:g}..{rtols[-1]:g}, "
+            f"atol = {float(ivp['ivp_atol_over_rtol']):g} rtol, {step_text}, terminal events "
+            f"for every contact switch")  # fmt: skip
 
 
 def tex_number(value: float) -> str:
@@ -126,14 +152,14 @@ def scene_title(scene, scenes=()) -> str:
     return f"{scene.name}{kind}: " + "$" + ",\\ ".join(parts) + "$"
 
 
-def main(table_path, png_path, pdf_path, logger):
+def main(table_path, png_path, pdf_path, logger, ivp=None):
     from restitution import plotting
     from restitution.tables.io import read_table
     from restitution_workflow.bench.scenes import SCENES
 
     records = read_table(table_path)
     titles = {s.name: scene_title(s, SCENES) for s in SCENES}
-    fig = draw(records, titles)
+    fig = draw(records, titles, ivp)
     plotting.save_outputs(fig, png_path, pdf_path, logger)
 
 
@@ -147,4 +173,5 @@ if __name__ == "__main__":
             snakemake.output.png,  # noqa: F821
             snakemake.output.pdf,  # noqa: F821
             log,
+            ivp=dict(snakemake.params.ivp),  # noqa: F821
         )

@@ -16,11 +16,13 @@ def main(out, scaling, bench, logger):
         scaling["alphas"],
         float(scaling["beta"]),
         scaling["ivp_method"],
-        float(scaling["ivp_rtol"]),
+        [float(v) for v in bench["ivp_rtols"]],
         float(scaling["ivp_alpha_max"]),
         t,
         r,
         float(bench["time_budget"]),
+        match_error=float(scaling["match_error"]),
+        atol_over_rtol=float(bench["ivp_atol_over_rtol"]),
     )
     logger.info("alpha scaling done (%d rows)", len(rows))
     rows += sc.chain_scaling(

@@ -3,20 +3,67 @@
 Families (``restitution.analysis.design``): ``uniform`` (the paper's Fig. 6 chain, best alpha),
 ``tapered_decreasing`` / ``tapered_increasing`` (geometric masses, best ratio), ``masses`` (every
 mass ratio free), ``masses_springs`` (springs k_i/k_12 free too) and ``robust`` (masses free,
-worst COR over independent mass errors of +-tolerance). Each design is re-solved by
-``restitution.solve`` (column ``cor_check``) and marked ``ok`` only if that agrees.
+worst COR over independent mass errors of +-tolerance).
+
+Two independent starts per design (issue 26):
+
+* **warm**: seed ``seed``; the first population holds the optima this family contains (warm
+  starts, the input tables): for ``masses`` the uniform and both tapered chains of the same N and
+  the free-mass chain of N - 1 extended by one mass (equal to its last, and a light end mass at
+  the lower bound); for ``masses_springs`` the free-mass chain of N and its own N - 1 design
+  extended; for ``robust`` the same for its family. A family's search then starts at most at the
+  COR of the chains it contains.
+* **cold**: seed ``restart_seed``, no warm start, the same search settings.
+
+The row is the better of the two; ``cor_warm`` and ``cor_cold`` (robust: their worst CORs) and
+``restart_spread`` say whether the two starts agree. Each design is re-solved by
+``restitution.solve`` (column ``cor_resolved``) and marked ``ok`` only if that agrees.
 """
 
 import math
 
+import numpy as np
 import pandas as pd
 
 
-def run(family: str, n: int, d: dict, progress):
+def extend(masses, springs, n: int, end_mass=None):
+    """The chain of ``n`` masses that continues a shorter one: one more mass equal to the last
+    (or ``end_mass``, a ratio to m_1) on a spring k_12, repeated until it has ``n`` masses."""
+    m, k = list(masses), list(springs)
+    while len(m) < n:
+        m.append(m[-1] if end_mass is None else end_mass)
+        k.append(1.0)
+    return np.array(m), np.array(k)
+
+
+def warm_starts(tables, n: int, light: float) -> tuple:
+    """([(masses, springs)], [source]) of the warm-start tables: a design of this N as it is;
+    one of N - 1 extended twice, by a mass equal to its last and by a light end mass ``light``
+    (the lower bound: nearly the N - 1 chain, so the search can start from that chain's COR)."""
+    from restitution.tables.io import read_table
+
+    starts, sources = [], []
+    for path in tables:
+        row = read_table(path).iloc[0]
+        name = f"{row['family']} N={int(row['n_masses'])}"
+        if int(row["n_masses"]) == n:
+            starts.append(extend(row["masses"], row["springs"], n))
+            sources.append(name)
+            continue
+        for end, how in ((None, "last mass repeated"), (light, f"end mass {light:g}")):
+            starts.append(extend(row["masses"], row["springs"], n, end))
+            sources.append(f"{name} + {how}")
+    return starts, sources
+
+
+def run(family: str, n: int, d: dict, seed: int, starts, progress):
     from restitution.analysis import design
 
-    common = dict(beta=d["beta"], bounds=tuple(d["bounds"]), seed=d["seed"],
-                  popsize=d["popsize"], maxiter=d["maxiter"], progress=progress)  # fmt: skip
+    robust = family == "robust"
+    popsize = d["robust_popsize"] if robust else d["popsize"]
+    maxiter = d["robust_maxiter"] if robust else d["maxiter"]
+    common = dict(beta=d["beta"], bounds=tuple(d["bounds"]), seed=seed, popsize=popsize,
+                  maxiter=maxiter, progress=progress, warm_starts=starts)  # fmt: skip
     if family == "uniform":
         return design.best_uniform(n, **common)
     if family.startswith("tapered_"):
@@ -30,6 +77,11 @@ def run(family: str, n: int, d: dict, progress):
     raise ValueError(f"unknown design family {family!r}")
 
 
+def objective(row: dict) -> float:
+    """What the family minimises: the worst COR of a robust design, else the COR."""
+    return row["worst_cor"] if row["family"] == "robust" else row["cor"]
+
+
 def recheck(row: dict) -> float:
     """The design's COR from a fresh general-form restitution.solve call (user units: ratios)."""
     import restitution
@@ -39,18 +91,33 @@ def recheck(row: dict) -> float:
     return restitution.solve(masses=list(m), springs=list(k), k_contact=kc).cor
 
 
-def main(params, output_path, family: str, n: int, logger) -> pd.DataFrame:
+def main(params, output_path, family: str, n: int, logger, tables=()) -> pd.DataFrame:
     from restitution.tables.io import write_table
 
     d = dict(params.design)
-    result = run(family, n, d, progress=logger.info)
-    row = result.row()
-    row["family"] = family
+    starts, sources = warm_starts(tables, n, float(d["bounds"][0]))
+    rows = {}
+    for start, seed, given in (("warm", d["seed"], starts), ("cold", d["restart_seed"], [])):
+        result = run(family, n, d, seed, given, progress=logger.info)
+        row = result.row()
+        row["family"] = family
+        rows[start] = row
+        logger.info("%s N=%d, %s start (seed %d, %d warm starts): objective %.12g, %s", family, n,
+                    start, seed, len(given), objective(row), row["active"])  # fmt: skip
+    warm, cold = objective(rows["warm"]), objective(rows["cold"])
+    best = "cold" if cold < warm else "warm"
+    row = dict(rows[best])
+    row["start"] = best
+    row["warm_from"] = "; ".join(sources)
+    row["cor_warm"], row["cor_cold"] = warm, cold
+    row["restart_spread"] = abs(warm - cold)
+    row["evaluations"] = rows["warm"]["evaluations"] + rows["cold"]["evaluations"]
     row["cor_resolved"] = recheck(row)
     agree = abs(row["cor_resolved"] - row["cor"]) <= 1e-12
     row["status"] = "ok" if agree and math.isfinite(row["cor"]) else "recheck_differs"
-    logger.info("%s N=%d: COR %.12g (re-solved %.12g), %s, %s; %d solver calls", family, n,
-                row["cor"], row["cor_resolved"], row["method"], row["bounds_hit"] or "no bound hit",
+    logger.info("%s N=%d: COR %.12g (re-solved %.12g; warm %.12g, cold %.12g), %s, %s, active: "
+                "%s; %d solver calls", family, n, row["cor"], row["cor_resolved"], warm, cold,
+                row["method"], row["bounds_hit"] or "no bound near", row["active"],
                 row["evaluations"])  # fmt: skip
     table = pd.DataFrame([row])
     write_table(table, output_path, config={"fig8": {"design": d}, "family": family, "n": n})
@@ -68,4 +135,5 @@ if __name__ == "__main__":
             family=snakemake.wildcards.family,  # noqa: F821
             n=int(snakemake.wildcards.n),  # noqa: F821
             logger=log,
+            tables=list(snakemake.input.warm),  # noqa: F821
         )

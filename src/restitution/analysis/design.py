@@ -20,8 +20,18 @@ Method
 3. **Robust variant**: the worst COR over independent mass errors of +-``tolerance`` (each mass
    on its own), searched by an inner optimiser (the worst case near a cusp need not be a corner of
    the error box), is minimised instead.
+4. **Bounds**: a ratio on or within 1 % of its bound is tested by relaxing the bound: the
+   objective 1e-6 past it (the other ratios kept) and after a short local re-optimisation (the
+   polish, or Powell for robust designs) with the bound moved out by 1 %; the bound is *active*
+   (``Design.bound_active``) when either falls: the design is then the bound's, not a free
+   optimum (a cusp optimum whose grazing manifold meets a bound falls only along the manifold).
+   ``Design.active`` lists every active constraint (active bounds, the grazing condition of a
+   cusp optimum). Tapered chains bound their step ratio, not their end mass (which only has to
+   stay within the solvers' ratio range), so a long chain may taper as fast as a short one.
 
-Every design's COR is re-checked by a fresh solver call (``cor_check``).
+``warm_starts`` puts given chains (e.g. the optimum of a family this one contains) into the
+search's first population. Every design's COR is re-checked by a fresh solver call
+(``cor_check``).
 
 Units: ratios to m_1 and k_12; the chain is scaled to omega = 1 (omega^2 = k_12/m_1 + k_12/m_2)
 for the solver, so beta = k_12/k_contact as in the paper.
@@ -45,6 +55,8 @@ log = logging.getLogger(__name__)
 
 DEFAULT_BOUNDS = (0.01, 100.0)
 MAX_MASSES = 16
+RELAX = 1e-6  # log step past a bound of the activity test (``_relaxed``)
+RELAX_BOX = 0.01  # a bound moved out by this (log: 1 %) for the local re-optimisation there
 _BAD = 10.0  # objective of a scene the solver could not finish (never a minimum: COR <= 1)
 
 
@@ -77,7 +89,16 @@ class Design:
     cor_check : float
         COR re-solved by a fresh ``restitution.solve`` call.
     bounds_hit : list of str
-        Parameters that sit on a bound (e.g. ``["m_3/m_1 = 100 (upper)"]``).
+        Parameters on or within 1 % of a bound, each with the COR just past the bound
+        (e.g. ``["m_3/m_1 = 0.01 at lower bound 0.01 (active: COR 0.0987 past it)"]``).
+    bound_active : bool
+        Some bound is active: the COR falls when that bound is relaxed (by 1e-6), so the design
+        depends on the bound (a free optimum would lie beyond it).
+    active : list of str
+        Every constraint active at the design: the active bounds and the grazing condition the
+        optimum sits on (``"grazing new n=2"``); empty for a smooth interior minimum.
+    warm_starts : int
+        Points put into the search's first population (``x0``), e.g. a smaller family's optimum.
     grazing : tuple or None
         (n, kind) of the grazing condition the polish solved, or None.
     method : str
@@ -101,6 +122,9 @@ class Design:
     method: str = ""
     evaluations: int = 0
     parameter: float = math.nan  # the family's one parameter (uniform: alpha; tapered: ratio)
+    bound_active: bool = False
+    active: list = field(default_factory=list)
+    warm_starts: int = 0
 
     def row(self) -> dict:
         """One table row (lists for the chain)."""
@@ -117,6 +141,9 @@ class Design:
             masses=[float(x) for x in self.masses],
             springs=[float(x) for x in self.springs],
             bounds_hit="; ".join(self.bounds_hit),
+            bound_active=bool(self.bound_active),
+            active="; ".join(self.active) or "none (smooth interior minimum)",
+            warm_starts=int(self.warm_starts),
             grazing="" if self.grazing is None else f"{self.grazing[1]} n={self.grazing[0]}",
             method=self.method,
             evaluations=self.evaluations,
@@ -134,6 +161,22 @@ class Family:
     n_masses: int
     dim: int
     names: tuple
+
+    def coords(self, masses, springs=None):
+        """Log-parameters x of the chain (mass ratios, spring ratios): the inverse of
+        :meth:`chain` on the family (a chain outside it: its nearest reading, e.g. m_2/m_1 for
+        ``uniform`` and ``tapered``)."""
+        m = np.asarray(masses, dtype=float)
+        m = m / m[0]
+        if m.size != self.n_masses:
+            raise ValueError(f"a warm start of {m.size} masses for a family of {self.n_masses}")
+        if self.name in ("uniform", "tapered"):
+            return np.array([math.log(m[1])])
+        x = np.log(m[1:])
+        if self.name == "masses+springs":
+            k = np.ones(self.n_masses - 1) if springs is None else np.asarray(springs, float)
+            x = np.r_[x, np.log(k[1:] / k[0])]
+        return x
 
     def chain(self, x):
         n = self.n_masses
@@ -479,14 +522,87 @@ def _check(n_masses, beta, bounds, tolerance, vary, seed=1, popsize=15, maxiter=
         raise SceneError(f"progress must be a callable (e.g. print) or None; got {_show(progress)}")
 
 
-def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, progress, polish):
+def _box_of(fam: Family, bounds):
+    """(lower, upper) log-bounds of the family's parameters.
+
+    Every ratio (m_i/m_1, k_i/k_12; uniform: alpha) within ``bounds``. Tapered chains: the step
+    ratio r = m_(i+1)/m_i within ``bounds`` and the end mass r**(N-1) within the ratios the solvers
+    handle (``chain.RATIOS``, 1e-8..1e8), not within ``bounds``: bounding the end mass by
+    ``bounds`` would cut a long chain off from the tapers a short one reaches (at N = 7 the
+    decreasing chain could not taper faster than r = 0.464, issue 26)."""
+    lo, hi = math.log(bounds[0]), math.log(bounds[1])
+    if fam.name != "tapered":
+        return [lo] * fam.dim, [hi] * fam.dim
+    r_lo, r_hi = RATIOS["masses[i]/masses[0]"]
+    steps = fam.n_masses - 1
+    return [max(lo, math.log(r_lo) / steps)], [min(hi, math.log(r_hi) / steps)]
+
+
+def _first_population(fam, lb, ub, popsize, seed, starts):
+    """The search's first population: a scrambled Sobol sample of the box with the warm starts
+    (clipped into the box) in its first rows."""
+    import warnings
+
+    from scipy.stats import qmc
+
+    size = max(5, popsize * fam.dim)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # Sobol's balance warning for sizes not a power of 2
+        unit = qmc.Sobol(fam.dim, scramble=True, seed=seed).random(size)
+    pop = np.asarray(lb) + unit * (np.asarray(ub) - np.asarray(lb))
+    for i, x in enumerate(starts[: size - 1]):
+        pop[i] = np.clip(x, lb, ub)
+    return pop
+
+
+def _relaxed(objective, fam, x, lb, ub, f_x, local=None):
+    """Bounds the design sits on or near (within 1 % in the ratio), each tested by relaxing it.
+
+    Two tests; the bound is active (a free optimum lies beyond it) when either lowers the
+    objective by more than 1e-12: (1) the objective ``RELAX`` (relative 1e-6) past the bound,
+    the other ratios kept (small, so that the first-order change decides); (2) ``local(x, box)``,
+    a local re-optimisation from the design in the box with this bound moved out by
+    ``RELAX_BOX`` (1 %), started from the design pushed onto the relaxed bound: an optimum on a
+    grazing manifold that meets the bound is only lowered by moving along the manifold, i.e. by
+    changing the other ratios too. [(text, active)]."""
+    out = []
+    r_lo, r_hi = (math.log(v) for v in RATIOS["masses[i]/masses[0]"])
+    for j, (name, xi, low, up) in enumerate(zip(fam.names, x, lb, ub, strict=True)):
+        for edge, which, sign in ((low, "lower", -1.0), (up, "upper", 1.0)):
+            gap = abs(xi - edge)
+            if gap >= 0.01:
+                continue
+            word = "at" if gap < 1e-6 else f"within {100 * (math.exp(gap) - 1):.2g} % of"
+            text = f"{name} = {math.exp(xi):.4g} {word} {which} bound {math.exp(edge):.4g}"
+            y = np.array(x, dtype=float)
+            y[j] = edge + sign * RELAX_BOX
+            m, _ = fam.chain(y)
+            lm = np.log(m / m[0])
+            if lm.min() < r_lo or lm.max() > r_hi:
+                out.append((f"{text} (the solvers' ratio range: not relaxed)", True))
+                continue
+            y[j] = edge + sign * RELAX
+            step = objective(y) - f_x
+            moved = math.nan
+            if local is not None:
+                box = [list(b) for b in zip(lb, ub, strict=True)]
+                box[j][0 if sign < 0 else 1] = edge + sign * RELAX_BOX
+                pushed = np.array(x, dtype=float)
+                pushed[j] = edge + sign * RELAX_BOX  # onto the relaxed bound, then re-optimised
+                moved = min(local(pushed, [tuple(b) for b in box]), f_x) - f_x
+            active = step < -1e-12 or moved < -1e-12
+            words = f"COR {step:+.2g} just past it"
+            if math.isfinite(moved):
+                words += f", {moved:+.2g} re-optimised with the bound 1 % out"
+            out.append((f"{text} ({'active' if active else 'not active'}: {words})", active))
+    return out
+
+
+def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, progress, polish,
+              starts=()):  # fmt: skip
     objective = _Objective(fam, beta, tolerance, max_events)
-    lb = [math.log(bounds[0])] * fam.dim
-    ub = [math.log(bounds[1])] * fam.dim
-    if fam.name == "tapered":
-        # Ratio per step r: the end mass r**(N-1) stays within the bounds.
-        lb = [math.log(bounds[0]) / (fam.n_masses - 1)]
-        ub = [math.log(bounds[1]) / (fam.n_masses - 1)]
+    lb, ub = _box_of(fam, bounds)
+    starts = [np.asarray(fam.coords(*s), dtype=float) for s in starts]
     gen = [0]
 
     def callback(intermediate_result):
@@ -509,7 +625,7 @@ def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, 
         updating="deferred",
         polish=False,
         callback=callback,
-        init="sobol",
+        init=_first_population(fam, lb, ub, popsize, seed, starts) if starts else "sobol",
         vectorized=True,
     )
     x, graz = res.x, None
@@ -542,15 +658,28 @@ def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, 
     r = objective.solve(m, k)
     masses, springs, kc = scaled_chain(m, k, beta)
     check = solve_scaled(masses, springs, kc, max_events=max_events)
-    hit = []
-    for name, xi, low, up in zip(fam.names, x, lb, ub, strict=True):
-        # "near": within 1 % of a bound, where the local polish may stop short of it while the
-        # COR still falls towards it (the optimum then depends on the bound too).
-        for edge, which in ((low, "lower"), (up, "upper")):
-            gap = abs(xi - edge)
-            if gap < 0.01:
-                word = "at" if gap < 1e-6 else f"within {100 * (math.exp(gap) - 1):.2g} % of"
-                hit.append(f"{name} = {math.exp(xi):.4g} {word} {which} bound {math.exp(edge):.4g}")
+    # "near": within 1 % of a bound, where the local polish may stop short of it while the COR
+    # still falls towards it; the bound is active when the COR falls just past it (RELAX).
+    f_x = objective(x)
+
+    def local(x0, box):
+        """The objective after a short local search from x0 in ``box`` (the activity test)."""
+        if tolerance == 0.0:
+            objective.spent, objective.limit = 0, 1000 * fam.dim + 2000
+            y, _, _ = _polish(fam, beta, x0, objective, None, box)
+            objective.limit = math.inf
+            return objective.cor(y)
+        res = minimize(lambda z: float(objective.batch(np.asarray(z)[:, None])[0]), x0,
+                       method="Powell", bounds=box,
+                       options={"xtol": 1e-8, "ftol": 1e-12, "maxfev": 20 * fam.dim})  # fmt: skip
+        # Powell ran on the batch objective (the error box's sample); compare like with like:
+        # the worst case of its result searched as the design's was (``worst``).
+        return objective(res.x)
+
+    hits = _relaxed(objective, fam, x, lb, ub, f_x, local if polish or tolerance > 0 else None)
+    active = [text for text, on in hits if on]
+    if graz is not None:
+        active.append(f"grazing {graz[1]} n={graz[0]}")
     return Design(
         family=fam.name,
         n_masses=fam.n_masses,
@@ -562,12 +691,41 @@ def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, 
         worst_cor=objective.worst(x) if tolerance > 0.0 else math.nan,
         tolerance=tolerance,
         cor_check=check.cor,
-        bounds_hit=hit,
+        bounds_hit=[text for text, _ in hits],
+        bound_active=any(on for _, on in hits),
+        active=active,
+        warm_starts=len(starts),
         grazing=graz,
         method=method,
         evaluations=objective.calls,
         parameter=math.exp(x[0]) if fam.dim == 1 else math.nan,
     )
+
+
+def _starts(warm_starts, n_masses: int) -> list:
+    """Warm starts as [(masses, springs)], each checked (SceneError naming ``warm_starts``)."""
+    out = []
+    try:
+        items = list(warm_starts)
+    except TypeError:
+        raise SceneError(
+            f"warm_starts must be a sequence of Design or (masses, springs); got "
+            f"{_show(warm_starts)}"
+        ) from None
+    for item in items:
+        m, k = (item.masses, item.springs) if isinstance(item, Design) else item
+        m = np.asarray(m, dtype=float)
+        k = np.ones(n_masses - 1) if k is None else np.asarray(k, dtype=float)
+        if m.shape != (n_masses,) or k.shape != (n_masses - 1,):
+            raise SceneError(
+                f"warm_starts must hold chains of n_masses = {n_masses} masses and "
+                f"{n_masses - 1} springs; got {m.size} masses, {k.size} springs"
+            )
+        if not (np.all(np.isfinite(m)) and np.all(m > 0) and np.all(np.isfinite(k))
+                and np.all(k > 0)):  # fmt: skip
+            raise SceneError("warm_starts must hold finite positive masses and springs")
+        out.append((m, k))
+    return out
 
 
 def minimize_cor(
@@ -583,6 +741,7 @@ def minimize_cor(
     max_events: int = 100_000,
     polish: bool = True,
     progress=print,
+    warm_starts=(),
 ) -> Design:
     """Chain of ``n_masses`` masses with the smallest COR (see the module docstring).
 
@@ -602,6 +761,10 @@ def minimize_cor(
         Of ``differential_evolution`` (seeded: the same result on every run and thread count).
     progress : callable or None
         Called with one line per generation (default ``print``; a logger's ``info`` works).
+    warm_starts : sequence of Design or of (masses, springs)
+        Chains of ``n_masses`` masses put into the search's first population (clipped into the
+        bounds), e.g. the optimum of a smaller family: the search then ends at most at their
+        COR. The rest of the population is the usual Sobol sample.
 
     Returns
     -------
@@ -616,10 +779,11 @@ def minimize_cor(
     _check(n_masses, beta, bounds, tolerance, vary, seed, popsize, maxiter, max_events, polish,
            progress)  # fmt: skip
     fam = family(vary, n_masses)
+    starts = _starts(warm_starts, n_masses)
     bounds = (float(_real(bounds[0])), float(_real(bounds[1])))
     return _optimise(
         fam, float(_real(beta)), bounds, float(_real(tolerance)), seed, popsize, maxiter,
-        max_events, progress, polish,
+        max_events, progress, polish, starts,
     )  # fmt: skip
 
 
@@ -632,9 +796,12 @@ def best_uniform(
     popsize: int = 15,
     maxiter: int = 200,
     progress=print,
+    warm_starts=(),
 ) -> Design:
-    """The paper's uniform chain (Fig. 6: m_2..m_N all alpha m_1, equal springs), best alpha."""
+    """The paper's uniform chain (Fig. 6: m_2..m_N all alpha m_1, equal springs), best alpha.
+    ``warm_starts`` as in :func:`minimize_cor` (each read as its m_2/m_1)."""
     _check(n_masses, beta, bounds, 0.0, "masses", seed, popsize, maxiter, 100_000, True, progress)
+    starts = _starts(warm_starts, n_masses)
     bounds = (float(_real(bounds[0])), float(_real(bounds[1])))
     return _optimise(
         family("uniform", n_masses),
@@ -647,6 +814,7 @@ def best_uniform(
         100_000,
         progress,
         True,
+        starts,
     )
 
 
@@ -660,10 +828,14 @@ def best_tapered(
     popsize: int = 15,
     maxiter: int = 200,
     progress=print,
+    warm_starts=(),
 ) -> Design:
     """Geometric chain m_i = r**(i-1) m_1, equal springs, best r < 1 ("decreasing" from the wall)
-    or r > 1 ("increasing"); the end mass r**(N-1) stays within ``bounds``."""
+    or r > 1 ("increasing"); the step ratio r within ``bounds`` and the end mass r**(N-1) within
+    the ratios the solvers handle (1e-8..1e8). ``warm_starts`` as in :func:`minimize_cor` (each
+    read as its m_2/m_1)."""
     _check(n_masses, beta, bounds, 0.0, "masses", seed, popsize, maxiter, 100_000, True, progress)
+    starts = _starts(warm_starts, n_masses)
     bounds = (float(_real(bounds[0])), float(_real(bounds[1])))
     if direction not in ("decreasing", "increasing"):
         raise SceneError(f"direction must be 'decreasing' or 'increasing'; got {_show(direction)}")
@@ -684,6 +856,7 @@ def best_tapered(
         100_000,
         progress,
         True,
+        starts,
     )
     d.family = f"tapered ({direction})"
     return d

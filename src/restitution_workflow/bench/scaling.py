@@ -1,7 +1,8 @@
 """Measured cost scaling: time per scene against alpha and chain length N, and a solve_many sweep.
 
-* ``alpha_scaling``: one scene at a time, exact solver (and solve_ivp up to a smaller alpha);
-  the number of contacts grows like alpha**0.8 (paper Eq. 19), and so should the exact cost.
+* ``alpha_scaling``: one scene at a time, exact solver (and solve_ivp up to a smaller alpha, at
+  matched accuracy: the loosest rtol whose COR is within ``match_error`` of the exact one); the
+  number of contacts grows like alpha**0.8 (paper Eq. 19), and so should the exact cost.
 * ``chain_scaling``: the exact chain solver against the number of masses N.
 * ``sweep_scaling``: ``restitution.solve_many`` over n scenes on 1 and 2 numba threads.
 
@@ -31,6 +32,8 @@ SCALING_COLUMNS = (
     "time_s",
     "time_per_scene_s",
     "status",
+    "setting",
+    "cor_error",
 )
 
 
@@ -39,7 +42,8 @@ def _timed(fn, min_time, min_repeats):
     return time_call(fn, min_time, min_repeats)
 
 
-def _row(kind, family, x, threads, n_scenes, ncol, seconds, status):
+def _row(kind, family, x, threads, n_scenes, ncol, seconds, status, setting=math.nan,
+         error=math.nan):  # fmt: skip
     return dict(
         kind=kind,
         family=family,
@@ -50,29 +54,62 @@ def _row(kind, family, x, threads, n_scenes, ncol, seconds, status):
         time_s=seconds,
         time_per_scene_s=seconds / n_scenes,
         status=status,
+        setting=float(setting),
+        cor_error=float(error),
     )
 
 
-def alpha_scaling(
-    alphas, beta, ivp_method, ivp_rtol, ivp_alpha_max, min_time, min_repeats, time_budget
-):
-    """Rows of (family, alpha, contacts, time) for the exact solver and one solve_ivp method."""
+def matched_setting(alpha, beta, reference, ivp_method, ivp_rtols, match_error, time_budget,
+                    atol_over_rtol=1.0):  # fmt: skip
+    """(rtol, |COR error|, result, True) of the loosest rtol of ``ivp_rtols`` whose solve_ivp
+    run has the reference's contact count and a COR within ``match_error`` of it; the tightest
+    rtol tried with False when none does."""
+    tried = None
+    for rtol in sorted(ivp_rtols, reverse=True):
+        r = solve_ivp_scene(alpha, beta, method=ivp_method, rtol=rtol, atol=rtol * atol_over_rtol,
+                            time_budget=time_budget)  # fmt: skip
+        err = abs(r.cor - reference.cor) if r.success else math.inf
+        tried = (rtol, err, r)
+        if r.success and r.n_collisions == reference.n_collisions and err <= match_error:
+            return rtol, err, r, True
+    return (*tried, False)
+
+
+def alpha_scaling(alphas, beta, ivp_method, ivp_rtols, ivp_alpha_max, min_time, min_repeats,
+                  time_budget, match_error=1e-6, atol_over_rtol=1.0):  # fmt: skip
+    """Rows of (family, alpha, contacts, time, setting, error) for the exact solver and one
+    solve_ivp method at matched accuracy: at every alpha the loosest rtol of ``ivp_rtols``
+    whose COR is within ``match_error`` of the exact one with the same contact count (found by
+    untimed runs, then timed). The exact rows' error is their own error estimate (far below
+    ``match_error``: the comparison favours solve_ivp). An alpha where no rtol matches is a row
+    with status ``not_matched`` (the tightest rtol's time and error)."""
     from restitution.api import solve
 
     solve(alpha=1.0, beta=beta)  # warm-up: compile or load the kernel
-    rows = []
+    rows, exact = [], {}
     for a in alphas:
         r, t, _, _ = _timed(lambda a=a: solve(alpha=a, beta=beta), min_time, min_repeats)
-        rows.append(_row("alpha", "exact", a, 1, 1, r.n_collisions, t, r.status))
+        exact[a] = r
+        rows.append(_row("alpha", "exact", a, 1, 1, r.n_collisions, t, r.status,
+                         error=r.error_estimate))  # fmt: skip
     for a in (a for a in alphas if a <= ivp_alpha_max):
+        rtol, err, _, matched = matched_setting(
+            a, beta, exact[a], ivp_method, ivp_rtols, match_error, time_budget, atol_over_rtol
+        )
         r, t, _, _ = _timed(
-            lambda a=a: solve_ivp_scene(
-                a, beta, method=ivp_method, rtol=ivp_rtol, time_budget=time_budget
-            ),
+            lambda a=a, rtol=rtol: solve_ivp_scene(
+                a,
+                beta,
+                method=ivp_method,
+                rtol=rtol,
+                atol=rtol * atol_over_rtol,
+                time_budget=time_budget,
+            ),  # fmt: skip
             min_time,
             min_repeats,
         )
-        rows.append(_row("alpha", ivp_method, a, 1, 1, r.n_collisions, t, r.status))
+        status = r.status if matched else "not_matched"
+        rows.append(_row("alpha", ivp_method, a, 1, 1, r.n_collisions, t, status, rtol, err))
     return rows
 
 
