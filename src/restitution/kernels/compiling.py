@@ -47,8 +47,9 @@ def announce(*dispatchers) -> None:
     if cold_ones:
         _announced = True
         print(
-            "restitution: compiling the numba kernels (first run after installation; about 20 s "
-            "per kernel; later runs use the cache)...",
+            "restitution: compiling the numba kernels (the first run after installing takes "
+            "minutes; `restitution warmup` compiles them all ahead; later runs load them from "
+            "the cache)...",
             file=sys.stderr,
             flush=True,
         )
