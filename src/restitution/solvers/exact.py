@@ -11,8 +11,6 @@ Kernel rows follow ``restitution.kernels.layout``; times are omega * t.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from restitution.kernels import layout as L
@@ -62,17 +60,14 @@ def run_paper(alpha: float, beta: float, xi: float, n: int, max_events: int, his
         return solve_linear(alpha, beta, xi, n, max_events, hist)
 
 
-def exact_row(ch: Chain, max_events: int, hist: np.ndarray, beta: float | None = None):
-    """Kernel row of a linear chain; ``beta`` replaces its k_12/k_contact (0: rigid wall)."""
+def exact_row(ch: Chain, max_events: int, hist: np.ndarray):
+    """Kernel row of a linear chain, on the kernel ``linear_kernel`` names."""
     paper = ch.paper_form
     if paper is not None:
-        alpha, b, xi, n = paper
-        return run_paper(alpha, b if beta is None else beta, xi, n, max_events, hist)
+        return run_paper(*paper, max_events, hist)
     from restitution.kernels.exact_chain import solve_chain
 
     m, k, c, kc = ch.scaled()
-    if beta is not None:
-        kc = math.inf if beta == 0.0 else k[0] / beta
     announce(solve_chain)
     with blas.one_thread(ch.n_masses):
         return solve_chain(m, k, c, kc, max_events, hist)
