@@ -160,7 +160,7 @@ def test_dashpot_work_of_all_dashpots_at_once_matches_quadrature(T):
     A1, A2, B = _diss_matrices(U, lam, c, 0)
     y0 = np.array([0.0, -0.1, 0.2, 0.05, -1.0, -0.7, -1.2, -0.9])
     z = P @ y0.astype(complex)
-    got = _diss_phase(T, z, lam, A1, A2, B, U, c, 0)
+    got, _ = _diss_phase(T, z, lam, A1, A2, B, U, c, 0, math.inf, 0.0)
     S = _system(m, k, c, kg)
 
     def power(t):

@@ -29,18 +29,22 @@ MESSAGES = {
     "ok": "The contact sequence finished: no further contact is possible.",
     "event_budget_exhausted": "Stopped after max_events contacts; the sequence was NOT finished. "
     "Raise max_events.",
-    "energy_account_open": "The independent energy account does not add up to 1: do not trust "
-    "this result.",
+    "energy_account_open": "The independent energy account does not add up to 1 within the "
+    "result's own error bound: do not trust this result; method='precise' solves a linear chain "
+    "at high precision.",
     "ill_conditioned": (
         "Double precision cannot resolve this scene: an eigenbasis too ill-conditioned for a"
         " closed form, or round-off moves the result by more than 1e-4 (its replica check);"
         " method='precise' solves it at high precision."
     ),
-    "event_not_converged": "An event root search did not converge.",
+    "event_not_converged": "An event root search did not converge within its step limit (a "
+    "phase on rates many decades apart); the sequence was NOT finished. "
+    "method='precise' solves a linear chain at high precision (mpmath: seconds to minutes).",
     "permanent_contact": "m1 never leaves the wall (proven): the chain comes to rest against it "
     "(cor 0, omega_t_col inf).",
     "work_budget_exhausted": "Stopped after the scene's work budget (counted in operations); the "
-    "sequence was NOT finished.",
+    "sequence was NOT finished. method='precise' solves a linear chain at high precision "
+    "(mpmath: seconds to minutes per scene).",
     "invalid_parameters": "The kernel refused parameters outside the range it handles.",
     "not_run": "The kernel did not finish this row.",
     "kernel_error": "The kernel raised an error on this row (its message is logged); no result.",
