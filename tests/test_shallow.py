@@ -80,3 +80,57 @@ def test_design_optimiser_result_rechecked_by_the_reference():
     ref = solve_precise(m, k, kc=kc, dps=30)
     check_against_reference(m, k, r, ref)
     assert abs(d.cor_check - ref.cor) <= max(r.error_estimate, 1e-12), (d, ref)
+
+
+def _own_step(seed: int, lo: float, hi: float):
+    """The last factor below the present kernel's contact-count step in [lo, hi] (bisection to
+    adjacent floats: the kernel tunes its own adversary) and the first one above it."""
+
+    def count(f):
+        m, k = tuned_chain(seed, f)
+        return R.solve(masses=list(m), springs=list(k), k_contact=math.inf).n_collisions
+
+    n_lo = count(lo)
+    assert count(hi) != n_lo, (seed, lo, hi)
+    while True:
+        mid = 0.5 * (lo + hi)
+        if not lo < mid < hi:
+            return lo, hi
+        if count(mid) == n_lo:
+            lo = mid
+        else:
+            hi = mid
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "seed",
+    [
+        pytest.param(
+            7,
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason="below the step the kernel passes a real dip as a graze: 58 contacts "
+                "(reference 59), COR off by 2.9e-8 under an estimate of 3.6e-11 (the error a "
+                "passed graze can cause is not yet in the estimate; docs/accuracy.md)",
+            ),
+        ),
+        14,
+    ],
+)
+def test_own_count_step_is_counted_or_certified(seed):
+    """On both sides of the present kernel's own count step (adjacent floats of m_2), where the
+    new contact's approach speed is as small as the kernel can see: the reference's count and
+    COR within the estimate, or an honest refusal. The slowest approach reached there is
+    1.2e-6 (seed 7) and 3.3e-6 (seed 14) of V0: a dip at round-off of the gap's scale, under
+    the gap's curvature at that contact (approach speeds of 1e-8 need a far flatter gap)."""
+    factor = dict(EDGES)[seed]
+    lo, hi = _own_step(seed, factor * (1 - 1e-3), factor * (1 + 1e-3))
+    slowest = math.inf
+    for f in (lo, hi):
+        m, k = tuned_chain(seed, f)
+        r = R.solve(masses=list(m), springs=list(k), k_contact=math.inf, history=True)
+        if r.status == "ok":
+            slowest = min(slowest, float(np.min(np.abs(r.history["v1_in"]))))
+        check_against_reference(m, k, r, solve_precise(m, k, dps=30))
+    assert slowest < 1e-5, slowest
