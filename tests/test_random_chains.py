@@ -32,10 +32,10 @@ GIVE_UPS = {
     "event_not_converged": "method='precise'",
     "event_budget_exhausted": "Raise max_events",
 }
-# Measured on 150 such chains (docs/accuracy.md): 45 % gave up: 37 % ill_conditioned
+# Measured on 150 such chains (docs/accuracy.md): 25 % gave up: 18 % ill_conditioned
 # (round-off moves a long chaotic sequence's COR by more than 1e-4) and 6 % still chattering
 # after 100,000 contacts. Stated with room for the sampling spread of this smaller draw.
-GIVE_UP_MAX = 0.5
+GIVE_UP_MAX = 0.35
 ROWS = 60
 
 

@@ -1100,28 +1100,30 @@ def _solve_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, jitter
 @njit(cache=True)
 def _replica_scene(m, k, c, kc, seed):
     """The replica's scene: (m, k, c, kc) perturbed as the eigen-solvers' round-off perturbs the
-    free flight's matrix, by JITTER * ||A|| in every entry of A = M^-1/2 K M^-1/2 (absolute,
-    so a soft link between heavy masses moves by far more than JITTER relative: the backward
-    error of a symmetric or real eigen-decomposition is relative to the matrix's norm, not to
-    each entry); dashpots likewise on the scale sqrt(||A||), zero dashpots stay zero."""
+    phase matrices. Masses and springs move by JITTER relative: _modal_model refines every
+    undamped mode on the chain's own pivots, to an error relative to each mass and spring.
+    (They moved by JITTER * ||A|| in every entry of A = M^-1/2 K M^-1/2 while eigh's absolute
+    error set the modes: on 150 random chains over ratios 1e-4..1e4 that made 56 rows
+    ill-conditioned; relative, 27, with no finished row outside its estimate against the
+    reference.) Dashpots move on the scale sqrt(||A||), as the damped decomposition (dgeev on
+    the companion form) is accurate relative to the norm; zero dashpots stay zero."""
     n = m.size
-    diag = np.empty(n)
+    anorm = 0.0
     for i in range(n):
         d = 0.0
         if i > 0:
             d += k[i - 1]
         if i < n - 1:
             d += k[i]
-        diag[i] = d / m[i]
-    anorm = diag.max()
+        anorm = max(anorm, d / m[i])
     mr = m.copy()
     for i in range(n):
-        mr[i] *= 1.0 + min(JITTER * anorm / diag[i], 1e-3) * weyl(seed + i)
+        mr[i] *= 1.0 + JITTER * weyl(seed + i)
     kr = k.copy()
     cr = c.copy()
     for i in range(n - 1):
         s = math.sqrt(m[i] * m[i + 1])
-        kr[i] += JITTER * weyl(seed + n + i) * anorm * s
+        kr[i] *= 1.0 + JITTER * weyl(seed + n + i)
         if c[i] > 0.0:
             cr[i] += JITTER * weyl(seed + 2 * n + i) * (c[i] + math.sqrt(anorm) * s)
     # The contact spring moves relative to itself: the contact phase's own backward error on the
