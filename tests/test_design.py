@@ -220,3 +220,16 @@ def test_tapered_chain_both_directions():
         # The masses form the geometric progression of the reported ratio.
         np.testing.assert_allclose(d.masses, d.parameter ** np.arange(4), rtol=1e-12)
     assert math.isfinite(dec.cor) and math.isfinite(inc.cor)
+
+
+def test_manifold_point_outside_the_solvers_ranges_is_no_point():
+    """The polish's unbounded steps (Nelder-Mead, secant) can leave the ratios the solvers handle
+    (m_3/m_1 = 6.2e-9 in Fig. 8(b)'s masses search, N = 4, which then crashed the job): the
+    grazing value there is NaN (no manifold point), not a SceneError."""
+    from restitution.analysis.design import _grazing_value, family
+
+    fam = family("masses", 4)
+    inside = _grazing_value(fam, 0.0, np.log([2.0, 0.5, 3.0]), 2, "new")
+    outside = _grazing_value(fam, 0.0, np.log([2.0, 6.2e-9, 3.0]), 2, "new")
+    assert math.isfinite(inside)
+    assert math.isnan(outside)
