@@ -240,7 +240,6 @@ def _shape(m, k, kg, w2, r, x, ext):
         ext[i] = f / k[i]
         x[i + 1] = x[i] + ext[i]
     xr = x[r]
-    xb = 1.0
     f = 0.0
     xs = np.empty(n)
     xs[n - 1] = 1.0
