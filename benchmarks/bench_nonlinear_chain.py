@@ -1,4 +1,4 @@
-"""Benchmark of the general nonlinear chain kernel (adaptive DP5(4), every phase integrated).
+"""Benchmark of the general nonlinear chain kernel (adaptive DOP853, every phase integrated).
 
 Run as a script:
 ``NUMBA_CACHE_DIR=.cache/numba .venv/bin/python benchmarks/bench_nonlinear_chain.py``.

@@ -23,6 +23,7 @@ from restitution.kernels.layout import (
     N_HIST,
     OUT_COR,
     OUT_EDISS,
+    OUT_ERR,
     OUT_NCOL,
     OUT_STATUS,
     OUT_TCOL,
@@ -43,10 +44,10 @@ def test_contact_time_constant_against_quadrature():
     assert C_HERTZ == pytest.approx(3.218065, abs=5e-7)
 
 
-def _single_mass(k_h, v0, m=1.0, rtol=1e-12, method=METHOD_ADAPTIVE, step=0.01):
-    """The chain kernel with one mass (kernel units: m = 1 unless given)."""
+def _single_mass(k_h, v0, m=1.0, rtol=1e-12, method=METHOD_ADAPTIVE, step=0.01, cp=None):
+    """The chain kernel with one mass (kernel units: m = 1 unless given); Hertz unless ``cp``."""
     ms = np.array([m])
-    cp = laws.hertz_params(k_h, v0, m)
+    cp = laws.hertz_params(k_h, v0, m) if cp is None else cp
     hist = np.zeros((4, N_HIST))
     etol = 1e-9 if method == METHOD_ADAPTIVE else 1.0  # Verlet: its energy error is checked here
     out = solve_scene(
@@ -56,17 +57,55 @@ def _single_mass(k_h, v0, m=1.0, rtol=1e-12, method=METHOD_ADAPTIVE, step=0.01):
     return out, hist
 
 
-@pytest.mark.parametrize("k_h, v0, m", [(1.0, 1.0, 1.0), (50.0, 0.3, 1.0), (2.0, 7.0, 3.5)])
+# Stiff and soft, light and heavy, slow and fast: the contact's time and depth scales span
+# 1e-3..1e3 around the kernel's unit.
+SINGLE = [(1.0, 1.0, 1.0), (50.0, 0.3, 1.0), (2.0, 7.0, 3.5), (1e4, 1e-3, 0.2), (1e-2, 30.0, 5.0)]
+
+
+@pytest.mark.parametrize("k_h, v0, m", SINGLE)
 def test_single_mass_contact_time_depth_and_unit_cor(k_h, v0, m):
-    out, hist = _single_mass(k_h, v0, m)
+    # rtol 1e-14: the closed forms to 1e-12 (relative for the time and depth, the COR's own);
+    # both ends of the contact are integrated in sigma = sqrt(x), where the motion is smooth
+    out, hist = _single_mass(k_h, v0, m, rtol=1e-14)
     assert out[OUT_STATUS] == STATUS_OK and out[OUT_NCOL] == 1
     t_c = C_HERTZ * (m / k_h) ** 0.4 * v0**-0.2
-    assert out[OUT_TCOL] == pytest.approx(t_c, rel=1e-9)
+    assert abs(out[OUT_TCOL] / t_c - 1.0) < 1e-12
     x_max = (5.0 * m * v0 * v0 / (4.0 * k_h)) ** 0.4
-    assert hist[0, H_XMAX] == pytest.approx(x_max, rel=1e-10)
-    # elastic: m leaves at +V0 (COR 1 up to the integration tolerance) and dissipates nothing
-    assert abs(out[OUT_COR] - 1.0) < 1e-10
-    assert abs(out[OUT_EDISS]) < 1e-10
+    assert abs(hist[0, H_XMAX] / x_max - 1.0) < 1e-12
+    # elastic: m leaves at +V0 (COR 1) and dissipates nothing; the kernel's own bound holds
+    assert abs(out[OUT_COR] - 1.0) < 1e-12
+    assert abs(out[OUT_COR] - 1.0) <= out[OUT_ERR]
+    assert abs(out[OUT_EDISS]) < 1e-12
+
+
+@pytest.mark.parametrize("rtol", [1e-8, 1e-10, 1e-12])
+@pytest.mark.parametrize("k_h, v0, m", SINGLE[:3])
+def test_single_mass_error_follows_the_tolerance(k_h, v0, m, rtol):
+    # the actual COR error stays within 30 rtol at every setting (DP5(4) was at ~25 rtol at
+    # rtol 1e-8 and far above it at 1e-12: 3.6e-11)
+    out, _ = _single_mass(k_h, v0, m, rtol=rtol)
+    assert out[OUT_NCOL] == 1
+    assert abs(out[OUT_COR] - 1.0) < 30 * rtol
+
+
+# Power-law loading (the plastic law of Sec. 3.1) of one mass: loading F = kappa x**eta from
+# x = 0 to x_max = ((eta + 1) m v0**2 / (2 kappa))**(1/(eta + 1)) in
+# t_load = (x_max/v0) B(1/(eta + 1), 1/2)/(eta + 1), then the linear unloading line of slope k1
+# back to the dent: a quarter period pi/2 sqrt(m/k1); the mass leaves at v0 sqrt(1 - DR).
+@pytest.mark.parametrize("eta", [0.5, 1.0, 1.5, 2.3, 4.0])
+@pytest.mark.parametrize("k1, v0, m, dr", [(30.0, 1.0, 1.0, 0.3), (2.0, 0.05, 4.0, 0.6)])
+def test_single_mass_power_law_loading_closed_form(eta, k1, v0, m, dr):
+    kappa = laws.plastic_kappa(dr, eta, k1, v0, m)
+    cp = laws.contact_params(laws.C_PLASTIC, k1, kappa, eta)
+    out, hist = _single_mass(0.0, v0, m, rtol=1e-14, cp=cp)
+    assert out[OUT_STATUS] == STATUS_OK and out[OUT_NCOL] == 1
+    x_max = ((eta + 1.0) * m * v0 * v0 / (2.0 * kappa)) ** (1.0 / (eta + 1.0))
+    t_load = x_max / v0 * beta_fn(1.0 / (eta + 1.0), 0.5) / (eta + 1.0)
+    t_c = t_load + 0.5 * math.pi * math.sqrt(m / k1)
+    assert abs(hist[0, H_XMAX] / x_max - 1.0) < 1e-12
+    assert abs(out[OUT_TCOL] / t_c - 1.0) < 1e-12
+    assert abs(out[OUT_COR] - math.sqrt(1.0 - dr)) < 1e-12
+    assert abs(out[OUT_EDISS] - dr) < 1e-12
 
 
 def test_single_mass_verlet_converges_to_the_closed_form():
@@ -103,22 +142,32 @@ def test_hertz_force_energy_slope_are_consistent():
     assert cp[1] == pytest.approx(laws.contact_slope(cp, 1, 0.0, x_deep), rel=1e-14)
 
 
-@pytest.mark.parametrize("v0", [0.2, 1.0, 5.0])
-def test_elastic_hertz_chain_conserves_energy(v0):
+@pytest.mark.parametrize(
+    "m, k, k_h, v0",
+    [
+        ([1.0, 0.7, 2.0], [1.0, 0.5], 10.0, 0.2),
+        ([1.0, 0.7, 2.0], [1.0, 0.5], 10.0, 1.0),
+        ([1.0, 0.7, 2.0], [1.0, 0.5], 10.0, 5.0),
+        ([1.0, 0.5, 2.0], [0.3, 1.2], 50.0, 1.0),
+        ([1.0, 3.0, 0.2, 1.0, 2.0], [2.0, 0.4, 1.0, 3.0], 5.0, 0.7),
+    ],
+)
+def test_elastic_hertz_chain_conserves_energy(m, k, k_h, v0):
+    # undamped: the energy account closes and the contact returns all it took, to 1e-12 at
+    # rtol 1e-13 (every term integrated independently of the others)
     acct = {}
     r = solve_nonlinear_chain(
-        [1.0, 0.7, 2.0], [1.0, 0.5], None, {"law": "hertz", "k": 10.0}, None, v0, rtol=1e-11,
-        account=acct,
+        m, k, None, {"law": "hertz", "k": k_h}, None, v0, rtol=1e-13, account=acct
     )  # fmt: skip
     assert r.status == "ok" and r.n_collisions >= 1
-    assert abs(r.e_translational + r.e_vibrational - 1.0) < 1e-9
-    assert abs(acct["dissipated_contact"]) < 1e-9 and acct["dissipated_dashpot"] == 0.0
+    assert abs(r.e_translational + r.e_vibrational - 1.0) < 1e-12
+    assert abs(acct["dissipated_contact"]) < 1e-12 and acct["dissipated_dashpot"] == 0.0
     assert 0.0 < r.cor < 1.0
 
 
 def test_hertz_two_masses_closed_form_free_flight_matches_the_integrated_one():
     # two masses with a linear link fly freely in closed form; integrating that flight by the
-    # same DP5(4) as the contact phases (free_closed=False) must give the same sequence
+    # same DOP853 as the contact phases (free_closed=False) must give the same sequence
     alpha = 1.7
     k2 = alpha / (1 + alpha)
     cp = laws.hertz_params(4.0, 1.0, 1.0 + alpha)

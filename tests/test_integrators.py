@@ -1,4 +1,4 @@
-"""Integrators: guaranteed event location, DP5(4) against the exact kernels, Verlet's order."""
+"""Integrators: guaranteed event location, DOP853 against the exact kernels, Verlet's order."""
 
 import math
 
@@ -74,7 +74,7 @@ def test_adaptive_matches_exact_on_linear_scenes(alpha, beta, xi, integrate_free
 @pytest.mark.parametrize("integrate_free", [False, True])
 def test_adaptive_at_the_grazing_alpha1_rigid_wall(d, integrate_free):
     # beta = 0: the second contact appears at alpha*_1 with zero depth. With integrate_free the
-    # DP5(4) event location must see the shallow contact. Just above alpha*_1 the COR depends on
+    # DOP853 event location must see the shallow contact. Just above alpha*_1 the COR depends on
     # the contact's approach speed ~ sqrt(depth ~ d), so any position error eps ~ rtol costs
     # ~ eps/sqrt(d) in COR: the tolerance follows that conditioning (1e-8 at |d| = 1e-4).
     o = _exact(ALPHA1 + d, 0.0)

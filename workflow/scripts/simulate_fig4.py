@@ -2,7 +2,7 @@
 
 Each curve of a panel is one plastic contact law (power-law loading F1 = kappa*x**eta, linear
 unloading with slope k1 = k2/beta; kappa follows from the nominal dissipation ratio DR, see
-``restitution.model.laws``), solved by the adaptive DP5(4) kernel (``restitution.solve_many``,
+``restitution.model.laws``), solved by the adaptive DOP853 kernel (``restitution.solve_many``,
 method ``adaptive``, rows in parallel batches) on a log-spaced alpha grid. The elastic linear
 contact at the same beta (the Fig. 2(a) curve, exact closed-form solver) is added as a reference
 curve.

@@ -6,7 +6,7 @@ from the config (the paper:
 beta = 1, ks = k1/100, so ks_ratio = ks/k2 = ks_over_k1/beta = 0.01), impact speed v0 (the
 scissor law makes the response velocity dependent), rest half angle theta0 and the corner
 stiffening parameter (both left open by the paper; see ``restitution.model.laws``). Solved by the
-adaptive DP5(4) kernel (``restitution.solve_many``, rows in parallel batches); the linear
+adaptive DOP853 kernel (``restitution.solve_many``, rows in parallel batches); the linear
 structural spring at the same beta (the exact closed-form solver) is added as the reference
 curve. Cusps refined on the contact count as in Fig. 4
 (``restitution.analysis.sweeps.refined_sweep``); per-curve minima written as a CSV summary.

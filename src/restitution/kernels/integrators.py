@@ -1,5 +1,5 @@
-"""Integrators written once for any chain and any force law: velocity Verlet and Dormand-Prince
-5(4).
+"""Integrators written once for any chain and any force law: velocity Verlet and DOP853, the
+8th-order Runge-Kutta method of Dormand and Prince with its 7th-order dense output.
 
 A chain is its masses ``m[n]`` (m[0] at the wall), one link law per neighbouring pair (rows of
 ``lk``, each a ``structure_params`` array), dashpots ``c[n-1]``, the contact law ``cp`` and its
@@ -15,14 +15,26 @@ loss. mem = [phase, branch, xmax, fmax, xp, spare...]: phase 1 = in contact, bra
 loading/rising, xmax/fmax the largest penetration and force so far (plastic), xp the residual
 dent (m1 touches iff x = -u1 > xp).
 
-Event location (DP5(4)). Every event of these scenes is a *linear* functional g(y) = w.y + b of
-the state (a penetration, a velocity), so on an accepted step g along the dense output is a
-polynomial of degree 4 in theta in [0, 1]. Its first root is found with certainty by Bernstein
+Step control (``dp_step``): Hairer's error estimator, the 5th-order difference corrected by the
+3rd-order one, per component against atol + rtol |y_i|, the largest component (not the RMS).
+
+Event location. Every event of these scenes is a *linear* functional g(y) = w.y + b of the
+state (a penetration, a velocity), so on an accepted step g along the dense output is a
+polynomial of degree 7 in theta in [0, 1]. Its first root is found with certainty by Bernstein
 bounds (convex-hull property: all Bernstein coefficients > 0 => no root) and left-first
 subdivision, not by endpoint signs: a shallow contact or a reload past the previous maximum that
 enters and leaves within one step is found. An event that starts the phase at g = 0 (leaving the
-surface) is handled exactly by dividing out the zero leading coefficients (theta**k), which the
-dense output reproduces exactly because its linear coefficient is h*f(y0).
+surface) is handled exactly by dividing out the zero leading coefficients (theta**k): the linear
+coefficient is h w.f(y0) itself. The state at the event is then computed by a step of its own
+to the root, with one Newton correction of the time (g / g') on that state, so it carries the
+step's 8th order, not the interpolant's 7th.
+
+Non-smooth points. A contact on the power law F = kappa x**eta from x = 0 (Hertz's x**1.5 at
+both ends of every contact; the plastic law's first loading) makes y(t) a series in powers
+t**(eta + 2), ... that no step across t = 0 resolves at its order. Those stretches are integrated
+in sigma = sqrt(x) instead (``rhs_sigma``, ``sigma_phase``), where x = sigma**2 exactly and the
+motion is smooth (for half-integer eta; smoother for any eta): the exit ends exactly at sigma = 0,
+so the separation needs no event location at all.
 """
 
 from __future__ import annotations
@@ -32,6 +44,7 @@ import math
 import numpy as np
 from numba import njit
 
+from restitution.kernels import dop853_tableau as T
 from restitution.model.laws import (
     C_PLASTIC,
     C_RIGID,
@@ -42,34 +55,31 @@ from restitution.model.laws import (
     structure_force,
 )
 
-# Dormand-Prince 5(4) tableau and the 4th-order dense output (Shampine; as in scipy's RK45).
-DP_C = np.array([0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0])
-DP_A = np.array(
-    [
-        [0.0, 0.0, 0.0, 0.0, 0.0],
-        [1 / 5, 0.0, 0.0, 0.0, 0.0],
-        [3 / 40, 9 / 40, 0.0, 0.0, 0.0],
-        [44 / 45, -56 / 15, 32 / 9, 0.0, 0.0],
-        [19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729, 0.0],
-        [9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656],
-    ]
-)
-DP_B = np.array([35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84])
-DP_E = np.array([-71 / 57600, 0.0, 71 / 16695, -71 / 1920, 17253 / 339200, -22 / 525, 1 / 40])
-DP_P = np.array(
-    [
-        [1.0, -8048581381 / 2820520608, 8663915743 / 2820520608, -12715105075 / 11282082432],
-        [0.0, 0.0, 0.0, 0.0],
-        [0.0, 131558114200 / 32700410799, -68118460800 / 10900136933, 87487479700 / 32700410799],
-        [0.0, -1754552775 / 470086768, 14199869525 / 1410260304, -10690763975 / 1880347072],
-        [0.0, 127303824393 / 49829197408, -318862633887 / 49829197408, 701980252875 / 199316789632],
-        [0.0, -282668133 / 205662961, 2019193451 / 616988883, -1453857185 / 822651844],
-        [0.0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423],
-    ]
-)
+# DOP853 (kernels/dop853_tableau.py): 12 stages, the 13th is f at the new point (FSAL), 3 more
+# for the dense output.
+DP_A = T.A
+DP_B = T.B
+DP_C = T.C
+DP_E3 = T.E3
+DP_E5 = T.E5
+DP_D = T.D
+N_ST = T.N_STAGES  # 12
+N_EXT = T.N_STAGES_EXTENDED  # 16
+N_DENSE = T.INTERPOLATOR_POWER  # 7 = the dense output's degree in theta
+# The dense output is y0 + sum_k F_k b_k(theta) with the basis of
+# (scipy's Dop853DenseOutput): b_k = theta**(k//2 + 1) (1 - theta)**((k + 1)//2);
+# DENSE_MONO[k, j] is the coefficient of theta**j in b_k.
+DENSE_MONO = np.zeros((N_DENSE, N_DENSE + 1))
+for _k in range(N_DENSE):
+    _p = np.zeros(N_DENSE + 1)
+    _p[_k // 2 + 1] = 1.0
+    for _ in range((_k + 1) // 2):
+        _p[1:] = _p[1:] - _p[:-1]
+    DENSE_MONO[_k] = _p
+del _k, _p
 
 _BINOM = np.array(
-    [[1.0, 0, 0, 0, 0], [1, 1, 0, 0, 0], [1, 2, 1, 0, 0], [1, 3, 3, 1, 0], [1, 4, 6, 4, 1]]
+    [[math.comb(i, j) for j in range(N_DENSE + 1)] for i in range(N_DENSE + 1)], dtype=np.float64
 )
 
 M_PHASE, M_BRANCH, M_XMAX, M_FMAX, M_XP = 0, 1, 2, 3, 4
@@ -92,37 +102,63 @@ STOP_NO_CONTACT = 1
 
 
 @njit(cache=True, error_model="numpy")
-def event_poly(K, h, y0, w, b, coef):
-    """Monomial coefficients (degree 4 in theta) of w.y(theta) + b along the dense output."""
+def dense_coeffs(y0, ynew, K, h, m, lk, c, cp, mem, F, tmp):
+    """The 7th-order dense output of an accepted step (scipy's DOP853._dense_output_impl): the
+    three extra stages into K[13:16], then F (7 x len(y)) with y(theta) = y0 + sum_k F_k b_k."""
+    n = y0.shape[0]
+    for s in range(N_ST + 1, N_EXT):
+        for i in range(n):
+            acc = 0.0
+            for j in range(s):
+                acc += DP_A[s, j] * K[j, i]
+            tmp[i] = y0[i] + h * acc
+        rhs(tmp, m, lk, c, cp, mem, K[s])
+    for i in range(n):
+        dy = ynew[i] - y0[i]
+        F[0, i] = dy
+        F[1, i] = h * K[0, i] - dy
+        F[2, i] = 2.0 * dy - h * (K[N_ST, i] + K[0, i])
+        for k in range(N_DENSE - 3):
+            acc = 0.0
+            for j in range(N_EXT):
+                acc += DP_D[k, j] * K[j, i]
+            F[3 + k, i] = h * acc
+
+
+@njit(cache=True, error_model="numpy")
+def event_poly(F, K, h, y0, w, b, coef):
+    """Monomial coefficients (degree 7 in theta) of w.y(theta) + b along the dense output. The
+    linear one is h w.f(y0) directly (not F_0 + F_1 after rounding), so an event that starts on
+    its own surface with zero slope has an exactly zero coefficient there."""
     n = y0.shape[0]
     g0 = b
     for i in range(n):
         g0 += w[i] * y0[i]
+    for j in range(N_DENSE + 1):
+        coef[j] = 0.0
     coef[0] = g0
-    for j in range(4):
-        acc = 0.0
-        for s in range(7):
-            if DP_P[s, j] != 0.0:
-                wk = 0.0
-                for i in range(n):
-                    wk += w[i] * K[s, i]
-                acc += wk * DP_P[s, j]
-        coef[j + 1] = h * acc
+    for k in range(N_DENSE):
+        gk = 0.0
+        for i in range(n):
+            gk += w[i] * F[k, i]
+        for j in range(2, N_DENSE + 1):
+            coef[j] += DENSE_MONO[k, j] * gk
+    slope = 0.0
+    for i in range(n):
+        slope += w[i] * K[0, i]
+    coef[1] = h * slope
 
 
 @njit(cache=True, error_model="numpy")
-def dense_state(y0, K, h, theta, out):
+def dense_state(y0, F, theta, out):
+    """y(theta) on the dense output (scipy's Dop853DenseOutput: nested theta, 1 - theta)."""
     n = y0.shape[0]
     for i in range(n):
         acc = 0.0
-        tp = 1.0
-        for j in range(4):
-            tp *= theta
-            q = 0.0
-            for s in range(7):
-                q += K[s, i] * DP_P[s, j]
-            acc += q * tp
-        out[i] = y0[i] + h * acc
+        for k in range(N_DENSE - 1, -1, -1):
+            acc += F[k, i]
+            acc *= theta if k % 2 == 0 else 1.0 - theta
+        out[i] = y0[i] + acc
 
 
 @njit(cache=True, error_model="numpy")
@@ -227,32 +263,87 @@ def rhs(y, m, lk, c, cp, mem, dy):
 
 
 @njit(cache=True, error_model="numpy")
-def dp_step(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp):
-    """One DP5(4) step from y (with f0 = f(y)); fills K (7 x len(y)) and ynew; returns the
-    error norm."""
+def rhs_sigma(sg, z, m, lk, c, cp, mem, dz):
+    """Equations of motion over sigma = sqrt(x) (x = -u1 the penetration) instead of time, for
+    the ends of a power-law contact: z = [y, t], dz = dz/dsigma = f(y) dt/dsigma with
+    dt/dsigma = 2 sigma / x'. Near x = 0 the force k x**eta makes y(t) a series in powers
+    t**(eta + 2), t**(2 eta + 2), ... (Hertz: t**3.5), which no Runge-Kutta step across it
+    resolves at its order; in sigma, x = sigma**2 exactly, the Hertz force is k sigma**3 and the
+    motion is smooth (for any half-integer eta). z[0] is set to -sigma**2 (u1 is not integrated,
+    its rate -2 sigma is exact); valid while x' stays away from zero (``sigma_phase`` checks)."""
+    nm = m.shape[0]
+    ny = 2 * nm + 2
+    z[0] = -sg * sg
+    rhs(z, m, lk, c, cp, mem, dz)
+    dtds = 2.0 * sg / (-z[nm])
+    for i in range(ny):
+        dz[i] *= dtds
+    dz[0] = -2.0 * sg
+    dz[ny] = dtds
+
+
+@njit(cache=True, error_model="numpy")
+def dp_step(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp, sig=False, s0=0.0):
+    """One DOP853 step from y (with f0 = f(y)); fills K[0:13] (K[12] = f(ynew)) and ynew;
+    returns the error norm of Hairer's estimator (the 5th-order difference, corrected by the
+    3rd-order one to the size of the 8th-order error: err5**2 / sqrt(err5**2 + 0.01 err3**2)),
+    the largest over the components.
+    ``sig``: the state is [y, t] over the independent variable sigma = sqrt(x) from s0
+    (``rhs_sigma``)."""
     n = y.shape[0]
     K[0, :] = f0
-    for s in range(1, 6):
+    for s in range(1, N_ST):
         for i in range(n):
             acc = 0.0
             for j in range(s):
                 acc += DP_A[s, j] * K[j, i]
             tmp[i] = y[i] + h * acc
-        rhs(tmp, m, lk, c, cp, mem, K[s])
+        if sig:
+            rhs_sigma(s0 + DP_C[s] * h, tmp, m, lk, c, cp, mem, K[s])
+        else:
+            rhs(tmp, m, lk, c, cp, mem, K[s])
     for i in range(n):
         acc = 0.0
-        for j in range(6):
+        for j in range(N_ST):
             acc += DP_B[j] * K[j, i]
         ynew[i] = y[i] + h * acc
-    rhs(ynew, m, lk, c, cp, mem, K[6])
-    err = 0.0
+    if sig:
+        rhs_sigma(s0 + h, ynew, m, lk, c, cp, mem, K[N_ST])
+    else:
+        rhs(ynew, m, lk, c, cp, mem, K[N_ST])
+    # Per component, the largest, not Hairer's RMS over all of them: with the energy and time
+    # components (errors ~0) in the mean, the velocities were allowed sqrt(n) times their share
+    # (single Hertz contacts 10-100 rtol off; with the largest, below rtol).
+    worst = 0.0
     for i in range(n):
-        e = 0.0
-        for j in range(7):
-            e += DP_E[j] * K[j, i]
+        a5 = 0.0
+        a3 = 0.0
+        for j in range(N_ST + 1):
+            a5 += DP_E5[j] * K[j, i]
+            a3 += DP_E3[j] * K[j, i]
         sc = atol + rtol * max(abs(y[i]), abs(ynew[i]))
-        err += (h * e / sc) ** 2
-    return math.sqrt(err / n)
+        q5 = (a5 / sc) ** 2
+        q3 = (a3 / sc) ** 2
+        if q5 > 0.0:
+            worst = max(worst, q5 / math.sqrt(q5 + 0.01 * q3))
+    return abs(h) * worst
+
+
+@njit(cache=True, error_model="numpy")
+def _momentum_error(K, h, m):
+    """Hairer's corrected local error estimate of the total momentum over the step."""
+    nm = m.shape[0]
+    a5 = 0.0
+    a3 = 0.0
+    for j in range(N_ST + 1):
+        mom = 0.0
+        for i in range(nm):
+            mom += m[i] * K[j, nm + i]
+        a5 += DP_E5[j] * mom
+        a3 += DP_E3[j] * mom
+    if a5 == 0.0:
+        return 0.0
+    return abs(h) * a5 * a5 / math.sqrt(a5 * a5 + 0.01 * a3 * a3)
 
 
 @njit(cache=True, error_model="numpy")
@@ -310,7 +401,7 @@ def no_contact_possible(y, m, lk, xp):
 
 @njit(cache=True, error_model="numpy")
 def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, stop, work, err_acc):
-    """Integrate with DP5(4) until the first event (or ``stop``); y is updated in place.
+    """Integrate with DOP853 until the first event (or ``stop``); y is updated in place.
 
     W[k], B[k], strip[k] (k < nev) define the events g_k = W[k].y + B[k] (trigger: > 0 -> <= 0);
     ``strip`` applies to the first step only (leading zeros of an event that starts on its own
@@ -322,57 +413,132 @@ def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, sto
     ``err_acc[0]`` accumulates the local error estimates of the total momentum.
     """
     n = y.shape[0]
-    nm = m.shape[0]
-    K = np.empty((7, n))
+    K = np.empty((N_EXT, n))
+    F = np.empty((N_DENSE, n))
     ynew = np.empty(n)
     tmp = np.empty(n)
     f0 = np.empty(n)
-    coef = np.empty(5)
+    coef = np.empty(N_DENSE + 1)
     rhs(y, m, lk, c, cp, mem, f0)
     first = True
     while work[0] > 0.0:
-        work[0] -= 6.0
+        work[0] -= 12.0
         h = min(h, hmax)
         if not (h >= 1e-14 * max(1.0, abs(t)) and h < math.inf):  # also catches NaN
             return EV_FAIL, t, h
         err = dp_step(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp)
         if not err <= 1.0:  # also catches NaN
-            fac = 0.2 if not err == err else max(0.2, 0.9 * err**-0.2)
+            fac = 0.2 if not err == err else max(0.2, 0.9 * err**-0.125)
             h *= fac
             continue
+        work[0] -= 3.0
+        dense_coeffs(y, ynew, K, h, m, lk, c, cp, mem, F, tmp)
         best = 2.0
         which = -1
         for k in range(nev):
-            event_poly(K, h, y, W[k], B[k], coef)
+            event_poly(F, K, h, y, W[k], B[k], coef)
             s = 0
             if first and strip[k] > 0:
                 coef[0] = 0.0
                 s = strip[k]
-                while s < 4 and coef[s] == 0.0:
+                while s < N_DENSE and coef[s] == 0.0:
                     s += 1
-            th = first_root(coef, 4, s)
+            th = first_root(coef, N_DENSE, s)
             if th >= 0.0 and th < best:
                 best, which = th, k
-        em = 0.0
-        for j in range(7):
-            mom = 0.0
-            for i in range(nm):
-                mom += m[i] * K[j, nm + i]
-            em += DP_E[j] * mom
-        err_acc[0] += abs(h * em)
-        hn = h * min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.2))
+        err_acc[0] += _momentum_error(K, h, m)
+        hn = h * min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.125))
         if which >= 0:
-            dense_state(y, K, h, best, tmp)
-            y[:] = tmp
-            return which, t + best * h, max(h * best, 0.1 * h)
+            # The state at the event by a step of its own, and one Newton correction of the
+            # event time on that state (g / g'): the step's order, not the dense output's one
+            # lower (the interpolant of a long step put the time off by ~1e-10 relative).
+            dt = best * h
+            if dt > 0.0:
+                for it in range(2):
+                    work[0] -= 12.0
+                    dp_step(y, f0, dt, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp)
+                    if it == 1:
+                        break
+                    g = B[which]
+                    gd = 0.0
+                    for i in range(n):
+                        g += W[which, i] * ynew[i]
+                        gd += W[which, i] * K[N_ST, i]
+                    step = -g / gd
+                    if not (abs(step) < 0.01 * dt and abs(step) > 1e-15 * dt):
+                        break
+                    dt += step
+                y[:] = ynew
+            return which, t + dt, max(dt, 0.1 * h)
         y[:] = ynew
-        f0[:] = K[6]
+        f0[:] = K[N_ST]
         t += h
         h = hn
         first = False
         if stop == STOP_NO_CONTACT and no_contact_possible(y, m, lk, mem[M_XP]):
             return EV_STOP, t, h
     return EV_FAIL, t, h
+
+
+# sigma_phase return codes
+SIG_DONE = 0  # reached the target sigma
+SIG_LEFT = 1  # x' fell below half its start value: the caller goes on in time
+SIG_FAIL = 2  # step underflow or work budget
+
+
+@njit(cache=True, error_model="numpy")
+def sigma_phase(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc):
+    """Integrate from the current penetration x = -y[0] > = 0 to x = s_b**2 in sigma = sqrt(x)
+    (``rhs_sigma``) by DOP853, the last step landing on s_b exactly: the entry into a power-law
+    contact (x = 0 -> s_b**2) or its exit (-> 0, the separation itself, no event to locate).
+    Stops early (SIG_LEFT) when |x'| falls below half its start value, where dt/dsigma would
+    grow without bound. y is updated in place; returns (code, t)."""
+    nm = m.shape[0]
+    ny = y.shape[0]
+    nz = ny + 1
+    z = np.empty(nz)
+    z[:ny] = y
+    z[ny] = 0.0
+    s0 = math.sqrt(max(-y[0], 0.0))
+    xd0 = -y[nm]
+    if not (xd0 != 0.0 and s_b != s0):
+        return SIG_LEFT, t
+    K = np.empty((N_EXT, nz))
+    znew = np.empty(nz)
+    tmp = np.empty(nz)
+    f0 = np.empty(nz)
+    rhs_sigma(s0, z, m, lk, c, cp, mem, f0)
+    span = s_b - s0
+    h = 0.25 * span
+    s = s0
+    code = SIG_FAIL
+    while work[0] > 0.0:
+        work[0] -= 12.0
+        last = abs(h) >= abs(s_b - s)
+        if last:
+            h = s_b - s
+        if not (abs(h) >= 1e-14 * abs(span)):  # also catches NaN
+            break
+        err = dp_step(z, f0, h, rtol, atol, m, lk, c, cp, mem, K, znew, tmp, True, s)
+        if not err <= 1.0:
+            h *= 0.2 if not err == err else max(0.2, 0.9 * err**-0.125)
+            continue
+        err_acc[0] += _momentum_error(K, h, m)
+        z[:] = znew
+        f0[:] = K[N_ST]
+        s = s_b if last else s + h
+        if last:
+            code = SIG_DONE
+            break
+        if not (-z[nm] * xd0 > 0.5 * xd0 * xd0):
+            code = SIG_LEFT
+            break
+        h *= min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.125))
+    if code != SIG_FAIL:
+        y[:] = z[:ny]
+        y[0] = -s * s
+        t += z[ny]
+    return code, t
 
 
 @njit(cache=True, error_model="numpy")

@@ -1,4 +1,4 @@
-"""Nonlinear scene kernels: DP5(4) with guaranteed events, or the paper's velocity Verlet.
+"""Nonlinear scene kernels: DOP853 with guaranteed events, or the paper's velocity Verlet.
 
 ``solve_scene`` / ``solve_scene_batch``: any chain (masses m[n], a link law and a dashpot per
 neighbouring pair, any contact law of ``restitution.model.laws``); two masses are the chain
@@ -8,7 +8,8 @@ evaluations (STATUS_WORK_BUDGET, the same on every machine and thread count), re
 for any unfinished sequence, and never raise for finite input (compiled with
 ``error_model="numpy"``); batch rows start as NaN with STATUS_NOT_RUN.
 
-Adaptive method: the contact phases are integrated by DP5(4). Free flight is integrated too, with
+Adaptive method: the contact phases are integrated by DOP853 (integrators.py; the ends of a
+power-law contact in sigma = sqrt(x)). Free flight is integrated too, with
 the same guaranteed event location, and ends by the proof of ``integrators.no_contact_possible``
 -- except for two masses joined by a linear link (the paper's Sections 3.1 and 3.4), whose free
 flight is closed form (``free_flight_linear``, unless ``free_closed`` is False): the centre of
@@ -50,12 +51,16 @@ from restitution.kernels.integrators import (
     M_XMAX,
     M_XP,
     N_MEM,
+    SIG_DONE,
+    SIG_FAIL,
     STOP_NEVER,
     STOP_NO_CONTACT,
     accel_verlet,
     dent,
     no_contact_possible,
+    rhs,
     rk_phase,
+    sigma_phase,
     verlet_step,
 )
 from restitution.kernels.layout import (
@@ -85,6 +90,7 @@ from restitution.kernels.layout import (
 )
 from restitution.kernels.parallel import row_blocks
 from restitution.model.laws import (
+    C_HERTZ,
     C_PLASTIC,
     C_RIGID,
     S_LINEAR,
@@ -205,6 +211,12 @@ def free_flight_linear(y, xp, m1, m2, k, c):
 ENTER = 0  # the branch starts at the contact surface (or at t = 0)
 AFTER_TURN = 1  # the branch starts at a turn: v1 = 0 projected, x at a local maximum
 AFTER_RISE = 2  # the branch starts at a reload (plastic, x = xmax) or a rise (linear, v1 = 0)
+MID = 3  # the branch goes on from inside (after a stretch in sigma): no event starts on its surface
+
+# The ends of a power-law contact are integrated in sigma = sqrt(x) (integrators.sigma_phase) over
+# x <= SIGMA_ZONE * (the contact's depth scale), where the force has done little work and x'
+# stays near its value at the surface.
+SIGMA_ZONE = 0.3
 
 
 @njit(cache=True, error_model="numpy")
@@ -371,7 +383,7 @@ def solve_scene(
     """COR of one chain with any contact and link laws; ``out`` as kernels/layout.py.
 
     m[n] (m[0] = 1 in kernel units), lk[n-1] link laws, c[n-1] dashpots, cp the contact law; all
-    masses start at -v0 with m1 on the wall surface. method 0 = adaptive DP5(4) (rtol, atol =
+    masses start at -v0 with m1 on the wall surface. method 0 = adaptive DOP853 (rtol, atol =
     rtol*v0), 1 = velocity Verlet (step = step_frac * 2 pi / ``verlet_frequency``).
     ``max_work`` bounds the right-hand-side evaluations (STATUS_WORK_BUDGET); ``acct`` receives
     the energy account (N_ACCT entries); ``free_closed`` = False integrates the free flight of
@@ -426,6 +438,35 @@ def solve_scene(
 
 
 @njit(cache=True, error_model="numpy")
+def _sigma_room(y, m, lk, c, cp, mem, x_sw):
+    """Largest x_sw' <= x_sw over which x' changes by at most a quarter at m1's present
+    acceleration: x'**2 >= 4 |x''| x_sw' (0 when x' = 0)."""
+    n = m.shape[0]
+    dy = np.empty(y.shape[0])
+    rhs(y, m, lk, c, cp, mem, dy)
+    a = abs(dy[n])
+    xd2 = y[n] * y[n]
+    if a > 0.0:
+        x_sw = min(x_sw, 0.25 * xd2 / a)
+    return x_sw if xd2 > 0.0 else 0.0
+
+
+@njit(cache=True, error_model="numpy")
+def _sigma_entry(y, t, m, lk, c, cp, mem, rtol, atol, work, err_acc):
+    """The entry stretch of a contact on the power law F = kappa x**eta from x = 0, in sigma:
+    up to SIGMA_ZONE x the depth at which m1 alone would stop, limited by ``_sigma_room``.
+    Returns (code, t): SIG_DONE or SIG_LEFT (both go on in time), SIG_FAIL."""
+    n = m.shape[0]
+    xd = -y[n]
+    eta = cp[3]
+    depth = ((eta + 1.0) * m[0] * xd * xd / (2.0 * cp[2])) ** (1.0 / (eta + 1.0))
+    x_sw = _sigma_room(y, m, lk, c, cp, mem, SIGMA_ZONE * depth)
+    if not x_sw > 0.0:
+        return SIG_DONE, t
+    return sigma_phase(y, t, math.sqrt(x_sw), rtol, atol, m, lk, c, cp, mem, work, err_acc)
+
+
+@njit(cache=True, error_model="numpy")
 def _adaptive(y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free_closed):
     n = m.shape[0]
     closed = free_closed and n == 2 and lk[0, SP_KIND] == S_LINEAR
@@ -466,15 +507,46 @@ def _adaptive(y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free
         mem[M_BRANCH] = 1.0
     entering = True
     how = ENTER
+    sigma_exit = True
     while True:
+        # a contact starting on the power law at x = 0 (Hertz; plastic before any dent)
+        power_entry = kind == C_HERTZ or (kind == C_PLASTIC and mem[M_FMAX] == 0.0)
         if mem[M_PHASE] == 1.0:
+            if how == ENTER and mem[M_BRANCH] == 1.0 and power_entry:
+                scode, t = _sigma_entry(y, t, m, lk, c, cp, mem, rtol, atol, work, err_acc)
+                if scode == SIG_FAIL:
+                    return _fail(work), ncol, tcol, err_acc[0]
+                how = MID
             nev = _setup_contact_events(cp, mem, W, B, strip, how, n)
+            x_sw = 0.0
+            if kind == C_HERTZ and mem[M_BRANCH] == 0.0 and sigma_exit:
+                # separation replaced by x = x_sw, from where sigma runs to x = 0 (only if the
+                # branch starts deeper: a turn inside the zone has x' = 0 there)
+                x_sw = SIGMA_ZONE * xmax_c
+                if -y[0] > x_sw:
+                    B[0] -= x_sw
+                else:
+                    x_sw = 0.0
             code, t, h = rk_phase(
                 y, t, h, 1e300, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev,
                 STOP_NEVER, work, err_acc,
             )  # fmt: skip
             if code == EV_FAIL or code == EV_STOP:
                 return _fail(work), ncol, tcol, err_acc[0]
+            if code == 0 and x_sw > 0.0:
+                y[0] = -x_sw
+                scode = SIG_FAIL + 1  # not tried
+                if _sigma_room(y, m, lk, c, cp, mem, x_sw) == x_sw:
+                    scode, t = sigma_phase(
+                        y, t, 0.0, rtol, atol, m, lk, c, cp, mem, work, err_acc
+                    )  # fmt: skip
+                if scode == SIG_FAIL:
+                    return _fail(work), ncol, tcol, err_acc[0]
+                if scode != SIG_DONE:  # x' too small here: on in time to the surface itself
+                    sigma_exit = False
+                    how = MID
+                    continue
+            sigma_exit = True
             how, xmax_c, separated = _contact_switch(code, y, n, kind, cp, mem, how, xmax_c)
             if separated:
                 tcol = t

@@ -10,7 +10,7 @@ impulsive  rigid wall, linear links and dashpots: impulsive reversal of m1's vel
            contact, closed-form motion between contacts (exact)
 piecewise  linear contact spring, linear links and dashpots: closed form per phase, exact
            switching times (exact)
-adaptive   embedded Dormand-Prince 5(4) with guaranteed event location, for the phases whose
+adaptive   Dormand-Prince 8(5,3) (DOP853) with guaranteed event location, for the phases whose
            force law is nonlinear (any law)
 verlet     the paper's velocity Verlet, fixed step (finite contact stiffness, any chain)
 reference  scipy ``solve_ivp`` DOP853 with events: slow, for checks (two masses)
@@ -320,7 +320,7 @@ METHODS: dict[str, Method] = {
         _adaptive_applies,
         _run_numerical("adaptive"),
         _numerical_many("adaptive"),
-        "DP5(4), any chain",
+        "DOP853, any chain",
     ),  # fmt: skip
     "verlet": Method(
         "verlet",

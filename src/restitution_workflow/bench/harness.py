@@ -7,7 +7,7 @@ status. Families:
 
 ========= ============================================================================
 exact     ``restitution.solve(method="auto")`` on linear scenes (exact kernels)
-adaptive  ``method="adaptive"`` (DP5(4) with event location) over an rtol sweep; two masses
+adaptive  ``method="adaptive"`` (DOP853 with event location) over an rtol sweep; two masses
 verlet    ``method="verlet"`` (the paper's method) over a step sweep; two masses, beta > 0
 RK45 ...  ``solve_ivp`` with events (``restitution_workflow.bench.ivp``) over an rtol sweep
 ========= ============================================================================
