@@ -32,6 +32,7 @@ include: "workflow/rules/fig7.smk"
 include: "workflow/rules/reproduction.smk"
 include: "workflow/rules/benchmarks.smk"
 include: "workflow/rules/design.smk"
+include: "workflow/rules/fig9.smk"
 include: "workflow/rules/study.smk"
 
 
@@ -84,6 +85,8 @@ rule all:
         rules.fig8a.output.pdf,
         rules.fig8b.output.png,
         rules.fig8b.output.pdf,
+        rules.fig9.output.png,
+        rules.fig9.output.pdf,
         # Every documented result table (workflow/tables.yaml, docs/tables.md): a deleted one is
         # rebuilt even when no figure needs it.
         result_tables(),

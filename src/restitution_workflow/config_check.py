@@ -286,6 +286,11 @@ SCENE_KEYS: dict[tuple, Callable] = {
     ("fig7", "alpha_max"): partial(check, "alpha"),
     ("fig7", "traces", "xis"): partial(check, "xi"),
     ("fig7", "traces", "alphas"): partial(check, "alpha"),
+    ("fig9", "v0_min"): partial(check, "v0"),
+    ("fig9", "v0_max"): partial(check, "v0"),
+    ("fig9", "alphas"): partial(check, "alpha"),
+    ("fig9", "chain_alpha"): partial(check, "alpha"),
+    ("fig9", "chain_n"): partial(check, "n_masses"),
 }
 
 # Ranges that must be increasing: (section, low key, high key).
@@ -300,6 +305,7 @@ ORDERED_RANGES = (
     (("fig5", "b"), "alpha_min", "alpha_max"),
     (("fig6", "sweep"), "x_min", "x_max"),
     (("fig7",), "alpha_min", "alpha_max"),
+    (("fig9",), "v0_min", "v0_max"),
 )
 
 # Chunked sweeps: (section, grid points key, chunk key, list of curves key); jobs = curves x chunks.
@@ -411,6 +417,33 @@ def _law_checks(config, problems):
             )
 
 
+def fig9_chains(fig9: Mapping) -> list[tuple[str, Chain]]:
+    """(label, Chain) of every curve of Fig. 9, at a rigid wall: the two-mass chains of
+    ``alphas`` and the uniform chains of ``chain_n`` (``Chain.paper``, so omega = 1)."""
+    chains = [(f"alpha = {a:g}", Chain.paper(a)) for a in fig9["alphas"]]
+    chains += [(f"N = {n}", Chain.paper(fig9["chain_alpha"], n_masses=n)) for n in fig9["chain_n"]]
+    return chains
+
+
+def _hertz_checks(config, problems):
+    """Every curve of Fig. 9 must be a scene the solvers take at both ends of its V0 grid (the
+    Hertz slope against the first spring, the frequency spread): asked of ``Chain`` itself."""
+    fig9 = config.get("fig9")
+    if not isinstance(fig9, Mapping):
+        return
+    for label, chain in fig9_chains(fig9):
+        for key in ("v0_min", "v0_max"):
+            try:
+                Chain(chain.masses, chain.springs, v0=fig9[key],
+                      contact={"law": "hertz", "k": fig9["k_hertz"]})  # fmt: skip
+            except SceneError as error:
+                problems.append(
+                    f"fig9.k_hertz = {fig9['k_hertz']!r} with fig9.{key} = {fig9[key]!r} "
+                    f"({label}): {error}"
+                )
+                return
+
+
 def check_config(config: Mapping, schema: Mapping) -> dict:
     """Check ``config`` against ``schema`` and the cross-key rules; return it normalised.
 
@@ -453,6 +486,8 @@ def check_config(config: Mapping, schema: Mapping) -> dict:
         # Once every value has its type and range (else the same value would be named twice).
         _scene_checks(result, problems)
         _job_checks(result, problems)
+    if not problems:
+        _hertz_checks(result, problems)
     if problems:
         raise ConfigError(problems)
     return result
