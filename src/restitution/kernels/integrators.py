@@ -48,6 +48,9 @@ from restitution.kernels import dop853_tableau as T
 from restitution.model.laws import (
     C_PLASTIC,
     C_RIGID,
+    S_LINEAR,
+    SP_K2,
+    SP_KIND,
     contact_force,
     contact_hysteretic,
     structure_energy,
@@ -108,21 +111,32 @@ def dense_coeffs(y0, ynew, K, h, m, lk, c, cp, mem, F, tmp):
     n = y0.shape[0]
     for s in range(N_ST + 1, N_EXT):
         for i in range(n):
-            acc = 0.0
-            for j in range(s):
-                acc += DP_A[s, j] * K[j, i]
-            tmp[i] = y0[i] + h * acc
-        rhs(tmp, m, lk, c, cp, mem, K[s])
+            tmp[i] = 0.0
+        for j in range(s):
+            a = DP_A[s, j]
+            if a != 0.0:
+                for i in range(n):
+                    tmp[i] += a * K[j, i]
+        for i in range(n):
+            tmp[i] = y0[i] + h * tmp[i]
+        rhs(tmp, m, lk, c, cp, mem, F[0])  # F[0] as scratch (a row view once per stage)
+        for i in range(n):
+            K[s, i] = F[0, i]
     for i in range(n):
         dy = ynew[i] - y0[i]
         F[0, i] = dy
         F[1, i] = h * K[0, i] - dy
         F[2, i] = 2.0 * dy - h * (K[N_ST, i] + K[0, i])
-        for k in range(N_DENSE - 3):
-            acc = 0.0
-            for j in range(N_EXT):
-                acc += DP_D[k, j] * K[j, i]
-            F[3 + k, i] = h * acc
+    for k in range(N_DENSE - 3):
+        for i in range(n):
+            F[3 + k, i] = 0.0
+        for j in range(N_EXT):
+            d = DP_D[k, j]
+            if d != 0.0:
+                for i in range(n):
+                    F[3 + k, i] += d * K[j, i]
+        for i in range(n):
+            F[3 + k, i] *= h
 
 
 @njit(cache=True, error_model="numpy")
@@ -200,14 +214,20 @@ def first_root(c, n, strip):
     ``strip`` leading coefficients are known to be exactly zero (the event starts on its surface);
     they are divided out. Returns 0.0 if the function moves to the negative side at once.
     """
-    q = np.zeros(n + 1)
     m = n - strip
-    for k in range(m + 1):
-        q[k] = c[k + strip]
-    if q[0] <= 0.0:
+    if c[strip] <= 0.0:
         return 0.0
     if m == 0:
         return -1.0
+    # |p(theta) - p(0)| <= sum |q_k| on [0, 1]: most steps end here, far from any event
+    spread = 0.0
+    for k in range(1, m + 1):
+        spread += abs(c[k + strip])
+    if c[strip] > spread:
+        return -1.0
+    q = np.zeros(n + 1)
+    for k in range(m + 1):
+        q[k] = c[k + strip]
     stack_a = np.empty(128)
     stack_b = np.empty(128)
     top = 0
@@ -250,7 +270,9 @@ def rhs(y, m, lk, c, cp, mem, dy):
     dy[n] = fc
     d = 0.0
     for i in range(n - 1):
-        f = structure_force(lk[i], y[i + 1] - y[i])
+        x = y[i + 1] - y[i]
+        # a linear link inline: the row view lk[i] costs a reference count (half of rhs's time)
+        f = lk[i, SP_K2] * x if lk[i, SP_KIND] == S_LINEAR else structure_force(lk[i], x)
         dv = y[n + i + 1] - y[n + i]
         fd = c[i] * dv
         dy[n + i] += f + fd
@@ -291,26 +313,41 @@ def dp_step(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp, sig=False, s0
     ``sig``: the state is [y, t] over the independent variable sigma = sqrt(x) from s0
     (``rhs_sigma``)."""
     n = y.shape[0]
-    K[0, :] = f0
-    for s in range(1, N_ST):
-        for i in range(n):
-            acc = 0.0
-            for j in range(s):
-                acc += DP_A[s, j] * K[j, i]
-            tmp[i] = y[i] + h * acc
-        if sig:
-            rhs_sigma(s0 + DP_C[s] * h, tmp, m, lk, c, cp, mem, K[s])
-        else:
-            rhs(tmp, m, lk, c, cp, mem, K[s])
     for i in range(n):
-        acc = 0.0
-        for j in range(N_ST):
-            acc += DP_B[j] * K[j, i]
-        ynew[i] = y[i] + h * acc
+        K[0, i] = f0[i]
+    for s in range(1, N_ST):
+        # stage by stage over the (contiguous) state, skipping the tableau's zeros
+        for i in range(n):
+            tmp[i] = 0.0
+        for j in range(s):
+            a = DP_A[s, j]
+            if a != 0.0:
+                for i in range(n):
+                    tmp[i] += a * K[j, i]
+        for i in range(n):
+            tmp[i] = y[i] + h * tmp[i]
+        # into ynew (free until the end) and copied: a row view K[s] costs a reference count
+        if sig:
+            rhs_sigma(s0 + DP_C[s] * h, tmp, m, lk, c, cp, mem, ynew)
+        else:
+            rhs(tmp, m, lk, c, cp, mem, ynew)
+        for i in range(n):
+            K[s, i] = ynew[i]
+    for i in range(n):
+        ynew[i] = 0.0
+    for j in range(N_ST):
+        b = DP_B[j]
+        if b != 0.0:
+            for i in range(n):
+                ynew[i] += b * K[j, i]
+    for i in range(n):
+        ynew[i] = y[i] + h * ynew[i]
     if sig:
-        rhs_sigma(s0 + h, ynew, m, lk, c, cp, mem, K[N_ST])
+        rhs_sigma(s0 + h, ynew, m, lk, c, cp, mem, tmp)
     else:
-        rhs(ynew, m, lk, c, cp, mem, K[N_ST])
+        rhs(ynew, m, lk, c, cp, mem, tmp)
+    for i in range(n):
+        K[N_ST, i] = tmp[i]
     # Per component, the largest, not Hairer's RMS over all of them: with the energy and time
     # components (errors ~0) in the mean, the velocities were allowed sqrt(n) times their share
     # (single Hertz contacts 10-100 rtol off; with the largest, below rtol).
@@ -555,7 +592,9 @@ def accel_verlet(y, m, lk, c, cp, mem, acc):
     acc[0] = fc
     pw = 0.0
     for i in range(n - 1):
-        f = structure_force(lk[i], y[i + 1] - y[i])
+        x = y[i + 1] - y[i]
+        # a linear link inline: the row view lk[i] costs a reference count (half of rhs's time)
+        f = lk[i, SP_K2] * x if lk[i, SP_KIND] == S_LINEAR else structure_force(lk[i], x)
         dv = y[n + i + 1] - y[n + i]
         fd = c[i] * dv
         acc[i] += f + fd
