@@ -24,8 +24,8 @@ import math
 import numpy as np
 from numba import njit
 
-EPS = 2.220446049250313e-16
-TOL_ULPS = 64.0  # the exact kernels' round-off bound per contact, in ulps (chain's OUT_ERR)
+from restitution.kernels.constants import EPS
+
 # Touching band, in ulps of the gap's own round-off scale at that moment (_eval_gap's res[7]):
 # the computed gap is within ~1.5 of them of its exact value (measured against mpmath on the
 # free flights of 16 random chains, N = 8..16, ratios 1e-2..1e4), so a dip deeper than

@@ -42,8 +42,8 @@ exponentially with the pressed time (~1e39 contacts for alpha = 200, xi = 3); no
 can finish it. Its limit is sticking: m1 at rest on the wall while the force on it,
 k2 (r + 2 xi r'), is compressive; m2 then moves on the spring and dashpot alone (closed form,
 frequency 1/sqrt(1 + alpha)) and m1 lifts off at the first zero of that force (closed form).
-The kernel switches to sticking when, after at least _STICK_AFTER = 2000 contacts (shorter
-chatters are finished exactly), a contact has approach speed v1 below _V_STICK = 1e-3 under
+The kernel switches to sticking when, after at least STICK_AFTER = 2000 contacts (shorter
+chatters are finished exactly), a contact has approach speed v1 below V_STICK_RIGID2 = 1e-3 under
 a compressive force (the dropped 0.5 v1^2, < 5e-7, is booked as dissipated), records the
 sticking phase as one contact interval (H_TEND = lift-off, H_VOUT = 0) and sets OUT_ERR to
 v1^2. The COR error of the cut-off shrinks like its square: cut-offs 1e-1, 1e-2, 1e-3 move the
@@ -60,6 +60,13 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from restitution.kernels.constants import (
+    ENERGY_TOL,
+    EPS,
+    ROUNDOFF_ULPS,
+    STICK_AFTER,
+    V_STICK_RIGID2,
+)
 from restitution.kernels.layout import (
     FLAG_STICKING,
     H_IMPULSE,
@@ -86,22 +93,15 @@ from restitution.kernels.layout import (
     STATUS_OK,
 )
 from restitution.kernels.parallel import row_blocks
-from restitution.kernels.replica import EPS, JITTER, REPLICA_SEED, REPLICAS, combine, finished, weyl
+from restitution.kernels.replica import JITTER, REPLICA_SEED, REPLICAS, combine, finished, weyl
 
-_EPS = 2.220446049250313e-16
 # A damping ratio below the smallest normal float moves the COR by O(xi), far below an ulp, but
 # subnormal arithmetic in the damped closed-form walk fails (event_not_converged): it is 0.
 XI_NEGLIGIBLE = 2.2250738585072014e-308
-ROUNDOFF_ULPS = 64.0  # the round-off floor of OUT_ERR, in ulps per contact (as the chain kernel)
 _TOUCH = 16.0  # contact if g_min < -_TOUCH * eps * (scale of the terms of g)
-_ENERGY_TOL = 1e-9
 _MAX_NEWTON = 200
 _MAX_WALK = 1_000_000  # zeros of g'' visited in one contact search before giving up
 _TWO_PI = 2.0 * math.pi
-_V_STICK = 1e-3  # chatter with bounce speed below this (and a compressive force) -> sticking
-# ... but only once the sequence is long: shorter chatters are finished exactly (they end by
-# themselves within a few thousand contacts, and cutting them costs up to ~1e-5 in the COR).
-_STICK_AFTER = 2000
 
 # 20-point Gauss-Legendre on [-1, 1]: exact to round-off for e^(c s) pieces with |c h| <= 4.
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(20)
@@ -117,7 +117,7 @@ def _tol(V, mu, r0, w0, rs, s):
     The velocities V and w0 carry absolute errors of a few ulps of |V| + mu |w0|, which grow
     linearly in s in the gap; positions those of mu (|r0| + |r(s)|).
     """
-    return _TOUCH * _EPS * ((abs(V) + mu * abs(w0)) * s + mu * (abs(r0) + abs(rs)) + 1e-300)
+    return _TOUCH * EPS * ((abs(V) + mu * abs(w0)) * s + mu * (abs(r0) + abs(rs)) + 1e-300)
 
 
 @njit(cache=True)
@@ -172,7 +172,7 @@ def _halley_gap0(lo, hi, x, V, mu, r0, w0):
         xn = x - 2.0 * g * gp / den if den != 0.0 else 0.5 * (lo + hi)
         if not (lo < xn < hi):
             xn = 0.5 * (lo + hi)
-        if abs(xn - x) <= 4.0 * _EPS * abs(x) or hi - lo <= 4.0 * _EPS * abs(hi):
+        if abs(xn - x) <= 4.0 * EPS * abs(x) or hi - lo <= 4.0 * EPS * abs(hi):
             return xn, True
         x = xn
     return x, False
@@ -325,7 +325,7 @@ def _newton_d(lo, hi, which, V, mu, xi, q, w, r0, w0):
         xn = x - f / df if df != 0.0 else 0.5 * (lo + hi)
         if not (min(lo, hi) < xn < max(lo, hi)):
             xn = 0.5 * (lo + hi)
-        if abs(xn - x) <= 2.0 * _EPS * abs(x) or abs(hi - lo) <= 4.0 * _EPS * max(abs(hi), abs(lo)):
+        if abs(xn - x) <= 2.0 * EPS * abs(x) or abs(hi - lo) <= 4.0 * EPS * max(abs(hi), abs(lo)):
             return xn, True
         x = xn
     return x, False
@@ -340,7 +340,7 @@ def _newton_concave(x, V, mu, xi, q, w, r0, w0):
         if g >= 0.0 or gp >= 0.0:  # at the root (to round-off)
             return x, True
         xn = x - g / gp
-        if not (xn < x) or x - xn <= 2.0 * _EPS * abs(x):
+        if not (xn < x) or x - xn <= 2.0 * EPS * abs(x):
             return xn, True
         x = xn
     return x, False
@@ -616,7 +616,7 @@ def _rigid2(alpha, xi, max_events, hist, v_stick, jitter=0.0, seed=0):
             rp *= 1.0 + jitter * weyl(jc + 2)
             jc += 3
         v1 = min(V - mu * rp, 0.0)  # m1's approach speed (<= 0)
-        if xi > 0.0 and n >= _STICK_AFTER and -v1 < v_stick and r0 + 2.0 * xi * rp < 0.0:
+        if xi > 0.0 and n >= STICK_AFTER and -v1 < v_stick and r0 + 2.0 * xi * rp < 0.0:
             # Chatter under a compressive force: its limit is sticking (see module docstring).
             v2 = V + (1.0 - mu) * rp
             s_l, r_l, rp_l, d = _stick(alpha, xi, r0, v2)
@@ -669,7 +669,7 @@ def _rigid2(alpha, xi, max_events, hist, v_stick, jitter=0.0, seed=0):
     out[OUT_ERR] = max(err, ROUNDOFF_ULPS * EPS * max(n, 1))  # round-off floor per contact
     out[OUT_FLAGS] = FLAG_STICKING if lost > 0.0 else 0
     total = out[OUT_ETRANS] + out[OUT_EVIB] + out[OUT_EDISS]
-    if status == STATUS_OK and abs(total - 1.0) > _ENERGY_TOL:
+    if status == STATUS_OK and abs(total - 1.0) > ENERGY_TOL:
         status = STATUS_ENERGY
     out[OUT_STATUS] = status
     return out
@@ -706,7 +706,7 @@ def rigid2(alpha, xi, max_events, hist):
     >>> round(float(out[OUT_COR]), 12), int(out[OUT_NCOL])
     (1.0, 2)
     """
-    out = _rigid2(alpha, xi, max_events, hist, _V_STICK, 0.0)
+    out = _rigid2(alpha, xi, max_events, hist, V_STICK_RIGID2, 0.0)
     if not finished(out[OUT_STATUS]):
         return out
     reps = np.empty((REPLICAS, N_OUT))
@@ -714,7 +714,7 @@ def rigid2(alpha, xi, max_events, hist):
         seed = r * REPLICA_SEED
         a = alpha * (1.0 + JITTER * weyl(seed))
         x = xi * (1.0 + JITTER * weyl(seed + 1))
-        reps[r] = _rigid2(a, x, max_events, np.zeros((0, N_HIST)), _V_STICK, JITTER, seed + 2)
+        reps[r] = _rigid2(a, x, max_events, np.zeros((0, N_HIST)), V_STICK_RIGID2, JITTER, seed + 2)
     return combine(out, reps)
 
 
