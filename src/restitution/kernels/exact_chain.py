@@ -137,6 +137,7 @@ from restitution.kernels.locator import (
 from restitution.kernels.parallel import row_blocks
 from restitution.kernels.replica import JITTER, REPLICA_SEED, REPLICAS, combine, finished, weyl
 from restitution.kernels.rigid2 import XI_NEGLIGIBLE, _next_contact0, _next_contact_d, _rigid2
+from restitution.kernels.roots import threshold_bisection
 
 COND_MAX = 1e8  # eigenvector condition number above which a closed form is not trusted
 # Rounding of one phase's closed-form dissipation, relative to the initial energy, below which
@@ -205,6 +206,15 @@ def _count_below(m, k, kg, w2):
 
 
 @njit(cache=True)
+def _above(w2, m, k, kg, q):
+    """True if eigenvalue q (0-based) of K x = w2 M x is below w2."""
+    return _count_below(m, k, kg, w2) > q
+
+
+_bisect_w2 = threshold_bisection(_above)
+
+
+@njit(cache=True)
 def _refine_w2(m, k, kg, q, lo, hi):
     """Eigenvalue q (0-based, ascending) of K x = w2 M x to a few ulps by bisection of
     _count_below in [lo, hi] (widened to every eigenvalue if it does not hold q)."""
@@ -213,18 +223,7 @@ def _refine_w2(m, k, kg, q, lo, hi):
         hi = 1.0
         while _count_below(m, k, kg, hi) <= q:
             hi *= 4.0
-    for _ in range(400):
-        if lo > 0.0 and hi > 4.0 * lo:
-            mid = math.sqrt(lo * hi)  # geometric: the spectrum spans decades
-        else:
-            mid = 0.5 * (lo + hi)
-        if not (lo < mid < hi) or hi - lo <= 2.0 * EPS * hi:
-            break
-        if _count_below(m, k, kg, mid) > q:
-            hi = mid
-        else:
-            lo = mid
-    return 0.5 * (lo + hi)
+    return _bisect_w2(lo, hi, (m, k, kg, q))  # geometric midpoints: the spectrum spans decades
 
 
 @njit(cache=True)
