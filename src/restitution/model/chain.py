@@ -37,6 +37,7 @@ from restitution.model.ranges import (
     _show,
     missing_cell,
 )
+from restitution.model.units import kernel_params
 
 # The one table of parameter ranges (``RANGES``, with ``Range``) lives in ``_base`` so that
 # ``restitution.model.laws`` reads the same table; it is checked here (``check``, ``check_column``).
@@ -396,13 +397,9 @@ class Chain:
         """(m, k, c, kc) in the kernels' units m_1 = 1, omega = 1 (module docstring)."""
         if self.preset is not None:
             return self.masses, self.springs, self.dashpots, self.k_contact
-        m1, w = float(self.masses[0]), self.omega
-        w2 = w * w
-        return (
-            self.masses / m1,
-            self.springs / (m1 * w2),
-            self.dashpots / (m1 * w),
-            self.k_contact / (m1 * w2),
+        m1 = float(self.masses[0])
+        return kernel_params(
+            self.masses, self.springs, self.dashpots, self.k_contact, m1, self.omega
         )
 
     @property
