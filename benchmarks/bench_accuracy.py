@@ -96,9 +96,10 @@ def _time(fn, reps=5):
 def cost() -> None:
     import numba
 
+    from restitution.kernels.constants import V_STICK_RIGID2
     from restitution.kernels.exact_chain import WORK_MAX, _normalise, _solve_stiff, _solve_units
     from restitution.kernels.layout import N_HIST, OUT_NCOL
-    from restitution.kernels.rigid2 import _V_STICK, _rigid2, rigid2
+    from restitution.kernels.rigid2 import _rigid2, rigid2
 
     numba.set_num_threads(1)
     nohist = np.zeros((0, N_HIST))
@@ -115,7 +116,7 @@ def cost() -> None:
                     out = (
                         rigid2(a, 0.0, 100_000, nohist)
                         if checked
-                        else _rigid2(a, 0.0, 100_000, nohist, _V_STICK)
+                        else _rigid2(a, 0.0, 100_000, nohist, V_STICK_RIGID2)
                     )
                 else:
                     ms, ks, cs, kcs = _normalise(m, k, c, kc)

@@ -11,8 +11,9 @@ from scipy.linalg import expm
 
 from restitution.kernels.exact_chain import PH_CONTACT, _modal_model, _run
 from restitution.kernels.layout import N_HIST
-from restitution.kernels.locator import _locate, _safe_step
+from restitution.kernels.locator import _locate
 from restitution.kernels.paper_chain import _paper_chain
+from restitution.kernels.roots import first_cubic_root as _safe_step
 from test_modal_basis import _system
 
 

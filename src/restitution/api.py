@@ -28,6 +28,7 @@ from restitution.model.chain import (
     paper_with_laws,
 )
 from restitution.model.ranges import HISTORY_MAX_EVENTS
+from restitution.model.units import user_time
 from restitution.solvers import exact
 from restitution.solvers import methods as M
 from restitution.solvers.result import RESULT_COLUMNS, STATUS, T_COL, Result, status_name
@@ -175,7 +176,7 @@ def _solve_paper(alpha, beta, xi, n_masses, method, history, max_events):
 def _run(ch: Chain, chosen: M.Method, opts: M.Options) -> Result:
     out, hist = chosen.run(ch, opts)
     if isinstance(out, Result):  # numerical runners return a Result of their own
-        return replace(out, t_col=out.omega_t_col / ch.omega).with_scene(ch)
+        return replace(out, t_col=user_time(out.omega_t_col, ch.omega)).with_scene(ch)
     return Result.from_row(ch, out, chosen.name, hist, passive=True)  # exact: linear laws
 
 
@@ -316,7 +317,7 @@ def solve_many(
     for c in ("method", "status"):
         data[c] = cols[c].column()
     if table.chains is not None:
-        data[T_COL] = cols["omega_t_col"] / plan["omega"]
+        data[T_COL] = user_time(cols["omega_t_col"], plan["omega"])
     return pd.DataFrame(data, index=frame.index, copy=False)
 
 

@@ -18,6 +18,14 @@ import pandas as pd
 
 from restitution.model.chain import Chain, SceneError
 from restitution.model.ranges import _real, _show
+from restitution.model.units import (
+    kernel_time,
+    user_force,
+    user_impulse,
+    user_length,
+    user_speed,
+    user_time,
+)
 from restitution.solvers import blas, exact
 from restitution.solvers.methods import check_events, choose
 
@@ -146,29 +154,30 @@ def trajectory(scene=None, times=None, *, max_events: int = 10_000, **keywords) 
     max_events = check_events(max_events, history=True)  # impacts are read from a history
     t = _times(times)
     w, m1, v0 = ch.omega, float(ch.masses[0]), ch.v0
-    u, v, f, impacts = _sample(ch, np.ascontiguousarray(t * w), max_events)
+    wt = kernel_time(t, w)
+    u, v, f, impacts = _sample(ch, np.ascontiguousarray(wt), max_events)
     n = ch.n_masses
-    frame = {"t": t, "omega_t": t * w}
+    frame = {"t": t, "omega_t": wt}
     for i in range(n):
-        frame[f"u_{i + 1}"] = u[:, i] * (v0 / w)
+        frame[f"u_{i + 1}"] = user_length(u[:, i], w, v0)
     for i in range(n):
-        frame[f"v_{i + 1}"] = v[:, i] * v0
-    frame["f_contact"] = f * (m1 * v0 * w)
+        frame[f"v_{i + 1}"] = user_speed(v[:, i], v0)
+    frame["f_contact"] = user_force(f, m1, w, v0)
     frame["impulse"] = np.zeros(len(t))
     frame["event"] = np.full(len(t), "sample", dtype=object)
     out = pd.DataFrame(frame)
     impacts = np.asarray(impacts).reshape(-1, 2)
-    lo, hi = t.min() * w, t.max() * w
+    lo, hi = wt.min(), wt.max()
     inside = impacts[(impacts[:, 0] >= lo) & (impacts[:, 0] <= hi)]
     if len(inside):
         ui, vi, _, _ = _sample(ch, np.ascontiguousarray(inside[:, 0]), max_events)
-        rows = {"t": inside[:, 0] / w, "omega_t": inside[:, 0]}
+        rows = {"t": user_time(inside[:, 0], w), "omega_t": inside[:, 0]}
         for i in range(n):
-            rows[f"u_{i + 1}"] = ui[:, i] * (v0 / w)
+            rows[f"u_{i + 1}"] = user_length(ui[:, i], w, v0)
         for i in range(n):
-            rows[f"v_{i + 1}"] = vi[:, i] * v0
+            rows[f"v_{i + 1}"] = user_speed(vi[:, i], v0)
         rows["f_contact"] = np.zeros(len(inside))
-        rows["impulse"] = inside[:, 1] * (m1 * v0)
+        rows["impulse"] = user_impulse(inside[:, 1], m1, v0)
         rows["event"] = np.full(len(inside), "impact", dtype=object)
         out = pd.concat([out, pd.DataFrame(rows)], ignore_index=True)
         out = out.sort_values("t", kind="stable", ignore_index=True)

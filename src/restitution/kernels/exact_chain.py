@@ -39,13 +39,14 @@ F = k_12 (u2 - u1) + c_12 (v2 - v1), is compressive (F < 0); m_2..m_N then move 
 clamped linear chain (closed form), and m_1 lifts off at the first time F turns tensile, an
 event of the same exponential-sum form located by the same rigorous locator. The kernel switches
 to sticking when, after at least STICK_AFTER contacts (shorter chatters are finished exactly), a
-contact has approach speed v below V_STICK under a compressive force. The dropped kinetic energy
-m_1 v^2 / 2 (< 5e-6) is booked as dissipated, OUT_ERR is raised to v^2 and bit FLAG_STICKING of
-OUT_FLAGS is set. The COR error of the cut-off shrinks like v^2: against cut-off 1e-4 (N = 2, 3;
-alpha 20..50, xi 1..2) cut-offs 1e-1, 1e-2, 1e-3 moved the COR by 1e-5, 4e-8 and 8e-10, i.e.
-<= 1e-3 v^2, so v^2 is a bound with a safety factor of ~1000 (V_STICK = 3e-3: measured <= 1.1e-9,
-bound 1e-5). The chatter speeds decay only like 1/k (k = contact index): 3e-3 is reached after
-~1e3..3e4 contacts on the grid alpha 5..200, xi 0.05..3, N = 2..5, 1e-4 only after ~1e5 or more.
+contact has approach speed v below V_STICK_CHAIN under a compressive force. The dropped kinetic
+energy m_1 v^2 / 2 (< 5e-6) is booked as dissipated, OUT_ERR is raised to v^2 and bit
+FLAG_STICKING of OUT_FLAGS is set. The COR error of the cut-off shrinks like v^2: against cut-off
+1e-4 (N = 2, 3; alpha 20..50, xi 1..2) cut-offs 1e-1, 1e-2, 1e-3 moved the COR by 1e-5, 4e-8 and
+8e-10, i.e. <= 1e-3 v^2, so v^2 is a bound with a safety factor of ~1000 (V_STICK_CHAIN = 3e-3:
+measured <= 1.1e-9, bound 1e-5). The chatter speeds decay only like 1/k (k = contact index): 3e-3
+is reached after ~1e3..3e4 contacts on the grid alpha 5..200, xi 0.05..3, N = 2..5, 1e-4 only
+after ~1e5 or more (kernels/constants.py: why the two-mass walk rigid2 cuts at 1e-3 instead).
 A sticking phase is one contact interval in the history (H_VOUT = 0).
 
 Budgets
@@ -73,6 +74,14 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from restitution.kernels.constants import (
+    ENERGY_TOL,
+    EPS,
+    ROUNDOFF_ULPS,
+    STICK_AFTER,
+    V_STICK_CHAIN,
+    V_STICK_RIGID2,
+)
 from restitution.kernels.lapack import eig_real
 from restitution.kernels.layout import (
     FLAG_RIGID_LIMIT,
@@ -109,14 +118,12 @@ from restitution.kernels.locator import (
     BAND_HIGH,
     BAND_LOW,
     CANCEL_MAX,
-    EPS,
     LOC_BUDGET,
     LOC_EVENT,
     LOC_NEVER,
     LOC_PERMANENT,
     MAX_STEPS,
     N_RES,
-    TOL_ULPS,
     _diss_modal_inf,
     _diss_pairs,
     _diss_scalar,
@@ -129,17 +136,14 @@ from restitution.kernels.locator import (
 )
 from restitution.kernels.parallel import row_blocks
 from restitution.kernels.replica import JITTER, REPLICA_SEED, REPLICAS, combine, finished, weyl
-from restitution.kernels.rigid2 import _V_STICK as V_STICK_2
 from restitution.kernels.rigid2 import XI_NEGLIGIBLE, _next_contact0, _next_contact_d, _rigid2
+from restitution.kernels.roots import threshold_bisection
 
 COND_MAX = 1e8  # eigenvector condition number above which a closed form is not trusted
-ENERGY_TOL = 1e-9
 # Rounding of one phase's closed-form dissipation, relative to the initial energy, below which
 # its cancellation does not matter (1e5 phases stay 100 times inside ENERGY_TOL); above it a
 # cancelling phase is integrated by Gauss-Legendre, at a cost growing with its length.
 DISS_FLOOR = 1e-16
-V_STICK = 3e-3  # chatter with approach speed below this (and a compressive force) -> sticking
-STICK_AFTER = 2000  # ... but only after this many contacts: shorter chatters finish exactly
 WORK_MAX = 2e7  # operations (modal term evaluations) per scene before STATUS_WORK_BUDGET
 # Very stiff contact springs (beta = k_12 / kc -> 0). The COR approaches the rigid wall's like
 # sqrt(beta): |COR(beta) - COR(0)| <= RIGID_LIMIT_C sqrt(beta), measured max 6.5 sqrt(beta) over
@@ -202,6 +206,15 @@ def _count_below(m, k, kg, w2):
 
 
 @njit(cache=True)
+def _above(w2, m, k, kg, q):
+    """True if eigenvalue q (0-based) of K x = w2 M x is below w2."""
+    return _count_below(m, k, kg, w2) > q
+
+
+_bisect_w2 = threshold_bisection(_above)
+
+
+@njit(cache=True)
 def _refine_w2(m, k, kg, q, lo, hi):
     """Eigenvalue q (0-based, ascending) of K x = w2 M x to a few ulps by bisection of
     _count_below in [lo, hi] (widened to every eigenvalue if it does not hold q)."""
@@ -210,18 +223,7 @@ def _refine_w2(m, k, kg, q, lo, hi):
         hi = 1.0
         while _count_below(m, k, kg, hi) <= q:
             hi *= 4.0
-    for _ in range(400):
-        if lo > 0.0 and hi > 4.0 * lo:
-            mid = math.sqrt(lo * hi)  # geometric: the spectrum spans decades
-        else:
-            mid = 0.5 * (lo + hi)
-        if not (lo < mid < hi) or hi - lo <= 2.0 * EPS * hi:
-            break
-        if _count_below(m, k, kg, mid) > q:
-            hi = mid
-        else:
-            lo = mid
-    return 0.5 * (lo + hi)
+    return _bisect_w2(lo, hi, (m, k, kg, q))  # geometric midpoints: the spectrum spans decades
 
 
 @njit(cache=True)
@@ -664,7 +666,7 @@ def _run(
     hist,
     rec,
     work_max,
-    v_stick=V_STICK,
+    v_stick=V_STICK_CHAIN,
     stick_after=STICK_AFTER,
     jitter=0.0,
     seed=0,
@@ -1020,7 +1022,7 @@ def _run(
     out[OUT_EVIB] = evib
     out[OUT_EDISS] = (ediss + lost) / e0
     out[OUT_NEVENTS] = ncol
-    err = max(TOL_ULPS * EPS * ncol * cond, err)
+    err = max(ROUNDOFF_ULPS * EPS * ncol * cond, err)
     out[OUT_FLAGS] = flags
     # A permanent contact is a finished result too: its account (all energy dissipated) is
     # checked like any other. It must close to ENERGY_TOL, or to the run's own error bound
@@ -1089,10 +1091,22 @@ def _solve_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, jitter
     if use_rigid2 and ms.size == 2 and kcs == math.inf:
         # Two masses at a rigid wall: the dedicated closed-form kernel (alpha, xi) is faster.
         xi = cs[0] / (2.0 * ks[0])
-        return _rigid2(ms[1], xi, max_events, hist, V_STICK_2, jitter, seed)
+        return _rigid2(ms[1], xi, max_events, hist, V_STICK_RIGID2, jitter, seed)
     rec = np.zeros((0, 3 + 2 * ms.size))
     return _run(
-        ms, ks, cs, kcs, max_events, hist, rec, work_max, V_STICK, STICK_AFTER, jitter, seed, band
+        ms,
+        ks,
+        cs,
+        kcs,
+        max_events,
+        hist,
+        rec,
+        work_max,
+        V_STICK_CHAIN,
+        STICK_AFTER,
+        jitter,
+        seed,
+        band,
     )[0]
 
 

@@ -24,8 +24,9 @@ import math
 import numpy as np
 from numba import njit
 
-EPS = 2.220446049250313e-16
-TOL_ULPS = 64.0  # the exact kernels' round-off bound per contact, in ulps (chain's OUT_ERR)
+from restitution.kernels.constants import EPS
+from restitution.kernels.roots import bisection, first_cubic_root, newton_polish
+
 # Touching band, in ulps of the gap's own round-off scale at that moment (_eval_gap's res[7]):
 # the computed gap is within ~1.5 of them of its exact value (measured against mpmath on the
 # free flights of 16 random chains, N = 8..16, ratios 1e-2..1e4), so a dip deeper than
@@ -191,153 +192,24 @@ def _eval_f(t, c0, c1, b, lam, res):
 
 
 @njit(cache=True)
-def _cubic(a0, a1, a2, a3, s):
-    return a0 + s * (a1 + s * (0.5 * a2 - s * a3 / 6.0))
+def _f_df(t, c0, c1, b, lam, res):
+    """(f, f') at phase time t (``_eval_f``, which leaves them in res[0], res[1])."""
+    _eval_f(t, c0, c1, b, lam, res)
+    return res[0], res[1]
 
 
-@njit(cache=True)
-def _safe_step(a0, a1, a2, a3):
-    """Largest h (to ~1e-13, from below) with p(s) = a0 + a1 s + a2 s^2/2 - a3 s^3/6 > 0 on
-    [0, h); a0 > 0, a3 >= 0. Returns inf if p never vanishes."""
-    if a0 <= 0.0:
-        return 0.0
-    if a3 <= 0.0:  # all higher derivatives vanish: f is linear
-        if a1 < 0.0:
-            return a0 / -a1
-        return math.inf
-    if a1 > 0.0:
-        # Leaving the band edge (every phase starts so): p = a0 + s q(s) with q = a1 + a2 s/2 -
-        # a3 s^2/6 concave and q(0) > 0, so p > a0 up to q's root sq, in closed form. The root of
-        # p lies beyond it by ~a0 / |p'(sq)| = a0 / (sq sqrt(D)): where that is below 1e-13 sq,
-        # sq is the step (no iteration).
-        rd = math.sqrt(0.25 * a2 * a2 + a3 * a1 / 1.5)
-        sq = 3.0 * (0.5 * a2 + rd) / a3 if a2 >= 0.0 else 2.0 * a1 / (rd - 0.5 * a2)
-        if a0 <= 1e-13 * sq * sq * rd:
-            return sq
-    lo = 0.0
-    disc = a2 * a2 + 2.0 * a1 * a3
-    if disc > 0.0:
-        sq = math.sqrt(disc)
-        cr1 = (a2 - sq) / a3
-        cr2 = (a2 + sq) / a3
-        if cr1 > 0.0:  # p decreases on [0, cr1], increases on [cr1, cr2]
-            if _cubic(a0, a1, a2, a3, cr1) <= 0.0:
-                return _mono_root(a0, a1, a2, a3, 0.0, cr1)
-            lo = cr2
-        elif cr2 > 0.0:
-            lo = cr2
-    # p decreases on [lo, inf) from p(lo) > 0.
-    plo = _cubic(a0, a1, a2, a3, lo)
-    h = (6.0 * plo / a3) ** (1.0 / 3.0)
-    d2 = a2 - a3 * lo
-    if d2 <= 0.0:
-        # Concave from lo on and p'(lo) <= 0: every term of p(lo + d) - p(lo) is <= 0, so the
-        # root is within each term's own reach; the nearest starts Newton close to it.
-        d1 = a1 + lo * (a2 - 0.5 * a3 * lo)
-        if d2 < 0.0:
-            h = min(h, math.sqrt(2.0 * plo / -d2))
-        if d1 < 0.0:
-            h = min(h, plo / -d1)
-    h = max(h, 1e-300)
-    hi = lo + h
-    for _ in range(200):
-        if _cubic(a0, a1, a2, a3, hi) <= 0.0:
-            break
-        lo = hi
-        h *= 2.0
-        hi = lo + h
-    return _mono_root(a0, a1, a2, a3, lo, hi)
-
-
-@njit(cache=True)
-def _mono_root(a0, a1, a2, a3, lo, hi):
-    """Root of the cubic, decreasing on [lo, hi] with p(lo) > 0 >= p(hi); returns a point below
-    it (p > 0 there).
-
-    p is convex left of its inflection a2/a3 and concave right of it, so Newton started on the
-    side where the tangent stays on one side of p converges monotonically (from lo where convex,
-    from hi where concave) in a few steps; a start at a critical point (p' = 0 at lo) would
-    instead fall back to bisection for tens of steps.
-    """
-    infl = a2 / a3
-    if lo < infl < hi:
-        if _cubic(a0, a1, a2, a3, infl) > 0.0:
-            lo = infl
-        else:
-            hi = infl
-    x = lo if hi <= infl else hi
-    for _ in range(100):
-        p = _cubic(a0, a1, a2, a3, x)
-        if p > 0.0:
-            lo = x
-        else:
-            hi = x
-        dp = a1 + x * (a2 - 0.5 * a3 * x)
-        if not dp < 0.0:
-            break
-        xn = x - p / dp
-        if not (lo <= xn <= hi):
-            break
-        if abs(xn - x) <= 1e-9 * xn:  # converged (quadratically: xn is at round-off)
-            back = 4e-15
-            for _ in range(4):
-                xs = xn - back * xn
-                if xs <= lo:
-                    break
-                if _cubic(a0, a1, a2, a3, xs) > 0.0:
-                    return xs
-                back *= 8.0
-            break
-        x = xn
-    # Bisection (Newton stalled, e.g. on a near-double root).
-    for _ in range(100):
-        if hi - lo <= 1e-14 * hi:
-            break
-        x = 0.5 * (lo + hi)
-        if _cubic(a0, a1, a2, a3, x) > 0.0:
-            lo = x
-        else:
-            hi = x
-    return lo
+_polish_gap = newton_polish(_f_df)
 
 
 @njit(cache=True)
 def _refine(lo, hi, c0, c1, b, lam, res, at_lo=False):
     """Root of the gap on [lo, hi], f(lo) > 0 > f(hi) (f strictly decreasing on [lo, hi], or at
-    least past its last crossing): safeguarded Newton to machine precision. ``at_lo``: res
-    already holds the gap at lo (the locator's last step end), so it is not evaluated again."""
+    least past its last crossing): safeguarded Newton to machine precision (roots.newton_polish).
+    ``at_lo``: res already holds the gap at lo (the locator's last step end), so it is not
+    evaluated again."""
     if not at_lo:
         _eval_f(lo, c0, c1, b, lam, res)
-    if res[0] <= 0.0:
-        return lo
-    x = lo
-    best = lo
-    bestf = res[0]
-    for _ in range(200):
-        f = res[0]
-        if abs(f) < bestf:
-            best = x
-            bestf = abs(f)
-        if f == 0.0:
-            return x
-        if f > 0.0:
-            lo = x
-        else:
-            hi = x
-        if hi - lo <= 2.0 * EPS * max(abs(hi), 1.0):
-            break
-        xn = x - f / res[1] if res[1] < 0.0 else 0.5 * (lo + hi)
-        if res[1] < 0.0 and abs(xn - x) <= 2.0 * EPS * abs(x):
-            # Newton has converged (maybe one-sided): its step is below round-off at x. Tested
-            # before the bracket, since a step that rounds to x = lo leaves the bracket and
-            # would start a bisection of the whole (stale) bracket: ~40 more evaluations for
-            # every event of a damped contact, and the same root.
-            break
-        if not (lo < xn < hi):
-            xn = 0.5 * (lo + hi)
-        x = xn
-        _eval_f(x, c0, c1, b, lam, res)
-    return best
+    return _polish_gap(lo, hi, res[0], res[1], (c0, c1, b, lam, res))
 
 
 @njit(cache=True)
@@ -465,7 +337,7 @@ def _locate(c0, c1, b, lam, check_permanent, info, max_steps=MAX_STEPS, res=None
                 return LOC_EVENT
         if f > 0.0:
             t_pos = t
-        h = _safe_step(f + tol, f1, f2, b3)
+        h = first_cubic_root(f + tol, f1, f2, b3)
         if split < math.inf:
             # Two time scales (a contact spring much stiffer than the chain): the fast modes
             # ring inside the slow motion, and bound the cubic's step to a fraction of their
@@ -474,14 +346,24 @@ def _locate(c0, c1, b, lam, check_permanent, info, max_steps=MAX_STEPS, res=None
             # spans many fast periods.
             gap = res[9] - res[13] + tol
             if gap > 0.0:
-                h = max(h, _safe_step(gap, res[10], res[11], res[12]))
+                h = max(h, first_cubic_root(gap, res[10], res[11], res[12]))
         if h == math.inf:
             return LOC_NEVER
         if h <= 4.0 * EPS * max(t, 1.0):
             # Stalled on a tangency exactly at the band edge: it is a graze by the rule; pass it.
-            h = max(_safe_step(f + 2.0 * tol, f1, f2, b3), 4.0 * EPS * max(t, 1.0))
+            h = max(first_cubic_root(f + 2.0 * tol, f1, f2, b3), 4.0 * EPS * max(t, 1.0))
         t += h
     return LOC_BUDGET
+
+
+@njit(cache=True)
+def _slope(t, c0, c1, b, lam, res):
+    """f'(t) (``_eval_gap``, which leaves it in res[1])."""
+    _eval_gap(t, c0, c1, b, lam, res)
+    return res[1]
+
+
+_bisect_slope = bisection(_slope)
 
 
 @njit(cache=True)
@@ -510,16 +392,7 @@ def _xmax(t0, tend, c0, c1, b, lam):
         _eval_gap(t, c0, c1, b, lam, res)
         best = max(best, res[0])
         if slope > 0.0 and res[1] <= 0.0:
-            lo, hi = t - h, t
-            for _ in range(200):
-                mid = 0.5 * (lo + hi)
-                if mid <= lo or mid >= hi:
-                    break
-                _eval_gap(mid, c0, c1, b, lam, res)
-                if res[1] > 0.0:
-                    lo = mid
-                else:
-                    hi = mid
+            lo, hi = _bisect_slope(t - h, t, (c0, c1, b, lam, res))
             _eval_gap(0.5 * (lo + hi), c0, c1, b, lam, res)
             best = max(best, res[0])
             _eval_gap(t, c0, c1, b, lam, res)

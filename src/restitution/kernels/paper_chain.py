@@ -57,10 +57,10 @@ all energy dissipated: STATUS_PERMANENT_CONTACT). Every phase has a step budget
 (STATUS_WORK_BUDGET), so nothing hangs.
 
 Rigid wall + dashpot: m1 chatters against the wall with velocities decaying like 1/n. After
-STICK_AFTER contacts, a contact slower than V_STICK under a compressive force continues with the
-sticking limit (see restitution.kernels.exact_chain): OUT_ERR is then the cut-off speed and
-OUT_FLAGS
-has FLAG_STICKING set.
+STICK_AFTER contacts, a contact slower than V_STICK_CHAIN (two masses: V_STICK_RIGID2) under a
+compressive force continues with the sticking limit (see restitution.kernels.exact_chain and
+kernels/constants.py): OUT_ERR is then at least v^2 (v: the speed where the chatter was cut) and
+OUT_FLAGS has FLAG_STICKING set.
 
 Energies (fractions of the initial kinetic energy Mtot/2) are evaluated at the final separation:
 translational cor^2, vibrational (relative kinetic + structural springs), dissipated = integral

@@ -29,6 +29,7 @@ import math
 
 from numba import njit
 
+from restitution.kernels.constants import EPS
 from restitution.kernels.layout import (
     OUT_COR,
     OUT_ERR,
@@ -38,7 +39,6 @@ from restitution.kernels.layout import (
     STATUS_PERMANENT_CONTACT,
 )
 
-EPS = 2.0**-52
 REPLICA_ULPS = 64.0  # relative size of the replica's perturbations, in ulps
 JITTER = REPLICA_ULPS * EPS
 # Two replicas: one replica lands close to the first run by chance with a probability that falls

@@ -42,8 +42,8 @@ exponentially with the pressed time (~1e39 contacts for alpha = 200, xi = 3); no
 can finish it. Its limit is sticking: m1 at rest on the wall while the force on it,
 k2 (r + 2 xi r'), is compressive; m2 then moves on the spring and dashpot alone (closed form,
 frequency 1/sqrt(1 + alpha)) and m1 lifts off at the first zero of that force (closed form).
-The kernel switches to sticking when, after at least _STICK_AFTER = 2000 contacts (shorter
-chatters are finished exactly), a contact has approach speed v1 below _V_STICK = 1e-3 under
+The kernel switches to sticking when, after at least STICK_AFTER = 2000 contacts (shorter
+chatters are finished exactly), a contact has approach speed v1 below V_STICK_RIGID2 = 1e-3 under
 a compressive force (the dropped 0.5 v1^2, < 5e-7, is booked as dissipated), records the
 sticking phase as one contact interval (H_TEND = lift-off, H_VOUT = 0) and sets OUT_ERR to
 v1^2. The COR error of the cut-off shrinks like its square: cut-offs 1e-1, 1e-2, 1e-3 move the
@@ -60,6 +60,13 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from restitution.kernels.constants import (
+    ENERGY_TOL,
+    EPS,
+    ROUNDOFF_ULPS,
+    STICK_AFTER,
+    V_STICK_RIGID2,
+)
 from restitution.kernels.layout import (
     FLAG_STICKING,
     H_IMPULSE,
@@ -86,22 +93,21 @@ from restitution.kernels.layout import (
     STATUS_OK,
 )
 from restitution.kernels.parallel import row_blocks
-from restitution.kernels.replica import EPS, JITTER, REPLICA_SEED, REPLICAS, combine, finished, weyl
+from restitution.kernels.replica import JITTER, REPLICA_SEED, REPLICAS, combine, finished, weyl
+from restitution.kernels.roots import (
+    expansion,
+    halley_bracketed,
+    hermite_cubic_root,
+    newton_bracketed,
+    newton_descent,
+)
 
-_EPS = 2.220446049250313e-16
 # A damping ratio below the smallest normal float moves the COR by O(xi), far below an ulp, but
 # subnormal arithmetic in the damped closed-form walk fails (event_not_converged): it is 0.
 XI_NEGLIGIBLE = 2.2250738585072014e-308
-ROUNDOFF_ULPS = 64.0  # the round-off floor of OUT_ERR, in ulps per contact (as the chain kernel)
 _TOUCH = 16.0  # contact if g_min < -_TOUCH * eps * (scale of the terms of g)
-_ENERGY_TOL = 1e-9
-_MAX_NEWTON = 200
 _MAX_WALK = 1_000_000  # zeros of g'' visited in one contact search before giving up
 _TWO_PI = 2.0 * math.pi
-_V_STICK = 1e-3  # chatter with bounce speed below this (and a compressive force) -> sticking
-# ... but only once the sequence is long: shorter chatters are finished exactly (they end by
-# themselves within a few thousand contacts, and cutting them costs up to ~1e-5 in the COR).
-_STICK_AFTER = 2000
 
 # 20-point Gauss-Legendre on [-1, 1]: exact to round-off for e^(c s) pieces with |c h| <= 4.
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(20)
@@ -117,7 +123,7 @@ def _tol(V, mu, r0, w0, rs, s):
     The velocities V and w0 carry absolute errors of a few ulps of |V| + mu |w0|, which grow
     linearly in s in the gap; positions those of mu (|r0| + |r(s)|).
     """
-    return _TOUCH * _EPS * ((abs(V) + mu * abs(w0)) * s + mu * (abs(r0) + abs(rs)) + 1e-300)
+    return _TOUCH * EPS * ((abs(V) + mu * abs(w0)) * s + mu * (abs(r0) + abs(rs)) + 1e-300)
 
 
 @njit(cache=True)
@@ -156,26 +162,7 @@ def _gap0(s, V, mu, r0, w0):
     return g, gp, gpp
 
 
-@njit(cache=True)
-def _halley_gap0(lo, hi, x, V, mu, r0, w0):
-    """Root of g on [lo, hi] where g(lo) >= 0 >= g(hi) and g is monotone: Halley from x,
-    safeguarded by bisection."""
-    for _ in range(_MAX_NEWTON):
-        g, gp, gpp = _gap0(x, V, mu, r0, w0)
-        if g == 0.0:
-            return x, True
-        if g > 0.0:
-            lo = x
-        else:
-            hi = x
-        den = 2.0 * gp * gp - g * gpp
-        xn = x - 2.0 * g * gp / den if den != 0.0 else 0.5 * (lo + hi)
-        if not (lo < xn < hi):
-            xn = 0.5 * (lo + hi)
-        if abs(xn - x) <= 4.0 * _EPS * abs(x) or hi - lo <= 4.0 * _EPS * abs(hi):
-            return xn, True
-        x = xn
-    return x, False
+_halley_gap0 = halley_bracketed(_gap0)  # (lo, hi, x, (V, mu, r0, w0))
 
 
 @njit(cache=True)
@@ -225,7 +212,7 @@ def _next_contact0(V, mu, r0, w0):
     x = lo + (smin - lo) * math.acos(max(-1.0, min(1.0, c))) / math.pi
     if not (lo < x < smin):
         x = 0.5 * (lo + smin)
-    return _halley_gap0(lo, smin, x, V, mu, r0, w0)
+    return _halley_gap0(lo, smin, x, (V, mu, r0, w0))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -306,62 +293,34 @@ def _gapd(s, V, mu, xi, q, w, r0, w0):
 
 
 @njit(cache=True)
+def _g(s, V, mu, xi, q, w, r0, w0):
+    """(g, g') at s for xi > 0."""
+    g, gp, _, _ = _gapd(s, V, mu, xi, q, w, r0, w0)
+    return g, gp
+
+
+@njit(cache=True)
+def _dg(s, V, mu, xi, q, w, r0, w0):
+    """(g', g'') at s for xi > 0."""
+    _, gp, gpp, _ = _gapd(s, V, mu, xi, q, w, r0, w0)
+    return gp, gpp
+
+
+_newton_g = newton_bracketed(_g)
+_newton_dg = newton_bracketed(_dg)
+_expand_g = expansion(_g)
+_expand_dg = expansion(_dg)
+_newton_concave = newton_descent(_g)  # (x, args): g concave and decreasing left of x
+
+
+@njit(cache=True)
 def _newton_d(lo, hi, which, V, mu, xi, q, w, r0, w0):
     """Root of g (which=0) or g' (which=1) on [lo, hi], f monotone, f(lo), f(hi) of opposite
-    sign (or zero): bracketed Newton with bisection safeguard."""
-    g, gp, gpp, _ = _gapd(lo, V, mu, xi, q, w, r0, w0)
-    flo = g if which == 0 else gp
-    x = 0.5 * (lo + hi)
-    for _ in range(_MAX_NEWTON):
-        g, gp, gpp, _ = _gapd(x, V, mu, xi, q, w, r0, w0)
-        f = g if which == 0 else gp
-        df = gp if which == 0 else gpp
-        if f == 0.0:
-            return x, True
-        if (f > 0.0) == (flo > 0.0):
-            lo = x
-        else:
-            hi = x
-        xn = x - f / df if df != 0.0 else 0.5 * (lo + hi)
-        if not (min(lo, hi) < xn < max(lo, hi)):
-            xn = 0.5 * (lo + hi)
-        if abs(xn - x) <= 2.0 * _EPS * abs(x) or abs(hi - lo) <= 4.0 * _EPS * max(abs(hi), abs(lo)):
-            return xn, True
-        x = xn
-    return x, False
-
-
-@njit(cache=True)
-def _newton_concave(x, V, mu, xi, q, w, r0, w0):
-    """Root of g left of x where g is concave and decreasing on [root, x] and g(x) < 0: Newton
-    steps from x decrease monotonically onto the root (each tangent lies above g)."""
-    for _ in range(_MAX_NEWTON):
-        g, gp, _, _ = _gapd(x, V, mu, xi, q, w, r0, w0)
-        if g >= 0.0 or gp >= 0.0:  # at the root (to round-off)
-            return x, True
-        xn = x - g / gp
-        if not (xn < x) or x - xn <= 2.0 * _EPS * abs(x):
-            return xn, True
-        x = xn
-    return x, False
-
-
-@njit(cache=True)
-def _hermite_root(sa, ga, gpa, sb, gb, gpb):
-    """Root in (sa, sb) of the Hermite cubic through (sa, ga, gpa) and (sb, gb, gpb), found by
-    Newton from sb (gb < 0 > gpb): a first guess only, or -1.0."""
-    h = sb - sa
-    a1 = h * gpa
-    a2 = 3.0 * (gb - ga) - h * (2.0 * gpa + gpb)
-    a3 = 2.0 * (ga - gb) + h * (gpa + gpb)
-    x = 1.0
-    for _ in range(8):
-        p = ga + x * (a1 + x * (a2 + x * a3))
-        dp = a1 + x * (2.0 * a2 + 3.0 * x * a3)
-        if not dp < 0.0:
-            return -1.0
-        x -= p / dp
-    return sa + x * h if 0.0 < x < 1.0 else -1.0
+    sign (or zero): bracketed Newton with bisection safeguard (roots.newton_bracketed)."""
+    args = (V, mu, xi, q, w, r0, w0)
+    if which == 0:
+        return _newton_g(lo, hi, args)
+    return _newton_dg(lo, hi, args)
 
 
 @njit(cache=True)
@@ -419,16 +378,12 @@ def _env_proof(s, V, mu, xi, q, w, r0, w0):
 
 @njit(cache=True)
 def _expand(lo, which, sgn, V, mu, xi, q, w, r0, w0, thresh):
-    """On a monotone tail, double the step until sgn f(hi) < thresh (f = g or g')."""
-    step = max(1.0, lo)
-    for _ in range(2100):
-        hi = lo + step
-        g, gp, _, _ = _gapd(hi, V, mu, xi, q, w, r0, w0)
-        f = g if which == 0 else gp
-        if sgn * f < thresh:
-            return hi
-        step *= 2.0
-    return math.inf
+    """On a monotone tail, double the step until sgn f(hi) < thresh (f = g or g';
+    roots.expansion)."""
+    args = (V, mu, xi, q, w, r0, w0)
+    if which == 0:
+        return _expand_g(lo, sgn, thresh, args)
+    return _expand_dg(lo, sgn, thresh, args)
 
 
 @njit(cache=True)
@@ -464,12 +419,12 @@ def _next_contact_d(V, mu, xi, q, w, r0, w0):
                 # the Hermite cubic of g on [sa, sb] (any Newton step from where g falls lands
                 # right of the crossing, g being concave), else sb itself.
                 x = sb
-                xg = _hermite_root(sa, ga, gpa, sb, gb, gpb)
+                xg = hermite_cubic_root(sa, ga, gpa, sb, gb, gpb)
                 if sa < xg < sb:
                     g1, gp1, _, _ = _gapd(xg, V, mu, xi, q, w, r0, w0)
                     if gp1 < 0.0:
                         x = min(xg - g1 / gp1, sb)
-                return _newton_concave(x, V, mu, xi, q, w, r0, w0)
+                return _newton_concave(x, (V, mu, xi, q, w, r0, w0))
             hi = sb if sb < math.inf else _expand(sa, 1, 1.0, V, mu, xi, q, w, r0, w0, 0.0)
             if hi == math.inf:
                 return 0.0, False
@@ -616,7 +571,7 @@ def _rigid2(alpha, xi, max_events, hist, v_stick, jitter=0.0, seed=0):
             rp *= 1.0 + jitter * weyl(jc + 2)
             jc += 3
         v1 = min(V - mu * rp, 0.0)  # m1's approach speed (<= 0)
-        if xi > 0.0 and n >= _STICK_AFTER and -v1 < v_stick and r0 + 2.0 * xi * rp < 0.0:
+        if xi > 0.0 and n >= STICK_AFTER and -v1 < v_stick and r0 + 2.0 * xi * rp < 0.0:
             # Chatter under a compressive force: its limit is sticking (see module docstring).
             v2 = V + (1.0 - mu) * rp
             s_l, r_l, rp_l, d = _stick(alpha, xi, r0, v2)
@@ -669,7 +624,7 @@ def _rigid2(alpha, xi, max_events, hist, v_stick, jitter=0.0, seed=0):
     out[OUT_ERR] = max(err, ROUNDOFF_ULPS * EPS * max(n, 1))  # round-off floor per contact
     out[OUT_FLAGS] = FLAG_STICKING if lost > 0.0 else 0
     total = out[OUT_ETRANS] + out[OUT_EVIB] + out[OUT_EDISS]
-    if status == STATUS_OK and abs(total - 1.0) > _ENERGY_TOL:
+    if status == STATUS_OK and abs(total - 1.0) > ENERGY_TOL:
         status = STATUS_ENERGY
     out[OUT_STATUS] = status
     return out
@@ -706,7 +661,7 @@ def rigid2(alpha, xi, max_events, hist):
     >>> round(float(out[OUT_COR]), 12), int(out[OUT_NCOL])
     (1.0, 2)
     """
-    out = _rigid2(alpha, xi, max_events, hist, _V_STICK, 0.0)
+    out = _rigid2(alpha, xi, max_events, hist, V_STICK_RIGID2, 0.0)
     if not finished(out[OUT_STATUS]):
         return out
     reps = np.empty((REPLICAS, N_OUT))
@@ -714,7 +669,7 @@ def rigid2(alpha, xi, max_events, hist):
         seed = r * REPLICA_SEED
         a = alpha * (1.0 + JITTER * weyl(seed))
         x = xi * (1.0 + JITTER * weyl(seed + 1))
-        reps[r] = _rigid2(a, x, max_events, np.zeros((0, N_HIST)), _V_STICK, JITTER, seed + 2)
+        reps[r] = _rigid2(a, x, max_events, np.zeros((0, N_HIST)), V_STICK_RIGID2, JITTER, seed + 2)
     return combine(out, reps)
 
 

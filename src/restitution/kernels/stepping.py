@@ -89,6 +89,7 @@ from restitution.kernels.layout import (
     STATUS_WORK_BUDGET,
 )
 from restitution.kernels.parallel import row_blocks
+from restitution.kernels.roots import bisection
 from restitution.model.laws import (
     C_HERTZ,
     C_PLASTIC,
@@ -139,6 +140,9 @@ def _gap(s, x0, v, mu, xi, w, r0, w0):
     return x0 + v * s - mu * r
 
 
+_bisect_gap = bisection(_gap)
+
+
 @njit(cache=True, error_model="numpy")
 def free_flight_linear(y, xp, m1, m2, k, c):
     """Advance two masses joined by a linear link (k, dashpot c; no contact) to the next contact;
@@ -177,16 +181,7 @@ def free_flight_linear(y, xp, m1, m2, k, c):
             break
         gb = _gap(s + h, x0, v, mu, xi, w, r0, w0)
         if gb <= 0.0:
-            lo, hi = s, s + h
-            for _ in range(200):
-                mid = 0.5 * (lo + hi)
-                if mid <= lo or mid >= hi:
-                    break
-                if _gap(mid, x0, v, mu, xi, w, r0, w0) > 0.0:
-                    lo = mid
-                else:
-                    hi = mid
-            hit = hi
+            hit = _bisect_gap(s, s + h, (x0, v, mu, xi, w, r0, w0))[1]
             break
         if min(gs, gb) - gbound * h * h / 8.0 > 0.0 or w * h < 1e-12 * max(1.0, w * s):
             s += h

@@ -37,6 +37,7 @@ from restitution.model.ranges import (
     _show,
     missing_cell,
 )
+from restitution.model.units import kernel_params
 
 # The one table of parameter ranges (``RANGES``, with ``Range``) lives in ``_base`` so that
 # ``restitution.model.laws`` reads the same table; it is checked here (``check``, ``check_column``).
@@ -265,7 +266,7 @@ class Chain:
                     f"contact.k (the {law!r} law's stiffness) must be "
                     f"{RANGES['k_contact'].text}; got {_show(k_law)}"
                 ) from None
-            if law in ("plastic", "hertz") and not math.isfinite(k_law):
+            if law not in ("rigid", "linear") and not math.isfinite(k_law):
                 raise SceneError(
                     f"contact: the {law!r} law needs a finite k > 0 (in the paper's form: beta > 0)"
                 )
@@ -290,10 +291,15 @@ class Chain:
         _assign(self, contact=contact, links=links)
         for a in (m, k, c):
             a.setflags(write=False)
-        # (a Hertz constant is no stiffness: its ratio to the first spring is checked by the law,
-        # at m1's depth, in pack_chain below)
-        hertz = contact is not None and contact["law"] == "hertz"
-        _check_ratios(m, k, c, math.inf if hertz else kc)
+        # beta = k_12 / k is checked where the law's k is a stiffness (unit m1 omega**2 in its
+        # table); any other k (a Hertz constant) is checked by the law, at m1's depth, in
+        # pack_chain below
+        stiff = True
+        if contact is not None:
+            from restitution.model import laws  # (already imported by _law)
+
+            stiff = laws.CONTACT_LAWS[contact["law"]][2].get("k") == (1, 2)
+        _check_ratios(m, k, c, kc if stiff else math.inf)
         if contact is not None or links is not None:
             # The laws' own parameter checks (restitution.model.laws), before any work.
             from restitution.model.laws import pack_chain
@@ -396,13 +402,9 @@ class Chain:
         """(m, k, c, kc) in the kernels' units m_1 = 1, omega = 1 (module docstring)."""
         if self.preset is not None:
             return self.masses, self.springs, self.dashpots, self.k_contact
-        m1, w = float(self.masses[0]), self.omega
-        w2 = w * w
-        return (
-            self.masses / m1,
-            self.springs / (m1 * w2),
-            self.dashpots / (m1 * w),
-            self.k_contact / (m1 * w2),
+        m1 = float(self.masses[0])
+        return kernel_params(
+            self.masses, self.springs, self.dashpots, self.k_contact, m1, self.omega
         )
 
     @property

@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 
 from restitution.model.ranges import SceneError
+from restitution.model.units import user_speed, user_time
 
 
 def _positive(name: str, value) -> float:
@@ -65,8 +66,8 @@ def to_dimensional(result, m1: float, m2: float, k2: float, V0: float, n_masses:
     w = omega(m1, m2, k2)
     e0 = 0.5 * (m1 + (n_masses - 1) * m2) * V0 * V0
     return dict(
-        rebound_velocity=result.cor * V0,
-        t_col=result.omega_t_col / w,
+        rebound_velocity=user_speed(result.cor, V0),
+        t_col=user_time(result.omega_t_col, w),
         kinetic_energy=result.e_translational * e0,
         vibration_energy=result.e_vibrational * e0,
         dissipated_energy=result.e_dissipated * e0,

@@ -201,15 +201,7 @@ def check_frequency_spread(m, lk, c, cp, v0: float) -> float:
         hi = max(hi, c[i] * inv)
         k_soft = lk[i][SP_K2] if lk[i][SP_KIND] == S_LINEAR else structure_slope(lk[i], 0.0)
         lo = min(lo, math.sqrt(k_soft * inv))
-    k_eff = math.nan  # the contact's effective stiffness for m1 alone at v0
-    if cp[0] == C_LINEAR:
-        k_eff = cp[1]
-    elif cp[0] == C_HERTZ:
-        k_eff = hertz_slope_at_depth(cp[2], v0)
-    elif cp[0] == C_PLASTIC:
-        eta = cp[3]
-        xmax = ((eta + 1.0) * v0 * v0 / (2.0 * cp[2])) ** (1.0 / (eta + 1.0))
-        k_eff = cp[2] * xmax**eta / xmax
+    k_eff = effective_stiffness(cp, v0)
     if k_eff == k_eff:
         lo = min(lo, math.sqrt(k_eff / sum(m)))
     spread = hi / lo
@@ -221,6 +213,20 @@ def check_frequency_spread(m, lk, c, cp, v0: float) -> float:
             f"(narrow the ratios of masses, springs and the contact stiffness)"
         )
     return spread
+
+
+def effective_stiffness(cp, v0: float) -> float:
+    """The packed contact law's stiffness for m1 alone hitting it at v0 (kernel units): the
+    linear k, Hertz's slope at m1's depth, the plastic loading secant; NaN for the rigid wall."""
+    if cp[0] == C_LINEAR:
+        return cp[1]
+    if cp[0] == C_HERTZ:
+        return hertz_slope_at_depth(cp[2], v0)
+    if cp[0] == C_PLASTIC:
+        eta = cp[3]
+        xmax = ((eta + 1.0) * v0 * v0 / (2.0 * cp[2])) ** (1.0 / (eta + 1.0))
+        return cp[2] * xmax**eta / xmax
+    return math.nan
 
 
 def plastic_loading_secant(dr: float, eta: float, k1: float) -> float:

@@ -37,6 +37,7 @@ import numpy as np
 from restitution.kernels import layout as L
 from restitution.model.chain import Chain, SceneError, check
 from restitution.model.ranges import HISTORY_MAX_EVENTS, _show
+from restitution.model.units import kernel_time
 from restitution.solvers import exact
 from restitution.solvers.result import label
 
@@ -287,7 +288,7 @@ def _run_precise(ch: Chain, opts: Options):
         return out, None
     out[L.OUT_STATUS] = L.STATUS_OK if r.status == "ok" else L.STATUS_ILL_CONDITIONED
     out[L.OUT_COR] = r.cor
-    out[L.OUT_TCOL] = r.t_col * ch.omega
+    out[L.OUT_TCOL] = kernel_time(r.t_col, ch.omega)
     out[L.OUT_ETRANS] = r.e_translational
     out[L.OUT_EVIB] = r.e_vibrational
     out[L.OUT_EDISS] = 1.0 - r.e_translational - r.e_vibrational

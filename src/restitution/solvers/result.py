@@ -9,6 +9,7 @@ import numpy as np
 import pandas as pd
 
 from restitution.kernels import layout as L
+from restitution.model.units import user_time
 
 # Status names by the layout constant that holds their code (a code the installed kernels do not
 # define is simply absent).
@@ -195,7 +196,7 @@ class Result:
             status=status_name(row[L.OUT_STATUS]),
             error_estimate=row[L.OUT_ERR],
             history=history,
-            t_col=tcol / omega,
+            t_col=user_time(tcol, omega),
             _scene=chain,
             _paper=paper,
         )

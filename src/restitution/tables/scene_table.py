@@ -27,6 +27,7 @@ import pandas as pd
 
 from restitution.model.chain import Chain, SceneError, check_column, paper_with_laws
 from restitution.model.ranges import _real, _show, missing_cell, missing_list
+from restitution.model.units import kernel_params
 from restitution.solvers import methods as M
 from restitution.solvers.result import RESULT_COLUMNS, T_COL
 from restitution.tables import linear_rows
@@ -347,14 +348,11 @@ class SceneTable:
         if self._raw is not None:  # column-wise: the operations of Chain.scaled on every row
             m_raw, k_raw, c_raw = self._raw
             m, k, c = m_raw[rows, :nmax], k_raw[rows, : nmax - 1], c_raw[rows, : nmax - 1]
-            m1 = m[:, 0]
-            w = self.plan["omega"][rows]
-            w2 = w * w
-            scale = (m1 * w2)[:, None]
-            m, k = m / m1[:, None], k / scale
+            m1, w = m[:, :1], self.plan["omega"][rows][:, None]  # (one per row, as columns)
+            m, k, c, kc = kernel_params(m, k, c, self._kc[rows][:, None], m1, w)
             m[np.arange(nmax) >= n[:, None]] = 1.0  # the padding as the row-by-row path pads
             k[np.arange(nmax - 1) >= n[:, None] - 1] = 1.0
-            return m, k, c / (m1 * w)[:, None], n, self._kc[rows] / scale[:, 0]
+            return m, k, c, n, kc[:, 0]
         scaled = [self.chains[i].scaled() for i in rows]
         m, k, c = (
             np.ones((len(rows), nmax)),
