@@ -11,8 +11,11 @@ them and prints the constants pasted here, with their source and absolute error 
   round-off bound.
 * N = 32 chain: scipy DOP853 per phase (max_step 1/125 of the fastest period), rtol 1e-11..1e-13;
   bound = 10 x the spread of the sweep, at least 1e-12.
-* Nonlinear laws: ``restitution.solvers.reference`` (scipy, independent of the numba integrators) at
-  rtol 1e-11..1e-13; bound as for the chain.
+* Nonlinear laws: the plastic contact by ``benchmarks/mp_nonlinear.py`` (mpmath Taylor series, the
+  power law's first loading in sigma = sqrt(x)) at 30 and 40 digits, bound 10 x their difference
+  plus half an ulp (the scipy reference at rtol 1e-13 was 5e-13 off, within its 3.6e-10); the
+  scissor spring by ``restitution.solvers.reference`` (scipy, independent of the numba
+  integrators) at rtol 1e-11..1e-13, bound as for the chain.
 
 Contact count at a grazing point. At alpha*_n the (n+1)-th contact is a tangency with zero
 depth and zero impulse: not a contact interval. The scene's alpha is the largest float64 below
@@ -195,10 +198,10 @@ SCENES: tuple[Scene, ...] = (
         5.0,
         beta=1e-2,
         law={"contact": "plastic", "eta": 0.5, "dr": 0.3},
-        reference_cor=0.8544527913392974,
+        reference_cor=0.8544527913387966,
         reference_contacts=5,
-        reference_bound=3.6e-10,
-        reference_source="restitution.solvers.reference (scipy DOP853), rtol 1e-13",
+        reference_bound=1.2e-16,
+        reference_source="benchmarks/mp_nonlinear.py (mpmath Taylor series), 30 and 40 digits",
     ),
     # Scissor spring of Fig. 5(b) (beta = 1, ks = k1/100), alpha = 1, L = 54: the peak
     # compression is 1.01 times the lock extension x_lock (where the slope vanishes and the

@@ -1,0 +1,84 @@
+"""The adaptive kernel on power-law contacts against an independent 30-digit reference.
+
+The reference (benchmarks/mp_nonlinear.py: mpmath Taylor series, the ends of the power law in
+sigma = sqrt(x), linear free flight by matrix exponentials; no numba, no Runge-Kutta) is first
+checked against the closed forms of one mass; its values for the chains below are pasted (30 and
+40 digits agree to the last float64 digit; ``python benchmarks/bench_nonlinear_precision.py``
+recomputes them).
+"""
+
+import math
+import sys
+from pathlib import Path
+
+import pytest
+from scipy.special import beta as beta_fn
+
+import restitution as R
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+import mp_nonlinear as MP  # noqa: E402
+
+# (name, chain, reference COR, contacts): Hertz on two masses and on the three-mass chain of
+# issue 27, the hard suite's plastic scene (eta = 0.5, reloads past its maximum) in kernel units
+SCENES = [
+    (
+        "hertz2",
+        dict(masses=[1.0, 2.0], springs=[2.0 / 3.0], contact={"law": "hertz", "k": 20.0}),
+        0.6833725219079727,
+        2,
+    ),
+    (
+        "hertz3",
+        dict(masses=[1, 0.5, 2], springs=[0.3, 1.2], contact={"law": "hertz", "k": 50}),
+        0.9626530924164504,
+        3,
+    ),
+]
+
+
+@pytest.mark.parametrize("k_h, v0, m", [(1.0, 1.0, 1.0), (2.0, 7.0, 3.5)])
+def test_reference_reproduces_one_mass_on_hertz(k_h, v0, m):
+    r = MP.solve(MP.Chain([m], [], None, ("hertz", k_h)), v0, dps=30)
+    assert r["contacts"] == 1
+    assert abs(r["cor"] - 1) < 1e-18
+    mp = MP.mp
+    f = mp.mpf(2) / 5  # not the float 0.4
+    t_c = 2 * f * mp.beta(f, mp.mpf(1) / 2) * (mp.mpf(5) / 4) ** f
+    t_c *= (mp.mpf(m) / k_h) ** f * mp.mpf(v0) ** (-f / 2)
+    assert abs(r["t_col"] / t_c - 1) < 1e-18
+
+
+def test_reference_reproduces_one_mass_on_a_power_law():
+    # loading k x**0.5 from 0, unloading on the line of slope k1: COR sqrt(1 - DR)
+    from restitution.model import laws
+
+    k1, dr, eta, v0 = 30.0, 0.3, 0.5, 1.0
+    kappa = laws.plastic_kappa(dr, eta, k1, v0, 1.0)
+    r = MP.solve(MP.Chain([1.0], [], None, ("plastic", k1, kappa, eta)), v0, dps=30)
+    assert r["contacts"] == 1
+    x_max = ((eta + 1.0) / (2.0 * kappa)) ** (1.0 / (eta + 1.0))
+    t_c = x_max * beta_fn(1.0 / (eta + 1.0), 0.5) / (eta + 1.0) + 0.5 * math.pi / math.sqrt(k1)
+    assert abs(float(r["cor"]) - math.sqrt(1.0 - dr)) < 1e-15
+    assert abs(float(r["t_col"]) / t_c - 1.0) < 1e-13
+
+
+@pytest.mark.parametrize("name, kw, ref, ncol", SCENES, ids=[s[0] for s in SCENES])
+@pytest.mark.parametrize("rtol", [1e-8, 1e-10, 1e-12])
+def test_adaptive_within_its_estimate_and_1e12_at_rtol_1e12(name, kw, ref, ncol, rtol):
+    r = R.solve(**kw, method="adaptive", rtol=rtol)
+    assert r.status == "ok" and r.n_collisions == ncol
+    err = abs(r.cor - ref)
+    assert err <= r.error_estimate
+    if rtol <= 1e-12:
+        assert err < 1e-12
+
+
+def test_plastic_scene_against_the_reference():
+    from restitution_workflow.bench.scenes import scene
+
+    sc = scene("plastic")
+    r = R.solve(**sc.solve_kwargs(), method="adaptive", rtol=1e-12)
+    assert r.status == "ok" and r.n_collisions == sc.reference_contacts
+    assert abs(r.cor - sc.reference_cor) < 1e-12 + sc.reference_bound
+    assert abs(r.cor - sc.reference_cor) <= r.error_estimate + sc.reference_bound
