@@ -7,9 +7,9 @@ import pytest
 from scipy.optimize import brentq
 
 from conftest import solve_paper_law
-from restitution.kernels.integrators import first_root
 from restitution.kernels.paper_chain import solve_linear
 from restitution.kernels.rigid2 import rigid2
+from restitution.kernels.roots import first_root
 from restitution.kernels.stepping import METHOD_VERLET, solve_scene
 from restitution.model.chain import Chain
 from restitution.solvers.numerical import packed

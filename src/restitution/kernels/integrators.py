@@ -45,6 +45,7 @@ import numpy as np
 from numba import njit
 
 from restitution.kernels import dop853_tableau as T
+from restitution.kernels.roots import first_root
 from restitution.model.laws import (
     C_PLASTIC,
     C_RIGID,
@@ -80,10 +81,6 @@ for _k in range(N_DENSE):
         _p[1:] = _p[1:] - _p[:-1]
     DENSE_MONO[_k] = _p
 del _k, _p
-
-_BINOM = np.array(
-    [[math.comb(i, j) for j in range(N_DENSE + 1)] for i in range(N_DENSE + 1)], dtype=np.float64
-)
 
 M_PHASE, M_BRANCH, M_XMAX, M_FMAX, M_XP = 0, 1, 2, 3, 4
 N_MEM = 8
@@ -173,88 +170,6 @@ def dense_state(y0, F, theta, out):
             acc += F[k, i]
             acc *= theta if k % 2 == 0 else 1.0 - theta
         out[i] = y0[i] + acc
-
-
-@njit(cache=True, error_model="numpy")
-def poly_val(c, n, t):
-    acc = 0.0
-    for k in range(n, -1, -1):
-        acc = acc * t + c[k]
-    return acc
-
-
-@njit(cache=True, error_model="numpy")
-def _bernstein_min(c, n, a, b):
-    """Smallest Bernstein coefficient of the degree-n polynomial c restricted to [a, b]."""
-    # Taylor shift to a, then scale by (b - a)**k: monomials in s in [0, 1].
-    d = np.empty(n + 1)
-    for k in range(n + 1):
-        d[k] = c[k]
-    for i in range(n):
-        for k in range(n - 1, i - 1, -1):
-            d[k] += a * d[k + 1]
-    sc = 1.0
-    for k in range(n + 1):
-        d[k] *= sc
-        sc *= b - a
-    # monomial -> Bernstein: b_i = sum_j C(i,j)/C(n,j) d_j
-    m = math.inf
-    for i in range(n + 1):
-        acc = 0.0
-        for j in range(i + 1):
-            acc += _BINOM[i, j] / _BINOM[n, j] * d[j]
-        m = min(m, acc)
-    return m
-
-
-@njit(cache=True, error_model="numpy")
-def first_root(c, n, strip):
-    """First theta in (0, 1] where the polynomial goes from > 0 to <= 0; -1.0 if none.
-
-    ``strip`` leading coefficients are known to be exactly zero (the event starts on its surface);
-    they are divided out. Returns 0.0 if the function moves to the negative side at once.
-    """
-    m = n - strip
-    if c[strip] <= 0.0:
-        return 0.0
-    if m == 0:
-        return -1.0
-    # |p(theta) - p(0)| <= sum |q_k| on [0, 1]: most steps end here, far from any event
-    spread = 0.0
-    for k in range(1, m + 1):
-        spread += abs(c[k + strip])
-    if c[strip] > spread:
-        return -1.0
-    q = np.zeros(n + 1)
-    for k in range(m + 1):
-        q[k] = c[k + strip]
-    stack_a = np.empty(128)
-    stack_b = np.empty(128)
-    top = 0
-    stack_a[0], stack_b[0] = 0.0, 1.0
-    top = 1
-    while top > 0:
-        top -= 1
-        a, b = stack_a[top], stack_b[top]
-        if poly_val(q, m, b) <= 0.0:
-            # bracketed: p(a) > 0 >= p(b); Illinois-safeguarded bisection to round-off
-            for _ in range(200):
-                mid = 0.5 * (a + b)
-                if mid <= a or mid >= b:
-                    break
-                fm = poly_val(q, m, mid)
-                if fm > 0.0:
-                    a = mid
-                else:
-                    b = mid
-            return b
-        if _bernstein_min(q, m, a, b) > 0.0 or b - a < 1e-13 or top > 120:
-            continue  # provably no root here (or a tangency below round-off)
-        mid = 0.5 * (a + b)
-        stack_a[top], stack_b[top] = mid, b
-        stack_a[top + 1], stack_b[top + 1] = a, mid
-        top += 2
-    return -1.0
 
 
 @njit(cache=True, error_model="numpy")
