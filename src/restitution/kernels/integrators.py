@@ -102,20 +102,28 @@ STOP_NO_CONTACT = 1
 
 
 @njit(cache=True, error_model="numpy")
+def stage_state(y, K, h, s, out):
+    """out = y + h sum_j A[s, j] K[j]: stage s's state, summed over the (contiguous) state and
+    skipping the tableau's zeros."""
+    n = y.shape[0]
+    for i in range(n):
+        out[i] = 0.0
+    for j in range(s):
+        a = DP_A[s, j]
+        if a != 0.0:
+            for i in range(n):
+                out[i] += a * K[j, i]
+    for i in range(n):
+        out[i] = y[i] + h * out[i]
+
+
+@njit(cache=True, error_model="numpy")
 def dense_coeffs(y0, ynew, K, h, m, lk, c, cp, mem, F, tmp):
     """The 7th-order dense output of an accepted step (scipy's DOP853._dense_output_impl): the
     three extra stages into K[13:16], then F (7 x len(y)) with y(theta) = y0 + sum_k F_k b_k."""
     n = y0.shape[0]
     for s in range(N_ST + 1, N_EXT):
-        for i in range(n):
-            tmp[i] = 0.0
-        for j in range(s):
-            a = DP_A[s, j]
-            if a != 0.0:
-                for i in range(n):
-                    tmp[i] += a * K[j, i]
-        for i in range(n):
-            tmp[i] = y0[i] + h * tmp[i]
+        stage_state(y0, K, h, s, tmp)
         rhs(tmp, m, lk, c, cp, mem, F[0])  # F[0] as scratch (a row view once per stage)
         for i in range(n):
             K[s, i] = F[0, i]
@@ -231,16 +239,7 @@ def dp_step(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp, sig=False, s0
     for i in range(n):
         K[0, i] = f0[i]
     for s in range(1, N_ST):
-        # stage by stage over the (contiguous) state, skipping the tableau's zeros
-        for i in range(n):
-            tmp[i] = 0.0
-        for j in range(s):
-            a = DP_A[s, j]
-            if a != 0.0:
-                for i in range(n):
-                    tmp[i] += a * K[j, i]
-        for i in range(n):
-            tmp[i] = y[i] + h * tmp[i]
+        stage_state(y, K, h, s, tmp)
         # into ynew (free until the end) and copied: a row view K[s] costs a reference count
         if sig:
             rhs_sigma(s0 + DP_C[s] * h, tmp, m, lk, c, cp, mem, ynew)
