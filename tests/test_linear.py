@@ -389,6 +389,7 @@ def test_sample_linear_continuous_and_consistent():
 def test_permanent_contact_is_proven():
     """A strongly damped contact whose slowest (real) mode presses m1 into the wall never ends;
     the opposite creep separates. Internal locator, hand-made start states."""
+    from restitution.kernels.locator import N_INFO
     from restitution.kernels.paper_chain import (
         LOC_EVENT,
         LOC_PERMANENT,
@@ -405,7 +406,7 @@ def test_permanent_contact_is_proven():
     codes = []
     for u2 in (0.5, -0.5):  # m2 beyond / inside equilibrium, creeping back in the slow mode
         z = P @ np.array([0.0, u2, -1e-3, -s * u2], dtype=complex)
-        info = np.zeros(4)
+        info = np.zeros(N_INFO)
         codes.append(_locate(0.0, 0.0, -U[0] * z, lam, True, info))
     assert codes == [LOC_PERMANENT, LOC_EVENT]
 

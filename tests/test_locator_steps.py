@@ -11,7 +11,7 @@ from scipy.linalg import expm
 
 from restitution.kernels.exact_chain import PH_CONTACT, _modal_model, _run
 from restitution.kernels.layout import N_HIST
-from restitution.kernels.locator import _locate
+from restitution.kernels.locator import N_INFO, _locate
 from restitution.kernels.paper_chain import _paper_chain
 from restitution.kernels.roots import first_cubic_root as _safe_step
 from test_modal_basis import _system
@@ -61,7 +61,7 @@ def test_safe_step_is_the_first_root_from_below():
 def _contact_phases(alpha, beta, xi, n):
     m, k, c, kc = _paper_chain(alpha, beta, xi, n)
     rec = np.zeros((400, 3 + 2 * n))
-    _, nrec = _run(m, k, c, kc, 1000, np.zeros((0, N_HIST)), rec, 2e7)
+    _, nrec, _ = _run(m, k, c, kc, 1000, np.zeros((0, N_HIST)), rec, 2e7)
     lam, U, P, _ = _modal_model(m, k, c, kc, 0.0, False)
     S = _system(m, k, c, kc)
     rows = [i for i in range(min(nrec, rec.shape[0])) if rec[i, 1] == PH_CONTACT]
@@ -84,7 +84,7 @@ def test_contact_end_is_the_first_separation(alpha, beta, xi, n):
     and leaving it there. Most of these ends are certified after one step by the cubic upper
     bound; this checks that the certificate never skips a separation."""
     for y0, lam, U, P, S in _contact_phases(alpha, beta, xi, n):
-        info = np.zeros(4)
+        info = np.zeros(N_INFO)
         code = _locate(0.0, 0.0, -U[0] * (P @ y0.astype(complex)), lam, True, info)
         assert code == 0
         te = info[0]

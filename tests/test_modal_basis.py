@@ -9,7 +9,7 @@ from scipy.linalg import expm
 
 from restitution.kernels.exact_chain import PH_CONTACT, _modal_model, _modal_state, _run
 from restitution.kernels.layout import N_HIST
-from restitution.kernels.locator import _locate
+from restitution.kernels.locator import N_INFO, _locate
 from restitution.kernels.paper_chain import _paper_chain
 from test_chain_kernel import chain_mats
 
@@ -91,11 +91,11 @@ def test_long_ringing_contact_located_in_few_steps():
     first time m1 leaves the wall, checked on a grid of 1/32 fast period by expm."""
     m, k, c, kc = _paper_chain(200.0, 1e-3, 0.3, 2)
     rec = np.zeros((200, 7))
-    out, nrec = _run(m, k, c, kc, 1000, np.zeros((0, N_HIST)), rec, 2e7)
+    out, nrec, _ = _run(m, k, c, kc, 1000, np.zeros((0, N_HIST)), rec, 2e7)
     last = max(i for i in range(nrec) if rec[i, 1] == PH_CONTACT)
     y0 = rec[last, 3:]
     lam, U, P, _ = _modal_model(m, k, c, kc, 0.0, False)
-    info = np.zeros(4)
+    info = np.zeros(N_INFO)
     b = -U[0] * (P @ y0.astype(complex))
     code = _locate(0.0, 0.0, b, lam, True, info)
     te = info[0]

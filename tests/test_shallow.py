@@ -106,15 +106,7 @@ def _own_step(seed: int, lo: float, hi: float):
 @pytest.mark.parametrize(
     "seed",
     [
-        pytest.param(
-            7,
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="below the step the kernel passes a real dip as a graze: 58 contacts "
-                "(reference 59), COR off by 2.9e-8 under an estimate of 8.2e-13 (the error a "
-                "passed graze can cause is not yet in the estimate; docs/accuracy.md)",
-            ),
-        ),
+        7,
         14,
     ],
 )

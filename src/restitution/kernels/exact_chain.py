@@ -123,7 +123,9 @@ from restitution.kernels.locator import (
     LOC_NEVER,
     LOC_PERMANENT,
     MAX_STEPS,
+    N_INFO,
     N_RES,
+    PASS_DEPTH,
     _diss_modal_inf,
     _diss_pairs,
     _diss_scalar,
@@ -135,7 +137,15 @@ from restitution.kernels.locator import (
     _xmax,
 )
 from restitution.kernels.parallel import row_blocks
-from restitution.kernels.replica import JITTER, REPLICA_SEED, REPLICAS, combine, finished, weyl
+from restitution.kernels.replica import (
+    JITTER,
+    REPLICA_SAFETY,
+    REPLICA_SEED,
+    REPLICAS,
+    combine,
+    finished,
+    weyl,
+)
 from restitution.kernels.rigid2 import XI_NEGLIGIBLE, _next_contact0, _next_contact_d, _rigid2
 from restitution.kernels.roots import threshold_bisection
 
@@ -158,6 +168,10 @@ WORK_MAX = 2e7  # operations (modal term evaluations) per scene before STATUS_WO
 BETA_RIGID = 1e-20
 BETA_FALLBACK = 1e-6
 RIGID_LIMIT_C = 10.0
+# A passed dip that may lie closer than this to gap 0 (in bands, the locator's closest pass: -1
+# at the band's edge, 0 at gap 0) is re-run as a contact (_checked_units): a computed gap is
+# within ~0.2 bands of the exact one (locator.BAND_ULPS), so this keeps a margin of 5 times it.
+PASS_NEAR = 1.0
 
 # Phase kinds recorded for sampling.
 PH_FREE = 0
@@ -671,16 +685,23 @@ def _run(
     jitter=0.0,
     seed=0,
     band=1.0,
+    force_free=-1,
+    force_t=0.0,
+    force_v=0.0,
 ):
     """Solve one scene in normalised units (m[0] = 1, omega = 1); fill ``hist`` and, if rec has
     rows, record every phase start as [t0, kind (PH_*), duration, u(n), v(n)]. ``jitter`` > 0
     perturbs the state by that much (relative) at every phase start, along the Weyl sequence
     from index ``seed`` (the replica check, restitution.kernels.replica); ``band`` scales the
-    touching band of its free flights (the replicas' BAND_LOW and BAND_HIGH).
+    touching band of its free flights (the replicas' BAND_LOW and BAND_HIGH). Free flight
+    number ``force_free`` (from 0; -1: none) ends in a contact at ``force_t`` with approach
+    speed ``force_v`` (_checked_units' pass replica: its passed dip taken as a contact).
 
-    Returns (out, n_records).
+    Returns (out, n_records, closest pass) with the closest pass (band units, free flight
+    index, time, approach speed of a contact at the band's depth there; see _checked_units).
     """
     out = np.zeros(N_OUT)
+    closest = np.array([math.inf, -1.0, 0.0, 0.0])
     n = m.size
     rigid = kc == math.inf
     mt = _total(m)
@@ -715,13 +736,14 @@ def _run(
             out[OUT_STATUS] = status
             out[OUT_COR] = math.nan
             out[OUT_ERR] = math.inf
-            return out, 0
+            return out, 0, closest
 
     u = np.zeros(n)
     v = -np.ones(n)
     y = np.empty(2 * n)
     ys = np.empty(2 * n - 2)
-    info = np.zeros(4)
+    info = np.zeros(N_INFO)
+    nfree = -1  # index of the current free flight
     # Scratch for every phase (modal amplitudes, gap coefficients, the locator's evaluations):
     # one allocation per scene instead of three or four per contact.
     zbuf = np.empty(2 * n, np.complex128)
@@ -825,6 +847,7 @@ def _run(
             in_contact = False
             continue
         # Free flight.
+        nfree += 1
         X0 = 0.0
         V = 0.0
         for i in range(n):
@@ -873,6 +896,14 @@ def _run(
                 band,
             )
             work += (info[3] + 1.0) * z.size
+            if info[4] < closest[0]:
+                closest[0] = info[4]
+                closest[1] = nfree
+                closest[2] = info[5]
+                closest[3] = info[6]
+            if nfree == force_free and code != LOC_BUDGET:
+                code = LOC_EVENT
+                info[0] = force_t
         if code == LOC_NEVER:
             break
         if code != LOC_EVENT:
@@ -895,6 +926,8 @@ def _run(
             ediss += dw
             _modal_state(te, z, lamF, UF, X0, V, u, v)
         u[0] = 0.0  # contact starts exactly at the wall
+        if nfree == force_free:
+            v[0] = -force_v  # the passed dip as a contact at the band's depth
         t += te
         if nrec - 1 < rec.shape[0]:
             rec[nrec - 1, 2] = te
@@ -1034,7 +1067,7 @@ def _run(
         status = STATUS_ENERGY
     out[OUT_ERR] = max(err, gap) if gap == gap else err
     out[OUT_STATUS] = status
-    return out, nrec
+    return out, nrec, closest
 
 
 @njit(cache=True)
@@ -1087,13 +1120,31 @@ def _normalise(m, k, c, kc):
 
 
 @njit(cache=True)
-def _solve_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, jitter, seed, band=1.0):
+def _solve_units(
+    ms,
+    ks,
+    cs,
+    kcs,
+    max_events,
+    hist,
+    work_max,
+    use_rigid2,
+    jitter,
+    seed,
+    band=1.0,
+    force_free=-1,
+    force_t=0.0,
+    force_v=0.0,
+):
+    """(out, closest pass) of one run (_run's; the closest pass is none for two masses at a rigid
+    wall, whose kernel walks the gap's critical points in closed form)."""
     if use_rigid2 and ms.size == 2 and kcs == math.inf:
         # Two masses at a rigid wall: the dedicated closed-form kernel (alpha, xi) is faster.
         xi = cs[0] / (2.0 * ks[0])
-        return _rigid2(ms[1], xi, max_events, hist, V_STICK_RIGID2, jitter, seed)
+        out = _rigid2(ms[1], xi, max_events, hist, V_STICK_RIGID2, jitter, seed)
+        return out, np.array([math.inf, -1.0, 0.0, 0.0])
     rec = np.zeros((0, 3 + 2 * ms.size))
-    return _run(
+    out, _, closest = _run(
         ms,
         ks,
         cs,
@@ -1107,7 +1158,11 @@ def _solve_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, jitter
         jitter,
         seed,
         band,
-    )[0]
+        force_free,
+        force_t,
+        force_v,
+    )
+    return out, closest
 
 
 @njit(cache=True)
@@ -1156,20 +1211,53 @@ def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2):
     BAND_LOW and BAND_HIGH times the kernel's (locator.BAND_ULPS ulps of the gap's scale), so
     a free-flight dip whose depth lies within round-off of the band's edge is counted by one run
     and passed by another; the COR's jump across that cusp is then their spread, and enters
-    the error estimate (or makes the row ill-conditioned), as at the paper's grazing points."""
-    out = _solve_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, 0.0, 0)
+    the error estimate (or makes the row ill-conditioned), as at the paper's grazing points.
+
+    After a long sequence round-off moves the state by far more than the band, so a dip the
+    run passes well above the band can be a contact of the exact motion that no replica
+    happens to flip (tests/test_shallow.py, seed 7 at the kernel's own 58 -> 59 step: the
+    closest pass 23 bands above gap 0, the replicas' 11 and 64, all three passing it, the COR
+    2.9e-8 from the reference under an estimate of 8e-13). The replicas' spread of the closest
+    pass (times REPLICA_SAFETY) is how far the exact dip may lie from the computed one; if that
+    reaches within PASS_NEAR bands of gap 0, a third replica, the run itself with that dip
+    taken as a contact as deep as it may be (plus locator.PASS_DEPTH bands), measures the
+    jump a passed dip can cause, and its spread enters the estimate."""
+    out, near = _solve_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, 0.0, 0)
     if not finished(out[OUT_STATUS]):
         return out
     nohist = np.zeros((0, N_HIST))
-    reps = np.empty((REPLICAS, N_OUT))
+    reps = np.empty((REPLICAS + 1, N_OUT))
+    dev = 0.0  # the replicas' largest deviation of the closest pass (bands)
     for r in range(REPLICAS):
         seed = r * REPLICA_SEED
         mr, kr, cr, kcr = _normalise(*_replica_scene(ms, ks, cs, kcs, seed))
         band = BAND_LOW if r == 0 else BAND_HIGH
-        reps[r] = _solve_units(
+        reps[r], rnear = _solve_units(
             mr, kr, cr, kcr, max_events, nohist, work_max, use_rigid2, JITTER, seed, band
         )
-    return combine(out, reps)
+        if finished(reps[r, OUT_STATUS]) and near[0] < math.inf:
+            dev = max(dev, abs(rnear[0] - near[0]))
+    reach = REPLICA_SAFETY * dev  # how far the exact closest pass may be from the computed one
+    extra = 1 if near[0] - reach < PASS_NEAR else 0
+    if extra:
+        depth = max(reach - near[0], 0.0) + PASS_DEPTH  # bands below gap 0, at most
+        reps[REPLICAS] = _solve_units(
+            ms,
+            ks,
+            cs,
+            kcs,
+            max_events,
+            nohist,
+            work_max,
+            use_rigid2,
+            0.0,
+            0,
+            1.0,
+            int(near[1]),
+            near[2],
+            near[3] * math.sqrt(depth / PASS_DEPTH),
+        )[0]
+    return combine(out, reps[: REPLICAS + extra])
 
 
 @njit(cache=True)
@@ -1285,7 +1373,7 @@ def _sample(m, k, c, kc, times, max_events):
     nrow = 3 * max_events + 4
     rec = np.zeros((nrow, 3 + 2 * n))
     hist = np.zeros((max_events, N_HIST))
-    out, nrec = _run(m, k, c, kc, max_events, hist, rec, WORK_MAX)
+    out, nrec, _ = _run(m, k, c, kc, max_events, hist, rec, WORK_MAX)
     nrec = min(nrec, nrow)
     rigid = kc == math.inf
     mt = _total(m)

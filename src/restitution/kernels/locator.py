@@ -39,6 +39,12 @@ BAND_ULPS = 8.0
 # the spread (the COR's jump across that cusp) enters the error estimate.
 BAND_LOW = 0.25
 BAND_HIGH = 2.0
+# A dip is a pass worth recording once the gap has opened beyond PASS_OPEN bands since the
+# phase start (the start itself, a separation at gap 0, is no pass); see _locate.
+PASS_OPEN = 4.0
+# The pass replica's contact: as deep as the deepest dip the band passes, and round-off.
+PASS_DEPTH = 1.25
+N_INFO = 7
 MAX_STEPS = 400_000  # conservative steps per phase
 SPLIT_RATIO = 8.0  # rates this far apart: the locator also steps on the slow part (_split)
 N_RES = 14  # entries of _eval_gap's result (with the two-scale split)
@@ -260,10 +266,25 @@ def _split(b, lam):
 
 
 @njit(cache=True)
+def _closest_pass(info, low, t, f2, unit):
+    """Keep (low / unit, t, v) in info[4:7] if it is the lowest pass so far; v is the approach
+    speed of a dip PASS_DEPTH bands deep at the curvature f2 there."""
+    r = low / unit
+    if r < info[4]:
+        info[4] = r
+        info[5] = t
+        info[6] = math.sqrt(2.0 * max(f2, 0.0) * PASS_DEPTH * unit)
+
+
+@njit(cache=True)
 def _locate(c0, c1, b, lam, check_permanent, info, max_steps=MAX_STEPS, res=None, band=1.0):
     """First time the gap goes below the touching band; see the module docstring.
 
-    Returns a LOC_* code; info = [event time, max gap, time of max gap, steps]. ``res``: an
+    Returns a LOC_* code; info = [event time, max gap, time of max gap, steps, closest pass,
+    its time, the approach speed of a contact there PASS_DEPTH bands deep] (N_INFO entries).
+    The closest pass is the lowest point of the gap the locator stepped over once the gap had
+    opened beyond PASS_OPEN bands, in units of the band (band = 1): gap 0 is 0 and the band's
+    edge -1 (exact_chain._checked_units re-runs a dip that may be a contact). ``res``: an
     optional scratch array of N_RES entries (a kernel passes one for all its phases).
     ``band``: the band's width in units of BAND_ULPS ulps of the gap's scale (the replica
     check's runs use BAND_LOW and BAND_HIGH, see there).
@@ -285,6 +306,9 @@ def _locate(c0, c1, b, lam, check_permanent, info, max_steps=MAX_STEPS, res=None
     ulps = band * BAND_ULPS * EPS
     tol0 = ulps * res[7] + 1e-300
     t_pos = -1.0  # last step end with f > 0 (none yet)
+    info[4] = math.inf
+    info[5] = -1.0
+    info[6] = 0.0
     for it in range(max_steps):
         if it > 0:  # (res holds the gap at t = 0 already)
             _eval_gap(t, c0, c1, b, lam, res, split)
@@ -337,6 +361,9 @@ def _locate(c0, c1, b, lam, check_permanent, info, max_steps=MAX_STEPS, res=None
                 return LOC_EVENT
         if f > 0.0:
             t_pos = t
+        opened = fmax > PASS_OPEN * tol
+        if opened:  # a step end passed (above the band): the closest pass so far?
+            _closest_pass(info, f, t, f2, tol / band)
         h = first_cubic_root(f + tol, f1, f2, b3)
         if split < math.inf:
             # Two time scales (a contact spring much stiffer than the chain): the fast modes
@@ -352,6 +379,10 @@ def _locate(c0, c1, b, lam, check_permanent, info, max_steps=MAX_STEPS, res=None
         if h <= 4.0 * EPS * max(t, 1.0):
             # Stalled on a tangency exactly at the band edge: it is a graze by the rule; pass it.
             h = max(first_cubic_root(f + 2.0 * tol, f1, f2, b3), 4.0 * EPS * max(t, 1.0))
+        if opened and f1 < 0.0 and f2 > 0.0 and -f1 <= f2 * h:
+            # The step spans the bottom of a dip: its quadratic model's vertex is the pass.
+            s = -f1 / f2
+            _closest_pass(info, f + 0.5 * f1 * s, t + s, f2, tol / band)
         t += h
     return LOC_BUDGET
 
