@@ -92,6 +92,7 @@ from restitution.kernels.parallel import row_blocks
 from restitution.kernels.roots import bisection
 from restitution.model.laws import (
     C_HERTZ,
+    C_KELVIN_VOIGT,
     C_PLASTIC,
     C_RIGID,
     S_LINEAR,
@@ -99,6 +100,7 @@ from restitution.model.laws import (
     SP_KIND,
     contact_elastic,
     contact_params_ok,
+    contact_viscous,
     structure_energy,
 )
 
@@ -238,6 +240,11 @@ def _setup_contact_events(cp, mem, W, B, strip, how, nm=2):
     W[0, 0] = -1.0
     B[0] = -mem[M_XP]
     strip[0] = 1 if how == ENTER else 0
+    if cp[0] == C_KELVIN_VOIGT:
+        # the force k x + c x' = -k u1 - c v1 falls to 0 (at x > 0); ENTER here is a contact
+        # that started inside the penetration, where that force rose through 0
+        W[0, 0] = -cp[2]
+        W[0, nm] = -cp[3]
     if plastic:
         # reload past the maximum: xmax - x = xmax + u1 falls to 0
         W[1, 0] = 1.0
@@ -274,7 +281,10 @@ def _contact_switch(code, y, iv, kind, cp, mem, how, xmax_c):
             y[iv] = 0.0
         mem[M_BRANCH] = 1.0
         return AFTER_RISE, xmax_c, False
-    y[0] = -mem[M_XP]  # separation
+    if kind == C_KELVIN_VOIGT:
+        y[0] = -cp[3] * y[iv] / cp[2]  # on k x + c x' = 0: the force-zero end, x >= 0
+    else:
+        y[0] = -mem[M_XP]  # separation
     mem[M_PHASE] = 0.0
     return how, xmax_c, True
 
@@ -554,28 +564,55 @@ def _adaptive(y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free
                 entering = True
                 h = hf
         else:
-            if closed:
-                s = free_flight_linear(y, mem[M_XP], m[0], m[1], lk[0, SP_K2], c[0])
-                if s < 0.0:
-                    return STATUS_OK, ncol, tcol, err_acc[0]
-                t += s
-                work[0] -= 100.0  # a closed-form free flight: about 100 gap evaluations
-                if work[0] <= 0.0:
-                    return STATUS_WORK_BUDGET, ncol, tcol, err_acc[0]
-            else:
+            inside = kind == C_KELVIN_VOIGT and -y[0] > 0.0
+            if inside:
+                # m1 left the force-zero end inside the penetration (x > 0, F = 0): free until
+                # the force k x + c x' rises through 0 again (a new contact there) or x falls
+                # to 0 (on to the free flight below)
                 W[0, :] = 0.0
-                W[0, 0] = 1.0
-                B[0] = mem[M_XP]
-                strip[0] = 1 if entering else 0
+                W[1, :] = 0.0
+                W[0, 0] = cp[2]
+                W[0, n] = cp[3]
+                B[0] = 0.0
+                B[1] = 0.0
+                W[1, 0] = -1.0
+                strip[0] = 1
+                strip[1] = 0
                 code, t, h = rk_phase(
-                    y, t, h, hmax_free, rtol, atol, m, lk, c, cp, mem, W, B, strip, 1,
-                    STOP_NO_CONTACT, work, err_acc,
+                    y, t, h, hmax_free, rtol, atol, m, lk, c, cp, mem, W, B, strip, 2,
+                    STOP_NEVER, work, err_acc,
                 )  # fmt: skip
-                if code == EV_STOP:
-                    return STATUS_OK, ncol, tcol, err_acc[0]
-                if code == EV_FAIL:
+                if code == EV_FAIL or code == EV_STOP:
                     return _fail(work), ncol, tcol, err_acc[0]
-                y[0] = -mem[M_XP]
+                if code == 1:
+                    y[0] = 0.0
+                    inside = False
+                else:
+                    y[0] = -cp[3] * y[n] / cp[2]
+                entering = True
+            if not inside:
+                if closed:
+                    s = free_flight_linear(y, mem[M_XP], m[0], m[1], lk[0, SP_K2], c[0])
+                    if s < 0.0:
+                        return STATUS_OK, ncol, tcol, err_acc[0]
+                    t += s
+                    work[0] -= 100.0  # a closed-form free flight: about 100 gap evaluations
+                    if work[0] <= 0.0:
+                        return STATUS_WORK_BUDGET, ncol, tcol, err_acc[0]
+                else:
+                    W[0, :] = 0.0
+                    W[0, 0] = 1.0
+                    B[0] = mem[M_XP]
+                    strip[0] = 1 if entering else 0
+                    code, t, h = rk_phase(
+                        y, t, h, hmax_free, rtol, atol, m, lk, c, cp, mem, W, B, strip, 1,
+                        STOP_NO_CONTACT, work, err_acc,
+                    )  # fmt: skip
+                    if code == EV_STOP:
+                        return STATUS_OK, ncol, tcol, err_acc[0]
+                    if code == EV_FAIL:
+                        return _fail(work), ncol, tcol, err_acc[0]
+                    y[0] = -mem[M_XP]
             h = hc
             # a new contact starts
             if ncol >= max_events:
@@ -597,7 +634,9 @@ def _adaptive(y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free
                 h = hf
             else:
                 mem[M_PHASE] = 1.0
-                if contact_elastic(cp) or mem[M_FMAX] == 0.0:
+                if inside:  # the force rose through 0 at x > 0 while x' < 0: x still falls
+                    mem[M_BRANCH] = 0.0
+                elif contact_elastic(cp) or mem[M_FMAX] == 0.0:
                     mem[M_BRANCH] = 1.0
                 else:
                     mem[M_BRANCH] = 0.0
@@ -618,7 +657,7 @@ def _verlet(y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist, v0):
     state-dependent times would add its own O(h) jitter."""
     n = m.shape[0]
     h = step_frac * 2.0 * math.pi / verlet_frequency(m, lk, cp[1])
-    damped = False
+    damped = contact_viscous(cp)  # a force that depends on the velocity: the corrected pass
     for i in range(n - 1):
         damped = damped or c[i] != 0.0
     acc = np.zeros(n + 2)
