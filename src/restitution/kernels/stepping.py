@@ -92,6 +92,7 @@ from restitution.kernels.parallel import row_blocks
 from restitution.kernels.roots import bisection
 from restitution.model.laws import (
     C_HERTZ,
+    C_HUNT_CROSSLEY,
     C_KELVIN_VOIGT,
     C_PLASTIC,
     C_RIGID,
@@ -515,7 +516,9 @@ def _adaptive(y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free
     sigma_exit = True
     while True:
         # a contact starting on the power law at x = 0 (Hertz; plastic before any dent)
-        power_entry = kind == C_HERTZ or (kind == C_PLASTIC and mem[M_FMAX] == 0.0)
+        power_entry = (
+            kind == C_HERTZ or kind == C_HUNT_CROSSLEY or (kind == C_PLASTIC and mem[M_FMAX] == 0.0)
+        )
         if mem[M_PHASE] == 1.0:
             if how == ENTER and mem[M_BRANCH] == 1.0 and power_entry:
                 scode, t = _sigma_entry(y, t, m, lk, c, cp, mem, rtol, atol, work, err_acc)
@@ -524,7 +527,8 @@ def _adaptive(y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free
                 how = MID
             nev = _setup_contact_events(cp, mem, W, B, strip, how, n)
             x_sw = 0.0
-            if kind == C_HERTZ and mem[M_BRANCH] == 0.0 and sigma_exit:
+            power_exit = kind == C_HERTZ or kind == C_HUNT_CROSSLEY
+            if power_exit and mem[M_BRANCH] == 0.0 and sigma_exit:
                 # separation replaced by x = x_sw, from where sigma runs to x = 0 (only if the
                 # branch starts deeper: a turn inside the zone has x' = 0 there)
                 x_sw = SIGMA_ZONE * xmax_c
