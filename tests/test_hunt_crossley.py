@@ -273,3 +273,60 @@ def test_solve_many_and_the_command_line_agree_with_solve():
     assert code == 0
     cli = json.loads(out.getvalue())
     assert cli["cor"] == one.cor and cli["method"] == "adaptive"
+
+
+def _random_chain(rng, n):
+    m = rng.uniform(0.3, 3.0, n)
+    k = rng.uniform(0.3, 3.0, n - 1)
+    c = rng.uniform(0.0, 0.05, n - 1) * (rng.random(n - 1) < 0.5)
+    return m.tolist(), k.tolist(), c.tolist()
+
+
+@pytest.mark.parametrize("n", [2, 3, 4, 5])
+@pytest.mark.parametrize("n_exp", [1.0, 1.5, 2.0])
+def test_random_chains_against_solve_ivp(n, n_exp):
+    rng = np.random.default_rng(100 * n + int(10 * n_exp))
+    m, k, dash = _random_chain(rng, n)
+    kc = float(rng.uniform(5.0, 30.0))
+    v0 = float(rng.uniform(0.5, 2.0))
+    # alpha up to 90 % of its bound 1/(1.5 v0 sqrt(M/m1))
+    alpha = float(rng.uniform(0.0, 0.9)) / (1.5 * v0 * math.sqrt(sum(m) / m[0]))
+    cor, ncol = reference(m, k, dash, kc, n_exp, alpha, v0)
+    spec = {"law": HC, "k": kc, "n": n_exp, "alpha": alpha}
+    r = solve_general_law(m, k, dash, spec, None, v0, rtol=1e-12)
+    assert r.status == "ok" and r.n_collisions == ncol
+    assert abs(r.cor - cor) < 1e-9
+    assert abs(r.cor - cor) <= r.error_estimate + 1e-11
+
+
+def test_declared_ranges_finish_or_fail_explicitly():
+    # k, n in [1, 10], alpha up to its bound and v0 over their ranges on random chains: each
+    # scene is rejected before any work (naming the range), or finishes sane, or fails with an
+    # explicit status and a NaN COR; never a traceback
+    rng = np.random.default_rng(29)
+    rows, rejected = [], 0
+    for _ in range(60):
+        nm = int(rng.integers(2, 5))
+        m = np.exp(rng.uniform(-3, 3, nm)).tolist()
+        k = np.exp(rng.uniform(-3, 3, nm - 1)).tolist()
+        kc = float(np.exp(rng.uniform(-5, 12)))
+        n_exp = float((1.0, 10.0, rng.uniform(1.0, 10.0))[int(rng.integers(3))])
+        v0 = float(np.exp(rng.uniform(math.log(1e-6), math.log(1e6))))
+        bound = 1.0 / (1.5 * v0 * math.sqrt(sum(m) / m[0]))
+        alpha = float((0.0, np.nextafter(bound, 0.0), rng.uniform(0, bound))[int(rng.integers(3))])
+        contact = {"law": HC, "k": kc, "n": n_exp, "alpha": alpha}
+        try:
+            restitution.Chain(m, k, v0=v0, contact=contact)
+        except SceneError as e:
+            assert "must be" in str(e)
+            rejected += 1
+            continue
+        rows.append((m, k, contact, v0))
+    assert len(rows) >= 15 and rejected >= 5
+    for m, k, contact, v0 in rows:
+        r = restitution.solve(masses=m, springs=k, contact=contact, v0=v0, max_events=2000)
+        if r.status == "ok":
+            assert r.n_collisions >= 1 and -1e-9 <= r.cor <= 1.0 + 1e-9
+            assert abs(r.e_translational + r.e_vibrational + r.e_dissipated - 1.0) < 1e-6
+        else:
+            assert math.isnan(r.cor) or r.status == "energy_account_open"

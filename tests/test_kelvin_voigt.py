@@ -348,3 +348,56 @@ def test_solve_many_and_the_command_line_agree_with_solve():
     assert code == 0
     cli = json.loads(out.getvalue())
     assert cli["cor"] == one.cor and cli["method"] == "adaptive"
+
+
+def _random_chain(rng, n):
+    m = rng.uniform(0.3, 3.0, n)
+    k = rng.uniform(0.3, 3.0, n - 1)
+    c = rng.uniform(0.0, 0.05, n - 1) * (rng.random(n - 1) < 0.5)
+    return m.tolist(), k.tolist(), c.tolist()
+
+
+@pytest.mark.parametrize("n", [2, 3, 4, 5])
+@pytest.mark.parametrize("zeta", [0.05, 0.4, 1.5])
+def test_random_chains_against_solve_ivp(n, zeta):
+    rng = np.random.default_rng(100 * n + int(10 * zeta))
+    m, k, dash = _random_chain(rng, n)
+    kc = float(rng.uniform(2.0, 30.0))
+    cc = 2.0 * zeta * math.sqrt(kc * m[0])
+    v0 = float(rng.uniform(0.5, 2.0))
+    cor, ncol, _, _ = reference(m, k, dash, kc, cc, v0)
+    r = solve_general_law(m, k, dash, {"law": KV, "k": kc, "c": cc}, None, v0, rtol=1e-12)
+    assert r.status == "ok" and r.n_collisions == ncol
+    assert abs(r.cor - cor) < 1e-9
+    assert abs(r.cor - cor) <= r.error_estimate + 1e-11
+
+
+def test_declared_ranges_finish_or_fail_explicitly():
+    # k, c (damping ratio 0 .. 1e3, its ends included) and v0 over their ranges on random
+    # chains: each scene is rejected before any work (naming the range), or finishes sane, or
+    # fails with an explicit status and a NaN COR; never a traceback
+    rng = np.random.default_rng(28)
+    rows, rejected = [], 0
+    for _ in range(60):
+        n = int(rng.integers(2, 5))
+        m = np.exp(rng.uniform(-3, 3, n)).tolist()
+        k = np.exp(rng.uniform(-3, 3, n - 1)).tolist()
+        kc = float(np.exp(rng.uniform(-5, 12)))
+        zeta = float((0.0, 1e3, np.exp(rng.uniform(-7, 7)))[int(rng.integers(3))])
+        v0 = float(np.exp(rng.uniform(math.log(1e-6), math.log(1e6))))
+        contact = {"law": KV, "k": kc, "c": 2.0 * zeta * math.sqrt(kc * m[0])}
+        try:
+            restitution.Chain(m, k, v0=v0, contact=contact)
+        except SceneError as e:
+            assert "must be" in str(e)
+            rejected += 1
+            continue
+        rows.append((m, k, contact, v0))
+    assert len(rows) >= 15 and rejected >= 5
+    for m, k, contact, v0 in rows:
+        r = restitution.solve(masses=m, springs=k, contact=contact, v0=v0, max_events=2000)
+        if r.status == "ok":
+            assert r.n_collisions >= 1 and -1e-9 <= r.cor <= 1.0 + 1e-9
+            assert abs(r.e_translational + r.e_vibrational + r.e_dissipated - 1.0) < 1e-6
+        else:
+            assert math.isnan(r.cor) or r.status == "energy_account_open"

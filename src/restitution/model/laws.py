@@ -500,7 +500,7 @@ def pack_contact(
         k = check_stiffness(f"{where}.k", p["k"], math.inf)
         c = check_damping(f"{where}.c", p["c"])
         zeta = c / (2.0 * math.sqrt(k))  # m1 = 1 in kernel units
-        if not zeta <= ZETA_CONTACT_MAX:
+        if not zeta <= ZETA_CONTACT_MAX * (1.0 + 1e-12):  # (the units' rounding at the end)
             raise SceneError(
                 f"{where}.c: the contact's damping ratio c / (2 sqrt(k m1)) is {zeta:.3g}; it "
                 f"must be at most {ZETA_CONTACT_MAX:g} (the contact's work grows with it)"
