@@ -330,3 +330,9 @@ def test_declared_ranges_finish_or_fail_explicitly():
             assert abs(r.e_translational + r.e_vibrational + r.e_dissipated - 1.0) < 1e-6
         else:
             assert math.isnan(r.cor) or r.status == "energy_account_open"
+
+
+def test_the_reference_method_refuses_it():
+    with pytest.raises(SceneError, match="does not implement the 'hunt_crossley'"):
+        restitution.solve(masses=[1.0, 2.0], springs=[1.0], contact={"law": HC, "k": 3.0,
+                          "alpha": 0.1}, method="reference")  # fmt: skip

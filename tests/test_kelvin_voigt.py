@@ -401,3 +401,22 @@ def test_declared_ranges_finish_or_fail_explicitly():
             assert abs(r.e_translational + r.e_vibrational + r.e_dissipated - 1.0) < 1e-6
         else:
             assert math.isnan(r.cor) or r.status == "energy_account_open"
+
+
+def test_a_parquet_struct_column_with_every_law_field(tmp_path):
+    # one struct column for all rows: the fields of the other laws are null in each row
+    kv = {"law": KV, "k": 3.0, "c": 0.4, "eta": None, "dr": None}
+    hz = {"law": "hertz", "k": 20.0, "c": None, "eta": None, "dr": None}
+    frame = pd.DataFrame({"masses": [[1.0, 2.0]] * 2, "springs": [[1.0]] * 2, "contact": [kv, hz]})
+    frame.to_parquet(tmp_path / "t.parquet")
+    many = restitution.solve_many(pd.read_parquet(tmp_path / "t.parquet"))
+    one = restitution.solve(
+        masses=[1.0, 2.0], springs=[1.0], contact={"law": KV, "k": 3.0, "c": 0.4}
+    )
+    assert many["cor"][0] == one.cor and many["status"].tolist() == ["ok", "ok"]
+
+
+def test_the_reference_method_refuses_it():
+    with pytest.raises(SceneError, match="does not implement the 'kelvin_voigt'"):
+        restitution.solve(masses=[1.0, 2.0], springs=[1.0], contact={"law": KV, "k": 3.0, "c": 0.4},
+                          method="reference")  # fmt: skip

@@ -22,6 +22,9 @@ sampling gamble, shallow dips are subdivided until resolved.
 Contact phases are two-branch machines whose switches are all linear events (integrators.py):
 plastic: loading --(x' = 0)--> elastic --(x = xmax)--> loading, elastic --(x = xp)--> separated;
 linear: rising --(x' = 0)--> falling --(x' = 0)--> rising, falling --(x = 0)--> separated.
+Kelvin-Voigt (F = k x + c x'): as linear, but falling --(k x + c x' = 0)--> separated at x > 0,
+then a free stretch inside the penetration --(k x + c x' rises to 0)--> falling (a new contact)
+or --(x = 0)--> the free flight. Hunt-Crossley: as Hertz (its range keeps 1 + lam x' > 0).
 Each switch projects the state exactly onto the event surface (error O(tolerance)).
 History x_max is exact for linear contacts and for plastic contacts that reach the power law; a
 plastic contact that stays on the elastic line (no reload) records its entry penetration (the
