@@ -293,8 +293,7 @@ def add_cubic_law() -> set:
     assert "restitution.kernels.stepping" not in sys.modules, "too late: the kernels are bound"
     from restitution.model import laws
 
-    cubic = 4
-    assert cubic not in {e[0] for e in laws.CONTACT_LAWS.values()}
+    cubic = 1 + max(e[0] for e in laws.CONTACT_LAWS.values())  # a free id
     old = dict(vars(laws))
 
     def slope_at_depth(k, energy):  # 3 k x**2 where k x**4 / 4 = energy
@@ -320,20 +319,20 @@ def add_cubic_law() -> set:
             return 0.0 < cp[1] < math.inf and 0.0 < cp[2] < math.inf
         return old["contact_params_ok"](cp)
 
-    def contact_force(cp, branch, xmax, fmax, x):
+    def contact_force(cp, branch, xmax, fmax, x, xd):
         if cp[0] == cubic:
             return cp[2] * x * x * x if x > 0.0 else 0.0
-        return old["contact_force"](cp, branch, xmax, fmax, x)
+        return old["contact_force"](cp, branch, xmax, fmax, x, xd)
 
     def contact_slope(cp, branch, xmax, x):
         if cp[0] == cubic:
             return 3.0 * cp[2] * x * x if x > 0.0 else 0.0
         return old["contact_slope"](cp, branch, xmax, x)
 
-    def contact_hysteretic(cp, xmax, fmax, x):
+    def contact_hysteretic(cp, xmax, fmax, x, xd):
         if cp[0] == cubic:
-            return contact_force(cp, 0, xmax, fmax, x), xmax, fmax
-        return old["contact_hysteretic"](cp, xmax, fmax, x)
+            return contact_force(cp, 0, xmax, fmax, x, xd), xmax, fmax
+        return old["contact_hysteretic"](cp, xmax, fmax, x, xd)
 
     def contact_energy(cp, x):
         if cp[0] == cubic:

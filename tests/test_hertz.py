@@ -124,18 +124,19 @@ def test_single_mass_verlet_converges_to_the_closed_form():
 def test_hertz_force_energy_slope_are_consistent():
     cp = laws.hertz_params(3.0, 1.0, 2.0)
     for x in (1e-6, 0.1, 0.7, 2.0):
-        f = laws.contact_force(cp, 1, 0.0, 0.0, x)
+        f = laws.contact_force(cp, 1, 0.0, 0.0, x, 0.0)
         assert f == pytest.approx(3.0 * x**1.5, rel=1e-14)
-        force = lambda s: laws.contact_force(cp, 1, 0.0, 0.0, s)  # noqa: E731
+        force = lambda s: laws.contact_force(cp, 1, 0.0, 0.0, s, 0.0)  # noqa: E731
         w, _ = quad(force, 0.0, x, epsabs=0.0, epsrel=1e-12)
         assert laws.contact_energy(cp, x) == pytest.approx(w, rel=1e-10)
         h = 1e-6 * x
-        d = (laws.contact_force(cp, 1, 0, 0, x + h) - laws.contact_force(cp, 1, 0, 0, x - h)) / (
-            2 * h
-        )
+        d = (
+            laws.contact_force(cp, 1, 0, 0, x + h, 0.0)
+            - laws.contact_force(cp, 1, 0, 0, x - h, 0.0)
+        ) / (2 * h)
         assert laws.contact_slope(cp, 1, 0.0, x) == pytest.approx(d, rel=1e-7)
     for x in (0.0, -1e-3, -5.0):
-        assert laws.contact_force(cp, 1, 0.0, 0.0, x) == 0.0
+        assert laws.contact_force(cp, 1, 0.0, 0.0, x, 0.0) == 0.0
         assert laws.contact_energy(cp, x) == 0.0
     # the slope scale bounds the slope at any penetration the initial energy could reach
     x_deep = (2.5 * 0.5 * 2.0 / 3.0) ** 0.4

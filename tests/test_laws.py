@@ -42,14 +42,14 @@ def test_single_mass_rebound_is_sqrt_one_minus_dr(eta, dr):
 
 def test_hysteretic_contact_keeps_dent_and_reloads_on_power_law():
     cp = laws.contact_params(laws.C_PLASTIC, 10.0, 2.0, 0.5)
-    f, xm, fm = laws.contact_hysteretic(cp, 0.0, 0.0, 0.09)
+    f, xm, fm = laws.contact_hysteretic(cp, 0.0, 0.0, 0.09, 0.0)
     assert (f, xm) == (pytest.approx(2.0 * 0.3), 0.09)
     dent = xm - fm / 10.0
-    assert laws.contact_hysteretic(cp, xm, fm, dent * 0.999)[0] == 0.0  # dent persists
-    assert laws.contact_hysteretic(cp, xm, fm, 0.5 * (dent + xm))[0] == pytest.approx(
+    assert laws.contact_hysteretic(cp, xm, fm, dent * 0.999, 0.0)[0] == 0.0  # dent persists
+    assert laws.contact_hysteretic(cp, xm, fm, 0.5 * (dent + xm), 0.0)[0] == pytest.approx(
         fm - 10.0 * (xm - 0.5 * (dent + xm))
     )
-    f2, xm2, _ = laws.contact_hysteretic(cp, xm, fm, 0.16)  # past the maximum: power law again
+    f2, xm2, _ = laws.contact_hysteretic(cp, xm, fm, 0.16, 0.0)  # past the maximum: power law again
     assert (f2, xm2) == (pytest.approx(2.0 * 0.4), 0.16)
 
 

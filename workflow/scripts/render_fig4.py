@@ -25,9 +25,9 @@ def first_contact_curve(dr: float, eta: float, n: int = 400):
     xmax = (fmax / kappa) ** (1.0 / eta)
     xp = xmax - fmax / k1
     load_x = np.linspace(0.0, xmax, n)
-    load_f = np.array([laws.contact_force(cp, 1, xmax, fmax, x) for x in load_x])
+    load_f = np.array([laws.contact_force(cp, 1, xmax, fmax, x, 0.0) for x in load_x])
     unload_x = np.linspace(xmax, xp, n // 4)
-    unload_f = np.array([laws.contact_force(cp, 0, xmax, fmax, x) for x in unload_x])
+    unload_f = np.array([laws.contact_force(cp, 0, xmax, fmax, x, 0.0) for x in unload_x])
     if not np.isclose(load_f[-1], fmax, rtol=1e-9):
         raise RuntimeError(f"eta {eta}: loading ends at F = {load_f[-1]!r}, expected {fmax!r}")
     return np.r_[load_x, unload_x], np.r_[load_f, unload_f], xmax, fmax, xp

@@ -189,7 +189,7 @@ def rhs(y, m, lk, c, cp, mem, dy):
         dy[n + i] = 0.0
     fc = 0.0
     if mem[M_PHASE] == 1.0:
-        fc = contact_force(cp, int(mem[M_BRANCH]), mem[M_XMAX], mem[M_FMAX], -y[0])
+        fc = contact_force(cp, int(mem[M_BRANCH]), mem[M_XMAX], mem[M_FMAX], -y[0], -y[n])
     dy[n] = fc
     d = 0.0
     for i in range(n - 1):
@@ -499,7 +499,7 @@ def accel_verlet(y, m, lk, c, cp, mem, acc):
     n = m.shape[0]
     fc = 0.0
     if cp[0] != C_RIGID:
-        fc, xm, fm = contact_hysteretic(cp, mem[M_XMAX], mem[M_FMAX], -y[0])
+        fc, xm, fm = contact_hysteretic(cp, mem[M_XMAX], mem[M_FMAX], -y[0], -y[n])
         mem[M_XMAX], mem[M_FMAX] = xm, fm
     for i in range(n):
         acc[i] = 0.0

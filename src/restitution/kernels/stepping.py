@@ -22,6 +22,9 @@ sampling gamble, shallow dips are subdivided until resolved.
 Contact phases are two-branch machines whose switches are all linear events (integrators.py):
 plastic: loading --(x' = 0)--> elastic --(x = xmax)--> loading, elastic --(x = xp)--> separated;
 linear: rising --(x' = 0)--> falling --(x' = 0)--> rising, falling --(x = 0)--> separated.
+Kelvin-Voigt (F = k x + c x'): as linear, but falling --(k x + c x' = 0)--> separated at x > 0,
+then a free stretch inside the penetration --(k x + c x' rises to 0)--> falling (a new contact)
+or --(x = 0)--> the free flight. Hunt-Crossley: as Hertz (its range keeps 1 + lam x' > 0).
 Each switch projects the state exactly onto the event surface (error O(tolerance)).
 History x_max is exact for linear contacts and for plastic contacts that reach the power law; a
 plastic contact that stays on the elastic line (no reload) records its entry penetration (the
@@ -92,6 +95,8 @@ from restitution.kernels.parallel import row_blocks
 from restitution.kernels.roots import bisection
 from restitution.model.laws import (
     C_HERTZ,
+    C_HUNT_CROSSLEY,
+    C_KELVIN_VOIGT,
     C_PLASTIC,
     C_RIGID,
     S_LINEAR,
@@ -99,6 +104,7 @@ from restitution.model.laws import (
     SP_KIND,
     contact_elastic,
     contact_params_ok,
+    contact_viscous,
     structure_energy,
 )
 
@@ -238,6 +244,11 @@ def _setup_contact_events(cp, mem, W, B, strip, how, nm=2):
     W[0, 0] = -1.0
     B[0] = -mem[M_XP]
     strip[0] = 1 if how == ENTER else 0
+    if cp[0] == C_KELVIN_VOIGT:
+        # the force k x + c x' = -k u1 - c v1 falls to 0 (at x > 0); ENTER here is a contact
+        # that started inside the penetration, where that force rose through 0
+        W[0, 0] = -cp[2]
+        W[0, nm] = -cp[3]
     if plastic:
         # reload past the maximum: xmax - x = xmax + u1 falls to 0
         W[1, 0] = 1.0
@@ -274,7 +285,10 @@ def _contact_switch(code, y, iv, kind, cp, mem, how, xmax_c):
             y[iv] = 0.0
         mem[M_BRANCH] = 1.0
         return AFTER_RISE, xmax_c, False
-    y[0] = -mem[M_XP]  # separation
+    if kind == C_KELVIN_VOIGT:
+        y[0] = -cp[3] * y[iv] / cp[2]  # on k x + c x' = 0: the force-zero end, x >= 0
+    else:
+        y[0] = -mem[M_XP]  # separation
     mem[M_PHASE] = 0.0
     return how, xmax_c, True
 
@@ -505,7 +519,9 @@ def _adaptive(y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free
     sigma_exit = True
     while True:
         # a contact starting on the power law at x = 0 (Hertz; plastic before any dent)
-        power_entry = kind == C_HERTZ or (kind == C_PLASTIC and mem[M_FMAX] == 0.0)
+        power_entry = (
+            kind == C_HERTZ or kind == C_HUNT_CROSSLEY or (kind == C_PLASTIC and mem[M_FMAX] == 0.0)
+        )
         if mem[M_PHASE] == 1.0:
             if how == ENTER and mem[M_BRANCH] == 1.0 and power_entry:
                 scode, t = _sigma_entry(y, t, m, lk, c, cp, mem, rtol, atol, work, err_acc)
@@ -514,7 +530,8 @@ def _adaptive(y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free
                 how = MID
             nev = _setup_contact_events(cp, mem, W, B, strip, how, n)
             x_sw = 0.0
-            if kind == C_HERTZ and mem[M_BRANCH] == 0.0 and sigma_exit:
+            power_exit = kind == C_HERTZ or kind == C_HUNT_CROSSLEY
+            if power_exit and mem[M_BRANCH] == 0.0 and sigma_exit:
                 # separation replaced by x = x_sw, from where sigma runs to x = 0 (only if the
                 # branch starts deeper: a turn inside the zone has x' = 0 there)
                 x_sw = SIGMA_ZONE * xmax_c
@@ -554,28 +571,55 @@ def _adaptive(y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free
                 entering = True
                 h = hf
         else:
-            if closed:
-                s = free_flight_linear(y, mem[M_XP], m[0], m[1], lk[0, SP_K2], c[0])
-                if s < 0.0:
-                    return STATUS_OK, ncol, tcol, err_acc[0]
-                t += s
-                work[0] -= 100.0  # a closed-form free flight: about 100 gap evaluations
-                if work[0] <= 0.0:
-                    return STATUS_WORK_BUDGET, ncol, tcol, err_acc[0]
-            else:
+            inside = kind == C_KELVIN_VOIGT and -y[0] > 0.0
+            if inside:
+                # m1 left the force-zero end inside the penetration (x > 0, F = 0): free until
+                # the force k x + c x' rises through 0 again (a new contact there) or x falls
+                # to 0 (on to the free flight below)
                 W[0, :] = 0.0
-                W[0, 0] = 1.0
-                B[0] = mem[M_XP]
-                strip[0] = 1 if entering else 0
+                W[1, :] = 0.0
+                W[0, 0] = cp[2]
+                W[0, n] = cp[3]
+                B[0] = 0.0
+                B[1] = 0.0
+                W[1, 0] = -1.0
+                strip[0] = 1
+                strip[1] = 0
                 code, t, h = rk_phase(
-                    y, t, h, hmax_free, rtol, atol, m, lk, c, cp, mem, W, B, strip, 1,
-                    STOP_NO_CONTACT, work, err_acc,
+                    y, t, h, hmax_free, rtol, atol, m, lk, c, cp, mem, W, B, strip, 2,
+                    STOP_NEVER, work, err_acc,
                 )  # fmt: skip
-                if code == EV_STOP:
-                    return STATUS_OK, ncol, tcol, err_acc[0]
-                if code == EV_FAIL:
+                if code == EV_FAIL or code == EV_STOP:
                     return _fail(work), ncol, tcol, err_acc[0]
-                y[0] = -mem[M_XP]
+                if code == 1:
+                    y[0] = 0.0
+                    inside = False
+                else:
+                    y[0] = -cp[3] * y[n] / cp[2]
+                entering = True
+            if not inside:
+                if closed:
+                    s = free_flight_linear(y, mem[M_XP], m[0], m[1], lk[0, SP_K2], c[0])
+                    if s < 0.0:
+                        return STATUS_OK, ncol, tcol, err_acc[0]
+                    t += s
+                    work[0] -= 100.0  # a closed-form free flight: about 100 gap evaluations
+                    if work[0] <= 0.0:
+                        return STATUS_WORK_BUDGET, ncol, tcol, err_acc[0]
+                else:
+                    W[0, :] = 0.0
+                    W[0, 0] = 1.0
+                    B[0] = mem[M_XP]
+                    strip[0] = 1 if entering else 0
+                    code, t, h = rk_phase(
+                        y, t, h, hmax_free, rtol, atol, m, lk, c, cp, mem, W, B, strip, 1,
+                        STOP_NO_CONTACT, work, err_acc,
+                    )  # fmt: skip
+                    if code == EV_STOP:
+                        return STATUS_OK, ncol, tcol, err_acc[0]
+                    if code == EV_FAIL:
+                        return _fail(work), ncol, tcol, err_acc[0]
+                    y[0] = -mem[M_XP]
             h = hc
             # a new contact starts
             if ncol >= max_events:
@@ -597,7 +641,9 @@ def _adaptive(y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free
                 h = hf
             else:
                 mem[M_PHASE] = 1.0
-                if contact_elastic(cp) or mem[M_FMAX] == 0.0:
+                if inside:  # the force rose through 0 at x > 0 while x' < 0: x still falls
+                    mem[M_BRANCH] = 0.0
+                elif contact_elastic(cp) or mem[M_FMAX] == 0.0:
                     mem[M_BRANCH] = 1.0
                 else:
                     mem[M_BRANCH] = 0.0
@@ -618,7 +664,7 @@ def _verlet(y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist, v0):
     state-dependent times would add its own O(h) jitter."""
     n = m.shape[0]
     h = step_frac * 2.0 * math.pi / verlet_frequency(m, lk, cp[1])
-    damped = False
+    damped = contact_viscous(cp)  # a force that depends on the velocity: the corrected pass
     for i in range(n - 1):
         damped = damped or c[i] != 0.0
     acc = np.zeros(n + 2)

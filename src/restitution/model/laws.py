@@ -36,10 +36,29 @@ V0 stays in contact t_c = C*(m/k_h)**0.4*V0**-0.2 with C = 2*I*(5/4)**0.4 = 3.21
 I = (2/5)*B(2/5, 1/2) (tests/test_hertz.py). The COR of a chain depends on V0 through the
 contact's effective stiffness ~ k_h**0.8 * V0**0.4.
 
+Kelvin-Voigt contact
+--------------------
+F = max(0, k*x + c*x') for x > 0 (a spring and a dashpot in parallel). The contact ends where
+the force returns to zero, k*x + c*x' = 0, while x > 0 (a linear event of the state), not where
+the gap closes; m1 then flies free, and a new contact starts where x rises through 0 or where
+k*x + c*x' rises through 0 again while x > 0. The contact's work on m1 is all dissipated (the
+spring's k*x**2/2 left at the force-zero end is lost in the massless surface's own relaxation).
+One mass: the COR of Schwager and Poeschel (2007), not exp(-z*pi/sqrt(1 - z**2))
+(tests/test_kelvin_voigt.py). c is a dashpot (force per speed: kernel unit m1*omega).
+
+Hunt-Crossley contact
+---------------------
+F = k*x**n*(1 + 1.5*alpha*x') for x > 0 (Hunt and Crossley 1975; n = 1.5 by default), packed
+with lam = 1.5*alpha. k is a force per length**n (its unit depends on n: ``_hc_k_unit``), alpha
+an inverse speed (the user's speed unit is the kernels'). m1 never moves faster than
+v0*sqrt(M/m1), so 1.5*alpha*v0*sqrt(M/m1) < 1 (checked) keeps 1 + lam*x' > 0: the force ends at
+x = 0, where the kernels integrate the contact's ends in sigma = sqrt(x) as for Hertz.
+
 General chains
 --------------
 A chain's laws are given as specifications, {"law": name, parameters...}: contact laws in
-``CONTACT_LAWS`` (rigid; linear k; plastic k = unloading slope, eta, dr; hertz k = k_h), link
+``CONTACT_LAWS`` (rigid; linear k; plastic k = unloading slope, eta, dr; hertz k = k_h;
+kelvin_voigt k, c; hunt_crossley k, n, alpha), link
 laws in ``LINK_LAWS`` (linear: the link's spring; scissor L, ks, theta0, corner with the link's
 spring as the cap slope). ``pack_contact`` / ``pack_link`` check and pack them; the tables also
 give each dimensional parameter's unit for ``to_kernel_units``.
@@ -84,13 +103,21 @@ C_RIGID = 0  # beta = 0: impulsive reversal of m1's velocity
 C_LINEAR = 1  # F = k1*x
 C_PLASTIC = 2  # power-law loading, linear unloading/reloading
 C_HERTZ = 3  # F = k_h*x**1.5 (elastic; Hertz's sphere on a flat)
+C_KELVIN_VOIGT = 4  # F = max(0, k*x + c*x') for x > 0; the contact ends where F returns to 0
+C_HUNT_CROSSLEY = 5  # F = k*x**n*(1 + 1.5*alpha*x') for x > 0 (Hunt and Crossley 1975)
 # contact_params = [kind, k1, kappa, eta]: k1 is the law's slope scale (linear: its stiffness,
 # plastic: the unloading slope, hertz: the slope at the deepest possible penetration, which sets
-# the integrators' step scale); kappa, eta the power law F = kappa*x**eta (hertz: k_h, 1.5).
-N_CP = 4
+# the integrators' step scale); kappa, eta the power law F = kappa*x**eta (hertz: k_h, 1.5);
+# kelvin_voigt: [kind, max(k, c**2/m1), k, c]; hunt_crossley: [kind, scale, k, n, 1.5*alpha].
+N_CP = 5
 # Contact laws without memory: the force is a function of the penetration alone, the contact
 # branches (rising, falling) only record the largest penetration.
 ELASTIC_CONTACTS = (C_LINEAR, C_HERTZ)
+# Contact laws whose force depends on m1's velocity too (a dashpot in the contact).
+VISCOUS_CONTACTS = (C_KELVIN_VOIGT, C_HUNT_CROSSLEY)
+# Largest damping ratio c / (2 sqrt(k m1)) of a Kelvin-Voigt contact: the contact lasts
+# ~ ln(4 z**2) / (z w0) while x' relaxes at the rate 2 z w0, so the work per contact grows with z.
+ZETA_CONTACT_MAX = 1e3
 
 # Structure law kinds (structure_params[0]).
 S_LINEAR = 0
@@ -220,8 +247,12 @@ def effective_stiffness(cp, v0: float) -> float:
     linear k, Hertz's slope at m1's depth, the plastic loading secant; NaN for the rigid wall."""
     if cp[0] == C_LINEAR:
         return cp[1]
+    if cp[0] == C_KELVIN_VOIGT:
+        return cp[2]
     if cp[0] == C_HERTZ:
         return hertz_slope_at_depth(cp[2], v0)
+    if cp[0] == C_HUNT_CROSSLEY:
+        return power_slope_at_depth(cp[2], cp[3], v0)
     if cp[0] == C_PLASTIC:
         eta = cp[3]
         xmax = ((eta + 1.0) * v0 * v0 / (2.0 * cp[2])) ** (1.0 / (eta + 1.0))
@@ -238,6 +269,13 @@ def hertz_slope_at_depth(k_h: float, v0: float, m1: float = 1.0) -> float:
     """Hertz slope 1.5 k_h sqrt(x) at m1's deepest penetration alone, (5 m1 v0**2/(4 k_h))**0.4."""
     x1 = (1.25 * m1 * v0 * v0 / k_h) ** 0.4
     return 1.5 * k_h * math.sqrt(x1)
+
+
+def power_slope_at_depth(k: float, n: float, v0: float, m1: float = 1.0) -> float:
+    """Slope n k x**(n - 1) of the elastic power law k x**n at the depth where m1 alone at v0
+    would stop on it: k x**(n + 1)/(n + 1) = m1 v0**2/2."""
+    x1 = ((n + 1.0) * m1 * v0 * v0 / (2.0 * k)) ** (1.0 / (n + 1.0))
+    return n * k * x1 ** (n - 1.0)
 
 
 def check_L(value) -> float:  # noqa: N802 - the paper's symbol
@@ -318,6 +356,59 @@ def hertz_params(k_h: float, v0: float = 1.0, total_mass: float = 1.0) -> np.nda
     return contact_params(C_HERTZ, 1.5 * k_h * math.sqrt(x_deep), k_h, 1.5)
 
 
+def kelvin_voigt_params(k: float, c: float, m1: float = 1.0) -> np.ndarray:
+    """Pack the Kelvin-Voigt law F = k*x + c*x' (kernel units; m1 the first mass).
+
+    cp[1], the slope scale, is max(k, c**2/m1): the square of m1's fastest rate on the contact,
+    max(w0, c/m1), times m1 (the overdamped rate ~ c/m1 sets the step where it exceeds w0)."""
+    cp = contact_params(C_KELVIN_VOIGT, max(k, c * c / m1), k, 0.0)
+    cp[3] = c
+    return cp
+
+
+def hunt_crossley_params(
+    k: float, n: float, alpha: float, v0: float = 1.0, total_mass: float = 1.0
+):
+    """Pack the Hunt-Crossley law F = k x**n (1 + 1.5 alpha x') (kernel units, m1 = 1).
+
+    cp[1], the slope scale: the larger of twice the elastic slope n k x**(n - 1) and the square of
+    the damping rate 1.5 alpha k x**n at the deepest penetration the whole initial energy could
+    reach (k x**(n + 1)/(n + 1) = total_mass v0**2/2)."""
+    x_deep = ((n + 1.0) * total_mass * v0 * v0 / (2.0 * k)) ** (1.0 / (n + 1.0))
+    lam = 1.5 * alpha
+    scale = max(2.0 * n * k * x_deep ** (n - 1.0), (lam * k * x_deep**n) ** 2)
+    cp = contact_params(C_HUNT_CROSSLEY, scale, k, n)
+    cp[4] = lam
+    return cp
+
+
+HC_N_DEFAULT = 1.5
+
+
+def check_hc_n(name: str, value) -> float:
+    """The Hunt-Crossley exponent n in [1, 10] (below 1 the slope at x = 0 is unbounded)."""
+    x = _num(name, value, "in [1, 10]")
+    if not 1.0 <= x <= 10.0:
+        raise SceneError(f"{name} must be in [1, 10]; got {_show(value)}")
+    return x
+
+
+def _hc_k_unit(spec: dict, where: str) -> tuple:
+    """Unit of the Hunt-Crossley k (force per length**n): m1 omega**(1 + n)."""
+    n = spec.get("n")
+    if n is None or (isinstance(n, float) and math.isnan(n)):  # not given: the default
+        n = HC_N_DEFAULT
+    return (1, 1.0 + check_hc_n(f"{where}.n", n))
+
+
+def check_damping(name: str, value) -> float:
+    """A contact dashpot: finite, >= 0 (kernel units)."""
+    x = _num(name, value, "in [0, inf)")
+    if not x >= 0.0:
+        raise SceneError(f"{name} must be a finite number >= 0; got {_show(value)}")
+    return x
+
+
 def check_stiffness(name: str, value, high: float = 1e12) -> float:
     """A stiffness-like law parameter: finite, in (0, high] (kernel units)."""
     x = _num(name, value, f"in (0, {high:g}]")
@@ -340,7 +431,12 @@ CONTACT_LAWS = {
     "linear": (C_LINEAR, ("k",), {"k": (1, 2)}),
     "plastic": (C_PLASTIC, ("k", "eta", "dr"), {"k": (1, 2)}),
     "hertz": (C_HERTZ, ("k",), {"k": (1, 2.5)}),
+    "kelvin_voigt": (C_KELVIN_VOIGT, ("k", "c"), {"k": (1, 2), "c": (1, 1)}),
+    # k's unit depends on n (a function of the spec); alpha is an inverse speed (unit-free here)
+    "hunt_crossley": (C_HUNT_CROSSLEY, ("k", "n", "alpha"), {"k": _hc_k_unit}),
 }
+# Defaults of contact law parameters.
+CONTACT_DEFAULTS = {"hunt_crossley": {"n": HC_N_DEFAULT}}
 LINK_LAWS = {
     "linear": (S_LINEAR, (), {}),
     "scissor": (S_SCISSOR, ("L", "ks", "theta0", "corner"), {"L": (0, -1), "ks": (1, 2)}),
@@ -387,7 +483,9 @@ def pack_contact(
     ``k_first`` is the first structural spring: the contact's effective stiffness must be
     within the handled beta range of it (check_contact_ratio).
     """
-    name, p = _spec("contact", spec, CONTACT_LAWS, {}, where)
+    law = spec.get("law") if isinstance(spec, dict) else spec
+    defaults = CONTACT_DEFAULTS.get(law, {}) if isinstance(law, str) else {}
+    name, p = _spec("contact", spec, CONTACT_LAWS, defaults, where)
     if name == "rigid":
         return contact_params(C_RIGID), math.nan
     if name == "linear":
@@ -398,6 +496,32 @@ def pack_contact(
         k = check_stiffness(f"{where}.k", p["k"], math.inf)
         check_contact_ratio(where, k_first / hertz_slope_at_depth(k, v0), "slope at m1's depth")
         return hertz_params(k, v0, total_mass), math.nan
+    if name == "kelvin_voigt":
+        k = check_stiffness(f"{where}.k", p["k"], math.inf)
+        c = check_damping(f"{where}.c", p["c"])
+        zeta = c / (2.0 * math.sqrt(k))  # m1 = 1 in kernel units
+        if not zeta <= ZETA_CONTACT_MAX * (1.0 + 1e-12):  # (the units' rounding at the end)
+            raise SceneError(
+                f"{where}.c: the contact's damping ratio c / (2 sqrt(k m1)) is {zeta:.3g}; it "
+                f"must be at most {ZETA_CONTACT_MAX:g} (the contact's work grows with it)"
+            )
+        check_contact_ratio(where, k_first / k, "stiffness")
+        return kelvin_voigt_params(k, c), math.nan
+    if name == "hunt_crossley":
+        k = check_stiffness(f"{where}.k", p["k"], math.inf)
+        n = check_hc_n(f"{where}.n", p["n"])
+        alpha = check_damping(f"{where}.alpha", p["alpha"])
+        # m1 never moves faster than v0 sqrt(M/m1) (the energy only falls): below 1 here the
+        # factor 1 + 1.5 alpha x' stays > 0, so the force ends at x = 0 and never pulls
+        bound = 1.5 * alpha * v0 * math.sqrt(total_mass)
+        if not bound < 1.0:
+            raise SceneError(
+                f"{where}.alpha: 1.5 alpha v0 sqrt(M/m1) is {bound:.3g}; it must be below 1, so "
+                f"that m1 cannot leave faster than 1/(1.5 alpha), where the force "
+                f"k x**n (1 + 1.5 alpha x') would end before x = 0 (not handled)"
+            )
+        check_contact_ratio(where, k_first / power_slope_at_depth(k, n, v0), "slope at m1's depth")
+        return hunt_crossley_params(k, n, alpha, v0, total_mass), math.nan
     # plastic: k is the unloading slope; kappa follows from DR (module docstring)
     k1 = check_stiffness(f"{where}.k", p["k"], math.inf)
     try:
@@ -540,6 +664,12 @@ def contact_elastic(cp):
 
 
 @njit(cache=True, error_model="numpy")
+def contact_viscous(cp):
+    """True for a contact law whose force depends on m1's velocity (VISCOUS_CONTACTS)."""
+    return cp[0] == C_KELVIN_VOIGT or cp[0] == C_HUNT_CROSSLEY
+
+
+@njit(cache=True, error_model="numpy")
 def contact_params_ok(cp):
     """The kernels' own guard of a packed contact law (finite, positive where it must be)."""
     kind = cp[0]
@@ -549,20 +679,32 @@ def contact_params_ok(cp):
         return False
     if kind == C_PLASTIC or kind == C_HERTZ:  # F = cp[2] * x**cp[3]
         return cp[2] > 0.0 and cp[2] < math.inf and cp[3] > 0.0 and cp[3] < math.inf
+    if kind == C_KELVIN_VOIGT:  # F = cp[2] * x + cp[3] * x'
+        return cp[2] > 0.0 and cp[2] < math.inf and cp[3] >= 0.0 and cp[3] < math.inf
+    if kind == C_HUNT_CROSSLEY:  # F = cp[2] * x**cp[3] * (1 + cp[4] * x')
+        return (
+            cp[2] > 0.0 and cp[2] < math.inf and cp[3] >= 1.0 and cp[3] < math.inf
+            and cp[4] >= 0.0 and cp[4] < math.inf
+        )  # fmt: skip
     return kind == C_LINEAR
 
 
 @njit(cache=True, error_model="numpy")
-def contact_force(cp, branch, xmax, fmax, x):
-    """Contact force on m1 (>= 0 pushes away from the wall) as a smooth function of x.
+def contact_force(cp, branch, xmax, fmax, x, xd):
+    """Contact force on m1 (>= 0 pushes away from the wall) as a smooth function of x (and of
+    the penetration rate xd = x' = -v1 for a viscous law).
 
     ``branch`` 1 = loading (power law), 0 = elastic unloading/reloading. No clipping at zero: the
     integrators evaluate the smooth continuation and locate the separation as an event (Hertz:
-    0 for x <= 0, C1 there).
+    0 for x <= 0, C1 there; Kelvin-Voigt: k x + c x', whose zero is the separation).
     """
     kind = cp[0]
     if kind == C_LINEAR:
         return cp[1] * x
+    if kind == C_KELVIN_VOIGT:
+        return cp[2] * x + cp[3] * xd
+    if kind == C_HUNT_CROSSLEY:
+        return cp[2] * x ** cp[3] * (1.0 + cp[4] * xd) if x > 0.0 else 0.0
     if kind == C_HERTZ:
         return cp[2] * x * math.sqrt(x) if x > 0.0 else 0.0
     if branch == 1:
@@ -579,6 +721,10 @@ def contact_energy(cp, x):
         return 0.5 * cp[1] * x * x
     if cp[0] == C_HERTZ:
         return 0.4 * cp[2] * x * x * math.sqrt(x)
+    if cp[0] == C_KELVIN_VOIGT:
+        return 0.5 * cp[2] * x * x  # its spring's; the dashpot stores nothing
+    if cp[0] == C_HUNT_CROSSLEY:
+        return cp[2] * x ** (cp[3] + 1.0) / (cp[3] + 1.0)  # its elastic part's
     return 0.0
 
 
@@ -586,6 +732,10 @@ def contact_energy(cp, x):
 def contact_slope(cp, branch, xmax, x):
     if cp[0] == C_HERTZ:
         return 1.5 * cp[2] * math.sqrt(x) if x > 0.0 else 0.0
+    if cp[0] == C_KELVIN_VOIGT:
+        return cp[2]
+    if cp[0] == C_HUNT_CROSSLEY:  # of the elastic part (x' = 0)
+        return cp[3] * cp[2] * x ** (cp[3] - 1.0) if x > 0.0 else 0.0
     if cp[0] == C_LINEAR or branch == 0:
         return cp[1]
     if x <= 0.0:
@@ -594,8 +744,14 @@ def contact_slope(cp, branch, xmax, x):
 
 
 @njit(cache=True, error_model="numpy")
-def contact_hysteretic(cp, xmax, fmax, x):
-    """Path-following plastic force for explicit schemes (Verlet); returns (F, xmax, fmax)."""
+def contact_hysteretic(cp, xmax, fmax, x, xd):
+    """Path-following force for explicit schemes (Verlet), clipped at 0, at penetration x and
+    its rate xd = x'; returns (F, xmax, fmax)."""
+    if cp[0] == C_KELVIN_VOIGT:
+        return (max(0.0, cp[2] * x + cp[3] * xd) if x > 0.0 else 0.0), xmax, fmax
+    if cp[0] == C_HUNT_CROSSLEY:
+        f = cp[2] * x ** cp[3] * (1.0 + cp[4] * xd) if x > 0.0 else 0.0
+        return max(0.0, f), xmax, fmax
     if cp[0] == C_LINEAR:
         return max(0.0, cp[1] * x), xmax, fmax
     if cp[0] == C_HERTZ:
@@ -616,8 +772,9 @@ def to_kernel_units(spec, table: dict, m1: float, omega: float, where: str):
     out = dict(spec)
     law = spec.get("law")
     entry = table.get(law) if isinstance(law, str) else None
-    for key, (a, b) in (entry[2] if entry else {}).items():
+    for key, unit in (entry[2] if entry else {}).items():
         if out.get(key) is not None:
+            a, b = unit(out, where) if callable(unit) else unit
             out[key] = _num(f"{where}.{key}", out[key], "> 0") / (m1**a * omega**b)
     return out
 

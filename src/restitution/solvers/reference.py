@@ -41,7 +41,7 @@ def _rhs_factory(cp, sp, mem, deadline=None):
         x = -y[0]
         fc = 0.0
         if mem["phase"] == 1:
-            fc = laws.contact_force(cp, mem["branch"], mem["xmax"], mem["fmax"], x)
+            fc = laws.contact_force(cp, mem["branch"], mem["xmax"], mem["fmax"], x, -y[2])
         f2 = laws.structure_force(sp, y[1] - y[0])
         dv = y[3] - y[2]
         fd = c * dv
