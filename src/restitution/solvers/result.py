@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 
 from restitution.kernels import layout as L
-from restitution.model.units import user_time
+from restitution.model.units import user_impulse, user_length, user_speed, user_time
 
 # Status names by the layout constant that holds their code (a code the installed kernels do not
 # define is simply absent).
@@ -66,6 +66,11 @@ RESULT_COLUMNS = (
 T_COL = "t_col"
 
 HISTORY_COLUMNS = ("omega_t_start", "omega_t_end", "v1_in", "v1_out", "x_max", "impulse")
+# The same contacts in the scene's own units (Result.history, after HISTORY_COLUMNS): times, m1's
+# velocity at the start and at the end of the contact, the deepest compression x = -u_1 and the
+# wall's impulse. For the paper's non-dimensional scenes they equal the kernel-unit columns.
+HISTORY_USER_COLUMNS = ("t_start", "t_end", "velocity_in", "velocity_out", "compression",
+                        "wall_impulse")  # fmt: skip
 
 
 _NOT_IN_DICT = ("history",)
@@ -151,6 +156,7 @@ class Result:
         method: str,
         hist: np.ndarray | None = None,
         passive: bool = False,
+        lengths_of_v0: bool = True,
     ):
         """The Result of a kernel row of ``scene``: a ``restitution.Chain``, or the checked
         paper form (alpha, beta, xi, n_masses) of the fast path (its Chain is built only when
@@ -158,11 +164,13 @@ class Result:
         (``+sticking``, ``+rigid-limit``) by ``restitution.solvers.methods.label``. An unfinished
         row
         (``layout.UNFINISHED``; with ``passive``, a linear scene, an open energy account too)
-        has NaN COR, duration and energies."""
+        has NaN COR, duration and energies. ``lengths_of_v0``: the history's x_max is in units
+        of V0 / omega (the exact kernels) or, if False, of the scene's speed unit / omega (the
+        stepping kernels, where v0 enters as given)."""
         history = None
         if hist is not None:
             n = min(int(out[L.OUT_NEVENTS]), hist.shape[0])
-            history = pd.DataFrame(hist[:n], columns=list(HISTORY_COLUMNS))
+            history = _history(hist[:n], scene, lengths_of_v0)
         row = out.tolist()  # Python floats, once
         unfinished = L.UNFINISHED_PASSIVE if passive else L.UNFINISHED
         if row[L.OUT_STATUS] in unfinished or row[L.OUT_STATUS] != row[L.OUT_STATUS]:
@@ -201,6 +209,27 @@ class Result:
             _paper=paper,
         )
         return self
+
+
+def _history(hist: np.ndarray, scene, lengths_of_v0: bool) -> pd.DataFrame:
+    """The history table: HISTORY_COLUMNS as the kernel recorded them, then
+    HISTORY_USER_COLUMNS in the scene's units (``restitution.model.units``)."""
+    frame = pd.DataFrame(hist, columns=list(HISTORY_COLUMNS))
+    if type(scene) is tuple:  # the paper's form: the kernel's units are the scene's
+        omega, v0, m1 = 1.0, 1.0, 1.0
+    else:
+        omega = float(getattr(scene, "omega", 1.0))
+        v0 = float(getattr(scene, "v0", 1.0))
+        masses = getattr(scene, "masses", None)
+        m1 = float(masses[0]) if masses is not None else 1.0
+    frame["t_start"] = user_time(frame["omega_t_start"].to_numpy(), omega)
+    frame["t_end"] = user_time(frame["omega_t_end"].to_numpy(), omega)
+    frame["velocity_in"] = user_speed(frame["v1_in"].to_numpy(), v0)
+    frame["velocity_out"] = user_speed(frame["v1_out"].to_numpy(), v0)
+    frame["compression"] = user_length(frame["x_max"].to_numpy(), omega,
+                                       v0 if lengths_of_v0 else 1.0)  # fmt: skip
+    frame["wall_impulse"] = user_impulse(frame["impulse"].to_numpy(), m1, v0)
+    return frame
 
 
 def label(name: str, out) -> str:
