@@ -157,7 +157,7 @@ def test_hertz_chain_against_solve_ivp(scene):
     ch = Chain(**scene)
     times, r = _times(ch)
     frame = trajectory(ch, times, rtol=RTOL)
-    assert frame.attrs == {"method": "adaptive", "rtol": RTOL}
+    assert frame.attrs == {"method": "adaptive", "rtol": RTOL, "scaled": False}
     assert r.n_collisions >= 2  # several contacts and free flights in the range
     law = ("hertz", scene["contact"]["k"])
     ref, events = _reference(scene["masses"], _linear(scene["springs"]), law,
@@ -294,6 +294,40 @@ def test_settings_are_checked():
     with pytest.raises(SceneError, match="step"):
         trajectory(alpha=2.0, beta=0.1, contact="plastic", times=[1.0], step=0.01)
     f = trajectory(alpha=2.0, beta=0.1, contact="plastic", times=[1.0], rtol=1e-8)
-    assert f.attrs == {"method": "adaptive", "rtol": 1e-8}
+    assert f.attrs == {"method": "adaptive", "rtol": 1e-8, "scaled": True}
     g = trajectory(alpha=2.0, beta=0.1, times=[1.0])
     assert g.attrs["method"] == "piecewise" and math.isnan(g.attrs["rtol"])
+
+
+# -------------------------------------------------------------------- dimensional histories --
+def test_history_in_the_scenes_units_two_equal_masses_at_a_rigid_wall():
+    # m, k, v0 in SI: after the first impact m1 oscillates against m2 about the fixed centre of
+    # mass, u1 = (v0 / omega) sin(omega t) with omega**2 = 2 k / m, and comes back at -v0 at
+    # t = pi / omega: the second and last impact (then both leave at v0)
+    m, k, v0 = 0.2, 500.0, 0.3
+    r = solve(masses=[m, m], springs=[k], v0=v0, history=True)
+    h = r.history
+    t2 = math.pi * math.sqrt(m / (2 * k))
+    assert h["t_start"].to_numpy() == pytest.approx([0.0, t2], abs=1e-12 * t2)
+    assert h["t_end"].to_numpy() == pytest.approx([0.0, t2], abs=1e-12 * t2)
+    assert h["velocity_in"].to_numpy() == pytest.approx([-v0, -v0], rel=1e-12)
+    assert h["velocity_out"].to_numpy() == pytest.approx([v0, v0], rel=1e-12)
+    assert h["wall_impulse"].to_numpy() == pytest.approx([2 * m * v0, 2 * m * v0], rel=1e-12)
+    assert (h["compression"] == 0).all()
+    # the kernel-unit columns stay as they were
+    assert h["omega_t_start"].to_numpy() == pytest.approx([0.0, math.pi], abs=1e-12)
+    assert list(h["v1_in"]) == pytest.approx([-1.0, -1.0], rel=1e-12)
+
+
+def test_history_lengths_agree_between_the_exact_and_the_adaptive_method():
+    # the exact kernels record x_max in V0/omega, the stepping kernels in (speed unit)/omega:
+    # the compression column is the scene's length either way
+    kw = dict(masses=[1.0, 0.5], springs=[0.3], k_contact=50.0, v0=2.0, history=True)
+    exact = solve(**kw).history
+    adaptive = solve(**kw, method="adaptive").history
+    assert exact["compression"].to_numpy() == pytest.approx(
+        adaptive["compression"].to_numpy(), rel=1e-7
+    )
+    assert exact["t_end"].to_numpy() == pytest.approx(adaptive["t_end"].to_numpy(), rel=1e-7)
+    # one contact: the linear spring against m1 at v0 = 2 compresses by about v0 / sqrt(k/m1)
+    assert exact["compression"].iat[0] == pytest.approx(2.0 / math.sqrt(50.0), rel=0.05)

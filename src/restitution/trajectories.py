@@ -252,7 +252,8 @@ def trajectory(
         adaptive method adds ``"contact_start"`` / ``"contact_end"`` rows at the contacts of a
         finite contact law. ``attrs["method"]`` names the method that produced the samples
         (``"impulsive"`` or ``"piecewise"``: exact closed form; ``"adaptive"``: DOP853 at
-        ``attrs["rtol"]``).
+        ``attrs["rtol"]``, NaN for the exact ones); ``attrs["scaled"]`` is True when the scene's
+        units are the kernels' (m_1 = 1, omega = 1, V0 = 1: the paper's scenes).
     """
     ch, settings = _scene(scene, dict(keywords))
     if rtol is not None and "rtol" in settings:
@@ -267,7 +268,7 @@ def trajectory(
         rtol = Options.rtol if rtol is None else check("rtol", rtol)
         out = _adaptive_frame(ch, t, np.ascontiguousarray(wt, dtype=np.float64), rtol,
                               max_events)  # fmt: skip
-        out.attrs.update(method=chosen.name, rtol=rtol)
+        out.attrs.update(method=chosen.name, rtol=rtol, scaled=_scaled(ch))
         return out
     if rtol is not None:
         raise SceneError(
@@ -288,8 +289,14 @@ def trajectory(
         out = out.sort_values("t", kind="stable", ignore_index=True)
     if math.isnan(out["u_1"].iloc[0]):
         raise SceneError("the sampler returned NaN: the scene could not be solved")
-    out.attrs.update(method=chosen.name, rtol=math.nan)
+    out.attrs.update(method=chosen.name, rtol=math.nan, scaled=_scaled(ch))
     return out
+
+
+def _scaled(ch: Chain) -> bool:
+    """True when the scene's units are the kernels' (m_1 = 1, omega = 1, V0 = 1): the paper's
+    non-dimensional scenes (times are omega*t, lengths omega*u/V0, speeds v/V0)."""
+    return ch.omega == 1.0 and ch.v0 == 1.0 and float(ch.masses[0]) == 1.0
 
 
 __all__ = ["trajectory"]

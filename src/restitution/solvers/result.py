@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, fields
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -138,6 +139,32 @@ class Result:
     def message(self) -> str:
         return MESSAGES.get(self.status, self.status)
 
+    def plot(self, ax=None):
+        """Draw the contact history: m_1's velocity at the start (open circle) and at the end
+        (filled) of every contact against time, each contact a grey band from its start to its
+        end (a line at a rigid wall's impact), and the centre of mass's final velocity
+        ``cor * v0`` as a grey reference line; the scene's own units (the paper's scaled ones
+        for its scenes). Returns the Axes (by default on a new single-column figure in the house
+        style, ``restitution.plotting``). The motion itself: ``restitution.plotting.
+        plot_trajectory(restitution.trajectory(result.scene, times))``.
+
+        Needs the history: ``solve(..., history=True)``.
+        """
+        if self.history is None:
+            raise ValueError("Result.plot draws the contact history: solve(..., history=True)")
+        import matplotlib.style
+
+        with matplotlib.style.context(_STYLE):
+            if ax is None:
+                from matplotlib.backends.backend_agg import FigureCanvasAgg
+                from matplotlib.figure import Figure
+
+                fig = Figure(figsize=(3.4, 3.4 * 0.76))
+                FigureCanvasAgg(fig)
+                ax = fig.add_subplot()
+            _draw_history(ax, self)
+        return ax
+
     def to_dict(self, history: bool = False) -> dict:
         d = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in _NOT_IN_DICT}
         d["success"] = self.success
@@ -209,6 +236,38 @@ class Result:
             _paper=paper,
         )
         return self
+
+
+# The house style (restitution/restitution.mplstyle; restitution.plotting applies the same file).
+_STYLE = str(Path(__file__).resolve().parents[1] / "restitution.mplstyle")
+
+
+def _draw_history(ax, r: Result) -> None:
+    h = r.history
+    scene = r.scene
+    scaled = scene is None or (scene.omega == 1.0 and scene.v0 == 1.0 and scene.masses[0] == 1.0)
+    v0 = 1.0 if scene is None else float(scene.v0)
+    ts, te = h["t_start"].to_numpy(), h["t_end"].to_numpy()
+    vin, vout = h["velocity_in"].to_numpy(), h["velocity_out"].to_numpy()
+    for k, (a, b) in enumerate(zip(ts, te, strict=True)):
+        if b > a:
+            ax.axvspan(a, b, color="0.88", lw=0, zorder=0, label="_contact" if k else "contact")
+        else:
+            ax.axvline(a, color="0.55", lw=0.6, ls=(0, (1, 1.5)), zorder=0,
+                       label="_impact" if k else "impact")  # fmt: skip
+        ax.plot([a, b], [vin[k], vout[k]], color="0.55", lw=0.6, zorder=1)
+    ax.plot(ts, vin, color="#000000", marker="o", mfc="none", ls="none", label="start")
+    ax.plot(te, vout, color="#000000", marker="o", ls="none", label="end")
+    if math.isfinite(r.cor):
+        ax.axhline(r.cor * v0, color="0.75", lw=2.4, zorder=0, label=r"$e\,V_0$")
+    ax.axhline(0.0, color="0.3", lw=0.4, zorder=0)
+    if scaled:
+        ax.set_xlabel(r"time $\omega t$")
+        ax.set_ylabel(r"velocity $v_1 / V_0$ of $m_1$")
+    else:
+        ax.set_xlabel("time $t$")
+        ax.set_ylabel("velocity $v_1$ of $m_1$")
+    ax.legend(loc="best")
 
 
 def _history(hist: np.ndarray, scene, lengths_of_v0: bool) -> pd.DataFrame:
