@@ -440,6 +440,10 @@ def _contact_spans(frame) -> tuple[list, list]:
 def plot_trajectory(frame, ax=None, what: str = "u", units=None, masses=None, legend=True):
     """Draw a ``restitution.trajectory`` table against time; return the Axes.
 
+    Contacts with a finite contact law are shaded (from the table's ``contact_start`` /
+    ``contact_end`` rows, or from its samples with a contact force), impacts at a rigid wall are
+    dotted vertical lines; each mass has a line style of SERIES_STYLES.
+
     Parameters
     ----------
     frame : DataFrame
@@ -459,16 +463,19 @@ def plot_trajectory(frame, ax=None, what: str = "u", units=None, masses=None, le
     legend : bool
         A legend naming the masses (for more than one curve).
 
-    Contacts with a finite contact law are shaded (from the table's ``contact_start`` /
-    ``contact_end`` rows, or from its samples with a contact force), impacts at a rigid wall are
-    dotted vertical lines.
+    Returns
+    -------
+    matplotlib Axes
+        The axes drawn on.
 
+    Examples
+    --------
     >>> import restitution
     >>> from restitution.plotting import plot_trajectory
     >>> f = restitution.trajectory(alpha=2.0, beta=0.1, times=[0.0, 1.0, 2.0])
     >>> ax = plot_trajectory(f, what="v")
-    >>> ax.get_xlabel()
-    'time $\\\\omega t$'
+    >>> ax.get_ylabel()
+    'velocity $v_i / V_0$'
     """
     if what not in (*_QUANTITIES, "f_contact"):
         raise ValueError(f"what must be 'u', 'v' or 'f_contact'; got {what!r}")
