@@ -163,6 +163,8 @@ def test_hertz_chain_against_solve_ivp(scene):
     ref, events = _reference(scene["masses"], _linear(scene["springs"]), law,
                              scene.get("v0", 1.0), times, times[-1])  # fmt: skip
     _compare(frame, ref, events, ch.n_masses)
+    # the event rows are the states at the contact surface, x = 0 (up to round-off)
+    assert np.abs(frame.loc[frame["event"] != "sample", "u_1"]).max() <= 1e-15
     x = np.maximum(-frame["u_1"].to_numpy(), 0.0)
     on = frame["event"] == "sample"
     assert frame["f_contact"].to_numpy()[on] == pytest.approx(law[1] * x[on] ** 1.5, abs=1e-6)
@@ -266,7 +268,7 @@ def test_the_sampler_runs_the_solvers_own_sequence(scene):
     acct = np.zeros(stepping.N_ACCT)
     a = stepping.solve_scene(ms, lk, cs, cp, v0, 0, rtol, 0.01, etol, 50, work, h1, acct, True)
     ts = np.linspace(0.0, 20.0, 77)
-    b, ys, _, _, _, _ = stepping.sample_scene(ms, lk, cs, cp, v0, rtol, etol, 50, work, ts, h2)
+    b, ys, _, _, _ = stepping.sample_scene(ms, lk, cs, cp, v0, rtol, etol, 50, work, ts, h2)
     np.testing.assert_array_equal(a, b)
     np.testing.assert_array_equal(h1, h2)
     assert np.isfinite(ys).all()
@@ -331,3 +333,13 @@ def test_history_lengths_agree_between_the_exact_and_the_adaptive_method():
     assert exact["t_end"].to_numpy() == pytest.approx(adaptive["t_end"].to_numpy(), rel=1e-7)
     # one contact: the linear spring against m1 at v0 = 2 compresses by about v0 / sqrt(k/m1)
     assert exact["compression"].iat[0] == pytest.approx(2.0 / math.sqrt(50.0), rel=0.05)
+
+
+def test_a_time_far_beyond_the_last_contact_is_refused_by_name():
+    # the free flight of three masses is integrated on after the last contact, within the work
+    # budget: 1e7 periods are beyond it
+    with pytest.raises(SceneError, match="times: the free flight after the last contact"):
+        trajectory(**HERTZ3, times=[1.0, 1e8])
+    # two masses with a linear link fly free in closed form: any time
+    f = trajectory(**HERTZ2, times=[1e8])
+    assert np.isfinite(f[["u_1", "u_2", "v_1", "v_2"]].to_numpy()).all()

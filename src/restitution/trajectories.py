@@ -137,9 +137,10 @@ EVENT_NAMES = ("contact_start", "contact_end", "impact")  # stepping.EV_START, E
 
 
 def _sample_adaptive(ch: Chain, wt: np.ndarray, rtol: float, max_events: int):
-    """(y, f, events, hist, out) of the adaptive method's run of ``ch`` at the kernel times wt
-    (any order): states (len(wt), 2n + 2) and forces in the stepping kernels' units (m_1 = 1,
-    omega = 1, the scene's speed unit), the events (times, kinds, states), the history."""
+    """(y, f, (evt, evk), hist, out) of the adaptive method's run of ``ch`` at the kernel times
+    wt (any order): states (len(wt), 2n + 2) and forces in the stepping kernels' units (m_1 = 1,
+    omega = 1, the scene's speed unit), the contact events (times, kinds), the history and the
+    result row."""
     from restitution.kernels import layout as LY
     from restitution.kernels import stepping
     from restitution.solvers.numerical import _default_etol, packed
@@ -149,7 +150,7 @@ def _sample_adaptive(ch: Chain, wt: np.ndarray, rtol: float, max_events: int):
     hist = np.zeros((max_events, LY.N_HIST))
     etol = _default_etol("adaptive", rtol, 0.0)
     with blas.one_thread(ch.n_masses):
-        out, ys, fs, evt, evk, evy = stepping.sample_scene(
+        out, ys, fs, evt, evk = stepping.sample_scene(
             ms, lk, cs, cp, float(ch.v0), rtol, etol, max_events,
             float(stepping.MAX_WORK_DEFAULT), np.ascontiguousarray(wt[order]), hist,
         )  # fmt: skip
@@ -157,7 +158,7 @@ def _sample_adaptive(ch: Chain, wt: np.ndarray, rtol: float, max_events: int):
     y[order] = ys
     f = np.empty_like(fs)
     f[order] = fs
-    return y, f, (evt, evk, evy), hist, out
+    return y, f, (evt, evk), hist, out
 
 
 def _frame(t, wt, u, v, f, impulse, event, n, w, m1, v0) -> pd.DataFrame:
@@ -179,18 +180,27 @@ def _adaptive_frame(ch: Chain, t, wt, rtol: float, max_events: int) -> pd.DataFr
     from restitution.solvers.result import MESSAGES, status_name
 
     n, w, m1 = ch.n_masses, ch.omega, float(ch.masses[0])
-    y, f, (evt, evk, evy), hist, out = _sample_adaptive(ch, wt, rtol, max_events)
+    y, f, (evt, evk), hist, out = _sample_adaptive(ch, wt, rtol, max_events)
     status = status_name(out[LY.OUT_STATUS])
-    if status != "ok" or not np.isfinite(y[:, : 2 * n]).all():
+    if status != "ok":
         raise SceneError(
             f"the adaptive run of this scene ended with status {status!r}: "
             f"{MESSAGES.get(status, status)}"
+        )
+    if not np.isfinite(y[:, : 2 * n]).all():  # the free flight after the last contact
+        late = float(t[~np.isfinite(y[:, : 2 * n]).all(axis=1)].min())
+        raise SceneError(
+            f"times: the free flight after the last contact (t_col = {out[LY.OUT_TCOL] / w:.6g}) "
+            f"was not integrated to t = {late:.6g} within the work budget; ask for earlier times"
         )
     # the stepping kernels' speed unit is the scene's own (v0 as given): lengths in 1 / omega
     parts = [_frame(t, wt, y[:, :n], y[:, n : 2 * n], f, np.zeros(len(t)), ["sample"] * len(t),
                     n, w, m1, 1.0)]  # fmt: skip
     inside = (evt >= wt.min()) & (evt <= wt.max())
     if inside.any():
+        # the states at the events: the same run sampled at their times (stepping.sample_scene:
+        # a sample at an event's time is the state after its switch)
+        ev, _, _, _, _ = _sample_adaptive(ch, evt[inside], rtol, max_events)
         kinds = evk[inside]
         impulse = np.zeros(len(kinds))
         impact = kinds == 2
@@ -198,7 +208,6 @@ def _adaptive_frame(ch: Chain, t, wt, rtol: float, max_events: int) -> pd.DataFr
             at = np.flatnonzero(evk == 2)
             j = np.searchsorted(at, np.flatnonzero(inside)[impact])
             impulse[impact] = hist[j, LY.H_IMPULSE] * ch.v0
-        ev = evy[inside]
         te = evt[inside]
         parts.append(
             _frame(

@@ -704,8 +704,8 @@ def solve_scene_batch(m, lk, c, n, cp, v0, method, rtol, step_frac, etol, max_ev
 # result row is ``solve_scene``'s bit for bit) and evaluates the state at requested times:
 # from each step's 7th-order dense output in time, from the dense output in sigma at the ends of
 # power-law contacts (the sample's sigma found on the step's time component), in closed form in
-# the free flight of two masses with a linear link. It records the state at every contact start
-# and end (EV_START, EV_END) and after every impact at a rigid wall (EV_IMPACT).
+# the free flight of two masses with a linear link. It records the time of every contact start
+# and end (EV_START, EV_END) and of every impact at a rigid wall (EV_IMPACT).
 EV_START = 0
 EV_END = 1
 EV_IMPACT = 2
@@ -746,12 +746,11 @@ def _sample_free_linear(y0, t0, t_hi, m, lk, c, ts, si, Ys, Fs):
 
 
 @njit(cache=True, error_model="numpy")
-def _event(evt, evk, evy, cnt, t, kind, y):
+def _event(evt, evk, cnt, t, kind):
     j = cnt[0]
     if j < evt.shape[0]:
         evt[j] = t
         evk[j] = kind
-        evy[j, :] = y
         cnt[0] = j + 1
 
 
@@ -773,7 +772,7 @@ def _sigma_entry_sampled(y, t, m, lk, c, cp, mem, rtol, atol, work, err_acc, ts,
 @njit(cache=True, error_model="numpy")
 def _adaptive_sampled(
     y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, ts, si, Ys, Fs,
-    evt, evk, evy, cnt, max_work,
+    evt, evk, cnt, max_work,
 ):  # fmt: skip
     """``_adaptive`` (free_closed = True) with the samples and the contact events recorded;
     after the last contact the free flight goes on until the last sample (its own work budget
@@ -812,11 +811,11 @@ def _adaptive_sampled(
         _record(hist, 0, H_VOUT, y[n] / v0)
         _record(hist, 0, H_IMPULSE, (_momentum(y, m) - p_in) / v0)
         mem[M_PHASE] = 0.0
-        _event(evt, evk, evy, cnt, 0.0, EV_IMPACT, y)
+        _event(evt, evk, cnt, 0.0, EV_IMPACT)
     else:
         mem[M_PHASE] = 1.0
         mem[M_BRANCH] = 1.0
-        _event(evt, evk, evy, cnt, 0.0, EV_START, y)
+        _event(evt, evk, cnt, 0.0, EV_START)
     entering = True
     how = ENTER
     sigma_exit = True
@@ -867,7 +866,7 @@ def _adaptive_sampled(
                 _record(hist, k, H_VOUT, y[n] / v0)
                 _record(hist, k, H_XMAX, xmax_c)
                 _record(hist, k, H_IMPULSE, (_momentum(y, m) - p_in) / v0)
-                _event(evt, evk, evy, cnt, t, EV_END, y)
+                _event(evt, evk, cnt, t, EV_END)
                 entering = True
                 h = hf
         else:
@@ -919,7 +918,7 @@ def _adaptive_sampled(
                 _record(hist, k, H_TEND, t)
                 _record(hist, k, H_VOUT, y[n] / v0)
                 _record(hist, k, H_IMPULSE, (_momentum(y, m) - p_in) / v0)
-                _event(evt, evk, evy, cnt, t, EV_IMPACT, y)
+                _event(evt, evk, cnt, t, EV_IMPACT)
                 entering = True
                 h = hf
             else:
@@ -928,7 +927,7 @@ def _adaptive_sampled(
                     mem[M_BRANCH] = 1.0
                 else:
                     mem[M_BRANCH] = 0.0
-                _event(evt, evk, evy, cnt, t, EV_START, y)
+                _event(evt, evk, cnt, t, EV_START)
                 how = ENTER
 
 
@@ -938,10 +937,12 @@ def sample_scene(m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist):
     free_closed = True: the same result row, bit for bit) with its states at the sorted times
     ``ts`` (kernel units, >= 0).
 
-    Returns (out, Ys, Fs, evt, evk, evy): the result row, the states (len(ts), 2n + 2; NaN where
+    Returns (out, Ys, Fs, evt, evk): the result row, the states (len(ts), 2n + 2; NaN where
     the run stopped before), the contact law's force at each sample, and the contact events
-    (times, kinds EV_START / EV_END / EV_IMPACT, states; impacts show the state after the
-    reversal), at most 2 max_events of them.
+    (times and kinds EV_START / EV_END / EV_IMPACT; at most 2 max_events of them). A sample at
+    an event's time (the same float) is the state there after the event's switch: the start of
+    the contact, the separation, the reversal of an impact; so a second run with the event
+    times among the samples gives the states at the events.
     """
     n = m.shape[0]
     ny = 2 * n + 2
@@ -951,7 +952,6 @@ def sample_scene(m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist):
     cap = 2 * max_events
     evt = np.full(cap, np.nan)
     evk = np.zeros(cap, dtype=np.int64)
-    evy = np.full((cap, ny), np.nan)
     cnt = np.zeros(1, dtype=np.int64)
     acct = np.zeros(N_ACCT)
     out = np.full(N_OUT, np.nan)
@@ -959,7 +959,7 @@ def sample_scene(m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist):
     out[OUT_NCOL] = 0.0
     out[OUT_NEVENTS] = 0.0
     if not input_ok(m, lk, c, cp, v0):
-        return out, Ys, Fs, evt[:0], evk[:0], evy[:0]
+        return out, Ys, Fs, evt[:0], evk[:0]
     y = np.zeros(ny)
     for i in range(n):
         y[n + i] = -v0
@@ -980,7 +980,7 @@ def sample_scene(m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist):
         sample_here(y, 0.0, cp, mem, ts, si, Ys, Fs)
     status, ncol, tcol, err = _adaptive_sampled(
         y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, ts, si, Ys, Fs,
-        evt, evk, evy, cnt, max_work,
+        evt, evk, cnt, max_work,
     )  # fmt: skip
     out[OUT_NCOL] = ncol
     out[OUT_NEVENTS] = ncol
@@ -999,4 +999,4 @@ def sample_scene(m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist):
         out[OUT_COR] = np.nan
     out[OUT_STATUS] = status
     k = cnt[0]
-    return out, Ys, Fs, evt[:k], evk[:k], evy[:k]
+    return out, Ys, Fs, evt[:k], evk[:k]
