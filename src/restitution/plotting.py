@@ -369,3 +369,139 @@ def check_figure(fig: Figure, min_text_pt: float = MIN_TEXT_PT) -> None:
     problems = audit_figure(fig, min_text_pt)
     if problems:
         raise FigureRuleError("figure breaks the house rules:\n  " + "\n  ".join(problems))
+
+
+# ---------------------------------------------------------------------------------------------
+# Trajectories (restitution.trajectory) in the house style: one grey/black line style per mass
+# (SERIES_STYLES: a mass index is none of beta, xi, alpha), contacts as light grey bands, impacts
+# at a rigid wall as dotted vertical lines.
+# ---------------------------------------------------------------------------------------------
+#: Band behind the curves while m1 is in contact with a finite contact law.
+CONTACT_STYLE = {"color": "0.88", "lw": 0, "zorder": 0}
+#: An impact at a rigid wall (an instant).
+IMPACT_STYLE = {"color": "0.55", "lw": 0.6, "ls": (0, (1, 1.5)), "zorder": 0}
+_QUANTITIES = {
+    "u": ("u", "position", "length"),
+    "v": ("v", "velocity", "speed"),
+}
+
+
+def _unit(units, key: str) -> str:
+    unit = (units or {}).get(key)
+    return f" ({unit})" if unit else ""
+
+
+def trajectory_labels(frame, what: str = "u", units=None) -> tuple[str, str]:
+    """(x label, y label) of a ``trajectory`` table: the paper's scaled symbols when the scene's
+    units are the kernels' (``frame.attrs["scaled"]``: m_1 = 1, omega = 1, V0 = 1), else the
+    quantity with the unit ``units`` gives for it (keys ``t``, ``length``, ``speed``, ``force``;
+    the scene's own units are not recorded by the model)."""
+    scaled = bool(frame.attrs.get("scaled", False))
+    if what == "f_contact":
+        y = (r"contact force $F / (m_1 V_0 \omega)$" if scaled
+             else "contact force $F$" + _unit(units, "force"))  # fmt: skip
+    else:
+        sym, name, key = _QUANTITIES[what]
+        if scaled:
+            y = rf"{name} $\omega {sym}_i / V_0$" if what == "u" else rf"{name} ${sym}_i / V_0$"
+        else:
+            y = f"{name} ${sym}_i$" + _unit(units, key)
+    x = r"time $\omega t$" if scaled else "time $t$" + _unit(units, "t")
+    return x, y
+
+
+def _contact_spans(frame) -> tuple[list, list]:
+    """([(start, end)] of contacts, [impact times]) within the table: from its event rows, else
+    (the exact kernels of a linear contact record none) from the samples with a contact force."""
+    t = frame["t"].to_numpy()
+    event = frame["event"].to_numpy()
+    impacts = list(t[event == "impact"])
+    starts, ends = list(t[event == "contact_start"]), list(t[event == "contact_end"])
+    if starts or ends:
+        if ends and (not starts or ends[0] < starts[0]):
+            starts.insert(0, t.min())  # the table begins inside a contact
+        if len(ends) < len(starts):
+            ends.append(t.max())  # ... or ends inside one
+        return list(zip(starts, ends, strict=False)), impacts
+    on = (frame["f_contact"].to_numpy() > 0) & (event == "sample")
+    spans, i = [], 0
+    while i < len(t):
+        if on[i]:
+            j = i
+            while j + 1 < len(t) and on[j + 1]:
+                j += 1
+            spans.append((t[max(i - 1, 0)], t[min(j + 1, len(t) - 1)]))
+            i = j + 1
+        else:
+            i += 1
+    return spans, impacts
+
+
+def plot_trajectory(frame, ax=None, what: str = "u", units=None, masses=None, legend=True):
+    """Draw a ``restitution.trajectory`` table against time; return the Axes.
+
+    Contacts with a finite contact law are shaded (from the table's ``contact_start`` /
+    ``contact_end`` rows, or from its samples with a contact force), impacts at a rigid wall are
+    dotted vertical lines; each mass has a line style of SERIES_STYLES.
+
+    Parameters
+    ----------
+    frame : DataFrame
+        A table of ``restitution.trajectory`` (its sample and event rows; the curves pass through
+        both, so a contact's start and end are drawn where they happened).
+    ax : matplotlib Axes, optional
+        Where to draw; by default a new single-column figure in the house style
+        (``new_figure``; the figure is ``ax.figure``).
+    what : {"u", "v", "f_contact"}
+        Positions u_i, velocities v_i of every mass, or the contact force on m_1.
+    units : mapping, optional
+        Unit names for the axis labels (keys ``t``, ``length``, ``speed``, ``force``), e.g.
+        ``{"t": "s", "length": "m"}``; ignored for the paper's scaled scenes, whose labels are
+        the scaled symbols.
+    masses : sequence of int, optional
+        The masses to draw (1-based; default all).
+    legend : bool
+        A legend naming the masses (for more than one curve).
+
+    Returns
+    -------
+    matplotlib Axes
+        The axes drawn on.
+
+    Examples
+    --------
+    >>> import restitution
+    >>> from restitution.plotting import plot_trajectory
+    >>> f = restitution.trajectory(alpha=2.0, beta=0.1, times=[0.0, 1.0, 2.0])
+    >>> ax = plot_trajectory(f, what="v")
+    >>> ax.get_ylabel()
+    'velocity $v_i / V_0$'
+    """
+    if what not in (*_QUANTITIES, "f_contact"):
+        raise ValueError(f"what must be 'u', 'v' or 'f_contact'; got {what!r}")
+    if ax is None:
+        ax = new_figure().add_subplot()
+    n = sum(1 for c in frame.columns if c.startswith("u_"))
+    chosen = list(range(1, n + 1)) if masses is None else [int(i) for i in masses]
+    for i in chosen:
+        if not 1 <= i <= n:
+            raise ValueError(f"masses must be numbers in 1..{n}; got {i!r}")
+    t = frame["t"].to_numpy()
+    spans, impacts = _contact_spans(frame)
+    for k, (a, b) in enumerate(spans):
+        ax.axvspan(a, b, **CONTACT_STYLE, label="_contact" if k else "contact")
+    for k, ti in enumerate(impacts):
+        ax.axvline(ti, **IMPACT_STYLE, label="_impact" if k else "impact")
+    if what == "f_contact":
+        ax.plot(t, frame["f_contact"].to_numpy(), **series_style(0), label="$F$")
+    else:
+        # at an impact the velocity jumps: the curve shows the velocity after it
+        for k, i in enumerate(chosen):
+            ax.plot(t, frame[f"{what}_{i}"].to_numpy(), **series_style(k), label=f"${what}_{i}$")
+    ax.set_xlim(t.min(), t.max())
+    x_label, y_label = trajectory_labels(frame, what, units)
+    ax.set_xlabel(x_label)
+    ax.set_ylabel(y_label)
+    if legend and (len(chosen) > 1 or spans or impacts):
+        ax.legend(loc="best")
+    return ax

@@ -1,11 +1,22 @@
 """Trajectories as a table: every mass's position and velocity and the wall force over time.
 
-``trajectory(scene, times)`` samples the exact (closed-form per phase) motion of a linear chain
-at the requested times, in the scene's own units, from the same event sequence the solver finds.
+``trajectory(scene, times)`` samples the motion of any scene ``restitution.solve`` accepts at
+the requested times, in the scene's own units, from the same event sequence the solver finds:
+
+* linear chains from their exact kernels (closed form per phase; ``attrs["method"]`` is
+  ``"impulsive"`` or ``"piecewise"``);
+* every other scene (Hertz, plastic contact, scissor links) from the solver's own adaptive run
+  (``restitution.kernels.stepping.sample_scene``: the same DOP853 steps and events as
+  ``solve``, its result bit for bit), each sample from the 7th-order dense output of the step
+  that crosses it (in sigma = sqrt(x) at the ends of a power-law contact, in closed form in the
+  free flight of two masses with a linear link); ``attrs["method"]`` is ``"adaptive"`` and
+  ``attrs["rtol"]`` its tolerance.
+
 At a rigid wall a contact is an instant: it appears as an extra row at its time with
 ``event = "impact"`` and the wall's ``impulse``; the force column is 0 there (an impulse has no
-finite force); positions are continuous there, velocities jump (the row shows the sampler's
-value at that instant).
+finite force); positions are continuous there, velocities jump (the row shows the velocities
+after the reversal). A finite contact law adds a row at each contact start and end
+(``event = "contact_start"`` / ``"contact_end"``) of the adaptive method.
 """
 
 from __future__ import annotations
@@ -16,7 +27,7 @@ from collections.abc import Mapping
 import numpy as np
 import pandas as pd
 
-from restitution.model.chain import Chain, SceneError
+from restitution.model.chain import Chain, SceneError, check
 from restitution.model.ranges import _real, _show
 from restitution.model.units import (
     kernel_time,
@@ -27,15 +38,16 @@ from restitution.model.units import (
     user_time,
 )
 from restitution.solvers import blas, exact
-from restitution.solvers.methods import check_events, choose
+from restitution.solvers.methods import Options, check_events, choose
 
 
-def _scene(scene, keywords: dict) -> Chain:
-    """A Chain from a Chain, a mapping of keywords or the keywords themselves."""
+def _scene(scene, keywords: dict) -> tuple[Chain, dict]:
+    """A Chain from a Chain, a mapping of keywords or the keywords themselves, and the numerical
+    settings given with the paper's form (rtol)."""
     if isinstance(scene, Chain):
         if keywords:
             raise SceneError(f"unknown keyword(s) {', '.join(sorted(keywords))} with a Chain")
-        return scene
+        return scene, {}
     if isinstance(scene, Mapping):
         keywords = {**scene, **keywords}
     elif scene is not None:
@@ -47,16 +59,16 @@ def _scene(scene, keywords: dict) -> Chain:
         ch, settings = paper_with_laws(
             p["alpha"], p.get("beta", 0.0), p.get("xi", 0.0), p.get("n_masses", 2), keywords
         )
-        if settings:
-            raise SceneError(f"{', '.join(settings)}: not used by trajectory (exact methods)")
-        return ch
+        if "step" in settings:
+            raise SceneError("step: not used by trajectory (it samples the adaptive method)")
+        return ch, settings
     unknown = sorted(set(keywords) - set(_CHAIN_KEYS), key=str)
     if unknown:
         raise SceneError(
             f"unknown scene parameter(s) {', '.join(map(str, unknown))} for a general chain; "
             f"allowed: {', '.join(_CHAIN_KEYS)} (or alpha, beta, xi, n_masses)"
         )
-    return make_chain(**keywords)
+    return make_chain(**keywords), {}
 
 
 _CHAIN_KEYS = ("masses", "springs", "dashpots", "k_contact", "v0", "contact", "links")
@@ -121,69 +133,179 @@ def _times(times) -> np.ndarray:
     return t
 
 
-def trajectory(scene=None, times=None, *, max_events: int = 10_000, **keywords) -> pd.DataFrame:
-    """Positions, velocities and the wall force of every mass at the requested times.
+EVENT_NAMES = ("contact_start", "contact_end", "impact")  # stepping.EV_START, EV_END, EV_IMPACT
 
-    Parameters
-    ----------
-    scene : Chain or mapping, optional
-        The scene; or give its keywords directly (``alpha=...`` for the paper's form,
-        ``masses=..., springs=...`` for a general chain, as for ``restitution.solve``).
-    times : array_like
-        Times (the scene's time unit; omega*t for the paper's scenes), finite and >= 0, from
-        the first contact at t = 0.
-    max_events : int
-        Contact budget of the underlying solve.
 
-    Returns
-    -------
-    DataFrame
-        Columns ``t, omega_t, u_1..u_N, v_1..v_N, f_contact, impulse, event``: positions in the
-        scene's length unit (V0/omega for the paper's scenes; 0 = where the mass was at the first
-        contact, the wall at u_1 = 0), velocities, the wall's contact force on m_1 and, on rows
-        with ``event == "impact"`` (rigid wall only, one per contact within the time range), the
-        wall's impulse. Rows are sorted by time; requested times have ``event == "sample"``.
-    """
-    ch = _scene(scene, dict(keywords))
-    chosen = choose(ch)
-    if not chosen.exact:
-        raise SceneError(
-            "trajectory samples the exact closed-form motion of linear chains; this scene needs "
-            f"the numerical method {chosen.name!r}"
-        )
-    max_events = check_events(max_events, history=True)  # impacts are read from a history
-    t = _times(times)
-    w, m1, v0 = ch.omega, float(ch.masses[0]), ch.v0
-    wt = kernel_time(t, w)
-    u, v, f, impacts = _sample(ch, np.ascontiguousarray(wt), max_events)
-    n = ch.n_masses
+def _sample_adaptive(ch: Chain, wt: np.ndarray, rtol: float, max_events: int):
+    """(y, f, (evt, evk), hist, out) of the adaptive method's run of ``ch`` at the kernel times
+    wt (any order): states (len(wt), 2n + 2) and forces in the stepping kernels' units (m_1 = 1,
+    omega = 1, the scene's speed unit), the contact events (times, kinds), the history and the
+    result row."""
+    from restitution.kernels import layout as LY
+    from restitution.kernels import stepping
+    from restitution.solvers.numerical import _default_etol, packed
+
+    ms, lk, cs, cp, _, _ = packed(ch)
+    order = np.argsort(wt, kind="stable")
+    hist = np.zeros((max_events, LY.N_HIST))
+    etol = _default_etol("adaptive", rtol, 0.0)
+    with blas.one_thread(ch.n_masses):
+        out, ys, fs, evt, evk = stepping.sample_scene(
+            ms, lk, cs, cp, float(ch.v0), rtol, etol, max_events,
+            float(stepping.MAX_WORK_DEFAULT), np.ascontiguousarray(wt[order]), hist,
+        )  # fmt: skip
+    y = np.empty_like(ys)
+    y[order] = ys
+    f = np.empty_like(fs)
+    f[order] = fs
+    return y, f, (evt, evk), hist, out
+
+
+def _frame(t, wt, u, v, f, impulse, event, n, w, m1, v0) -> pd.DataFrame:
+    """The table in user units from kernel-unit columns (lengths in units of v0 / omega, speeds
+    of v0, forces of m1 v0 omega, impulses of m1 v0)."""
     frame = {"t": t, "omega_t": wt}
     for i in range(n):
         frame[f"u_{i + 1}"] = user_length(u[:, i], w, v0)
     for i in range(n):
         frame[f"v_{i + 1}"] = user_speed(v[:, i], v0)
     frame["f_contact"] = user_force(f, m1, w, v0)
-    frame["impulse"] = np.zeros(len(t))
-    frame["event"] = np.full(len(t), "sample", dtype=object)
-    out = pd.DataFrame(frame)
+    frame["impulse"] = user_impulse(impulse, m1, v0)
+    frame["event"] = np.asarray(event, dtype=object)
+    return pd.DataFrame(frame)
+
+
+def _adaptive_frame(ch: Chain, t, wt, rtol: float, max_events: int) -> pd.DataFrame:
+    from restitution.kernels import layout as LY
+    from restitution.solvers.result import MESSAGES, status_name
+
+    n, w, m1 = ch.n_masses, ch.omega, float(ch.masses[0])
+    y, f, (evt, evk), hist, out = _sample_adaptive(ch, wt, rtol, max_events)
+    status = status_name(out[LY.OUT_STATUS])
+    if status != "ok":
+        raise SceneError(
+            f"the adaptive run of this scene ended with status {status!r}: "
+            f"{MESSAGES.get(status, status)}"
+        )
+    if not np.isfinite(y[:, : 2 * n]).all():  # the free flight after the last contact
+        late = float(t[~np.isfinite(y[:, : 2 * n]).all(axis=1)].min())
+        raise SceneError(
+            f"times: the free flight after the last contact (t_col = {out[LY.OUT_TCOL] / w:.6g}) "
+            f"was not integrated to t = {late:.6g} within the work budget; ask for earlier times"
+        )
+    # the stepping kernels' speed unit is the scene's own (v0 as given): lengths in 1 / omega
+    parts = [_frame(t, wt, y[:, :n], y[:, n : 2 * n], f, np.zeros(len(t)), ["sample"] * len(t),
+                    n, w, m1, 1.0)]  # fmt: skip
+    inside = (evt >= wt.min()) & (evt <= wt.max())
+    if inside.any():
+        # the states at the events: the same run sampled at their times (stepping.sample_scene:
+        # a sample at an event's time is the state after its switch)
+        ev, _, _, _, _ = _sample_adaptive(ch, evt[inside], rtol, max_events)
+        kinds = evk[inside]
+        impulse = np.zeros(len(kinds))
+        impact = kinds == 2
+        if impact.any():  # the j-th impact is contact j of the history (m1 v0 units)
+            at = np.flatnonzero(evk == 2)
+            j = np.searchsorted(at, np.flatnonzero(inside)[impact])
+            impulse[impact] = hist[j, LY.H_IMPULSE] * ch.v0
+        te = evt[inside]
+        parts.append(
+            _frame(
+                user_time(te, w),
+                te,
+                ev[:, :n],
+                ev[:, n : 2 * n],
+                np.zeros(len(te)),
+                impulse,
+                [EVENT_NAMES[k] for k in kinds],
+                n,
+                w,
+                m1,
+                1.0,
+            )  # fmt: skip
+        )
+    frame = pd.concat(parts, ignore_index=True) if len(parts) > 1 else parts[0]
+    if len(parts) > 1:
+        frame = frame.sort_values("t", kind="stable", ignore_index=True)
+    return frame
+
+
+def trajectory(
+    scene=None, times=None, *, max_events: int = 10_000, rtol: float | None = None, **keywords
+) -> pd.DataFrame:
+    """Positions, velocities and the wall force of every mass at the requested times.
+
+    Parameters
+    ----------
+    scene : Chain or mapping, optional
+        The scene; or give its keywords directly (``alpha=...`` for the paper's form, with its
+        nonlinear laws if any, ``masses=..., springs=..., contact=..., links=...`` for a general
+        chain, as for ``restitution.solve``). Any scene ``solve`` accepts.
+    times : array_like
+        Times (the scene's time unit; omega*t for the paper's scenes), finite and >= 0, from
+        the first contact at t = 0.
+    max_events : int
+        Contact budget of the underlying solve.
+    rtol : float, optional
+        Relative tolerance of the adaptive method (scenes with a nonlinear law only; default
+        the solver's, 1e-9).
+
+    Returns
+    -------
+    DataFrame
+        Columns ``t, omega_t, u_1..u_N, v_1..v_N, f_contact, impulse, event``: positions in the
+        scene's length unit (V0/omega for the paper's scenes; 0 = where the mass was at the first
+        contact, the wall at u_1 = 0), velocities, the contact law's force on m_1 and, on rows
+        with ``event == "impact"`` (rigid wall only, one per contact within the time range), the
+        wall's impulse. Rows are sorted by time; requested times have ``event == "sample"``; the
+        adaptive method adds ``"contact_start"`` / ``"contact_end"`` rows at the contacts of a
+        finite contact law. ``attrs["method"]`` names the method that produced the samples
+        (``"impulsive"`` or ``"piecewise"``: exact closed form; ``"adaptive"``: DOP853 at
+        ``attrs["rtol"]``, NaN for the exact ones); ``attrs["scaled"]`` is True when the scene's
+        units are the kernels' (m_1 = 1, omega = 1, V0 = 1: the paper's scenes).
+    """
+    ch, settings = _scene(scene, dict(keywords))
+    if rtol is not None and "rtol" in settings:
+        raise SceneError("rtol given twice")
+    rtol = settings.get("rtol", rtol)
+    chosen = choose(ch)
+    max_events = check_events(max_events, history=True)  # impacts are read from a history
+    t = _times(times)
+    w, m1, v0 = ch.omega, float(ch.masses[0]), ch.v0
+    wt = kernel_time(t, w)
+    if not chosen.exact:  # 'adaptive': any law, the solver's own run
+        rtol = Options.rtol if rtol is None else check("rtol", rtol)
+        out = _adaptive_frame(ch, t, np.ascontiguousarray(wt, dtype=np.float64), rtol,
+                              max_events)  # fmt: skip
+        out.attrs.update(method=chosen.name, rtol=rtol, scaled=_scaled(ch))
+        return out
+    if rtol is not None:
+        raise SceneError(
+            f"rtol: not used by trajectory of this scene (a linear chain, solved exactly by "
+            f"{chosen.name!r})"
+        )
+    u, v, f, impacts = _sample(ch, np.ascontiguousarray(wt), max_events)
+    n = ch.n_masses
+    out = _frame(t, wt, u, v, f, np.zeros(len(t)), ["sample"] * len(t), n, w, m1, v0)
     impacts = np.asarray(impacts).reshape(-1, 2)
     lo, hi = wt.min(), wt.max()
     inside = impacts[(impacts[:, 0] >= lo) & (impacts[:, 0] <= hi)]
     if len(inside):
         ui, vi, _, _ = _sample(ch, np.ascontiguousarray(inside[:, 0]), max_events)
-        rows = {"t": user_time(inside[:, 0], w), "omega_t": inside[:, 0]}
-        for i in range(n):
-            rows[f"u_{i + 1}"] = user_length(ui[:, i], w, v0)
-        for i in range(n):
-            rows[f"v_{i + 1}"] = user_speed(vi[:, i], v0)
-        rows["f_contact"] = np.zeros(len(inside))
-        rows["impulse"] = user_impulse(inside[:, 1], m1, v0)
-        rows["event"] = np.full(len(inside), "impact", dtype=object)
-        out = pd.concat([out, pd.DataFrame(rows)], ignore_index=True)
+        rows = _frame(user_time(inside[:, 0], w), inside[:, 0], ui, vi, np.zeros(len(inside)),
+                      inside[:, 1], ["impact"] * len(inside), n, w, m1, v0)  # fmt: skip
+        out = pd.concat([out, rows], ignore_index=True)
         out = out.sort_values("t", kind="stable", ignore_index=True)
     if math.isnan(out["u_1"].iloc[0]):
         raise SceneError("the sampler returned NaN: the scene could not be solved")
+    out.attrs.update(method=chosen.name, rtol=math.nan, scaled=_scaled(ch))
     return out
+
+
+def _scaled(ch: Chain) -> bool:
+    """True when the scene's units are the kernels' (m_1 = 1, omega = 1, V0 = 1): the paper's
+    non-dimensional scenes (times are omega*t, lengths omega*u/V0, speeds v/V0)."""
+    return ch.omega == 1.0 and ch.v0 == 1.0 and float(ch.masses[0]) == 1.0
 
 
 __all__ = ["trajectory"]

@@ -41,6 +41,10 @@ def _steps() -> list[tuple[str, Callable[[], object]]]:
             lambda: r.solve(**chain, contact={"law": "hertz", "k": 50.0}),
         ),
         ("Verlet", lambda: r.solve(alpha=2.0, beta=0.1, method="verlet")),
+        (
+            "trajectory, Hertz contact (adaptive sampler)",
+            lambda: r.trajectory(**chain, contact={"law": "hertz", "k": 50.0}, times=[0.5]),
+        ),
     ]
 
 

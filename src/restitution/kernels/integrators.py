@@ -548,3 +548,257 @@ def verlet_step(y, acc, h, m, lk, c, cp, mem, damped):
     y[2 * n + 1] += 0.5 * h * (p_old + pw)
     acc[n] = fc
     acc[n + 1] = pw
+
+
+# ------------------------------------------------------------------------ sampled variants --
+# The trajectory sampler (``stepping.sample_scene``) runs the same steps as ``rk_phase`` and
+# ``sigma_phase`` and also evaluates the state at requested times: copies of the two loops with
+# the sampling added, so that the solver's own path is left exactly as it is (``solve`` results
+# bit-identical, its compile unchanged). Samples are sorted times ts, a cursor si[0] (the next
+# one to fill), the states Ys[i] and the contact forces Fs[i].
+STOP_SAMPLES = 2  # rk_phase_sampled: end once every sample is filled (no events)
+
+
+@njit(cache=True, error_model="numpy")
+def sample_force(cp, mem, x, xdot):
+    """The contact law's force on m1 at penetration x and its rate xdot with the current branch
+    (0 off contact or at a rigid wall; the smooth continuation past the surface clipped at 0)."""
+    if mem[M_PHASE] != 1.0 or cp[0] == C_RIGID:
+        return 0.0
+    return max(contact_force(cp, int(mem[M_BRANCH]), mem[M_XMAX], mem[M_FMAX], x, xdot), 0.0)
+
+
+@njit(cache=True, error_model="numpy")
+def sample_here(y, t, cp, mem, ts, si, Ys, Fs):
+    """Fill the samples at times <= t with the state y (at time t)."""
+    n = y.shape[0]
+    nm = (Ys.shape[1] - 2) // 2  # the state is [u, v, energies]: v1 = y[nm]
+    while si[0] < ts.shape[0] and ts[si[0]] <= t:
+        k = si[0]
+        for i in range(n):
+            Ys[k, i] = y[i]
+        Fs[k] = sample_force(cp, mem, -y[0], -y[nm])
+        si[0] += 1
+
+
+@njit(cache=True, error_model="numpy")
+def sample_dense(y0, F, t0, h, t_hi, closed, cp, mem, ts, si, Ys, Fs):
+    """Fill the samples in (t0, t_hi] (``closed``) or (t0, t_hi) from the dense output (y0, F)
+    of a step of length h from t0."""
+    while si[0] < ts.shape[0]:
+        k = si[0]
+        tk = ts[k]
+        if tk > t_hi or (tk == t_hi and not closed):
+            break
+        dense_state(y0, F, (tk - t0) / h, Ys[k])
+        nm = (Ys.shape[1] - 2) // 2
+        Fs[k] = sample_force(cp, mem, -Ys[k, 0], -Ys[k, nm])
+        si[0] += 1
+
+
+@njit(cache=True, error_model="numpy")
+def rk_phase_sampled(
+    y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, stop, work, err_acc,
+    ts, si, Ys, Fs,
+):  # fmt: skip
+    """``rk_phase`` (the same steps, the same arithmetic) that also fills the samples up to the
+    phase's end from the dense output of each accepted step: those in (t, t + h] of a step, those
+    before the event of the step that ends the phase. ``stop`` = STOP_SAMPLES ends the phase
+    (EV_STOP) once every sample is filled."""
+    n = y.shape[0]
+    K = np.empty((N_EXT, n))
+    F = np.empty((N_DENSE, n))
+    ynew = np.empty(n)
+    tmp = np.empty(n)
+    f0 = np.empty(n)
+    coef = np.empty(N_DENSE + 1)
+    sample_here(y, t, cp, mem, ts, si, Ys, Fs)
+    if stop == STOP_SAMPLES and si[0] >= ts.shape[0]:
+        return EV_STOP, t, h
+    rhs(y, m, lk, c, cp, mem, f0)
+    first = True
+    while work[0] > 0.0:
+        work[0] -= 12.0
+        h = min(h, hmax)
+        if not (h >= 1e-14 * max(1.0, abs(t)) and h < math.inf):  # also catches NaN
+            return EV_FAIL, t, h
+        err = dp_step(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp)
+        if not err <= 1.0:  # also catches NaN
+            fac = 0.2 if not err == err else max(0.2, 0.9 * err**-0.125)
+            h *= fac
+            continue
+        work[0] -= 3.0
+        dense_coeffs(y, ynew, K, h, m, lk, c, cp, mem, F, tmp)
+        best = 2.0
+        which = -1
+        for k in range(nev):
+            event_poly(F, K, h, y, W[k], B[k], coef)
+            s = 0
+            if first and strip[k] > 0:
+                coef[0] = 0.0
+                s = strip[k]
+                while s < N_DENSE and coef[s] == 0.0:
+                    s += 1
+            th = first_root(coef, N_DENSE, s)
+            if th >= 0.0 and th < best:
+                best, which = th, k
+        err_acc[0] += _momentum_error(K, h, m)
+        hn = h * min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.125))
+        if which >= 0:
+            dt = best * h
+            if dt > 0.0:
+                for it in range(2):
+                    work[0] -= 12.0
+                    dp_step(y, f0, dt, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp)
+                    if it == 1:
+                        break
+                    g = B[which]
+                    gd = 0.0
+                    for i in range(n):
+                        g += W[which, i] * ynew[i]
+                        gd += W[which, i] * K[N_ST, i]
+                    step = -g / gd
+                    if not (abs(step) < 0.01 * dt and abs(step) > 1e-15 * dt):
+                        break
+                    dt += step
+                # F is still the dense output of the whole step from y (dp_step leaves it)
+                sample_dense(y, F, t, h, t + dt, False, cp, mem, ts, si, Ys, Fs)
+                y[:] = ynew
+            return which, t + dt, max(dt, 0.1 * h)
+        sample_dense(y, F, t, h, t + h, True, cp, mem, ts, si, Ys, Fs)
+        y[:] = ynew
+        f0[:] = K[N_ST]
+        t += h
+        h = hn
+        first = False
+        if stop == STOP_NO_CONTACT and no_contact_possible(y, m, lk, mem[M_XP]):
+            return EV_STOP, t, h
+        if stop == STOP_SAMPLES and si[0] >= ts.shape[0]:
+            return EV_STOP, t, h
+    return EV_FAIL, t, h
+
+
+@njit(cache=True, error_model="numpy")
+def dense_coeffs_sigma(z0, znew, K, h, s0, m, lk, c, cp, mem, F, tmp):
+    """``dense_coeffs`` of a step in sigma from s0 (``rhs_sigma``; z = [y, t])."""
+    n = z0.shape[0]
+    for s in range(N_ST + 1, N_EXT):
+        stage_state(z0, K, h, s, tmp)
+        rhs_sigma(s0 + DP_C[s] * h, tmp, m, lk, c, cp, mem, F[0])
+        for i in range(n):
+            K[s, i] = F[0, i]
+    for i in range(n):
+        dy = znew[i] - z0[i]
+        F[0, i] = dy
+        F[1, i] = h * K[0, i] - dy
+        F[2, i] = 2.0 * dy - h * (K[N_ST, i] + K[0, i])
+    for k in range(N_DENSE - 3):
+        for i in range(n):
+            F[3 + k, i] = 0.0
+        for j in range(N_EXT):
+            d = DP_D[k, j]
+            if d != 0.0:
+                for i in range(n):
+                    F[3 + k, i] += d * K[j, i]
+        for i in range(n):
+            F[3 + k, i] *= h
+
+
+@njit(cache=True, error_model="numpy")
+def _dense_component(z0, F, theta, i):
+    acc = 0.0
+    for k in range(N_DENSE - 1, -1, -1):
+        acc += F[k, i]
+        acc *= theta if k % 2 == 0 else 1.0 - theta
+    return z0[i] + acc
+
+
+@njit(cache=True, error_model="numpy")
+def sample_sigma(z0, F, s0, h, t0, t_hi, closed, cp, mem, ts, si, Ys, Fs, tmp):
+    """Fill the samples in (t0 + z0[t], t_hi] (``closed``) or (.., t_hi) of a step in sigma from
+    s0: the time is the state's last component, monotonic over the step (x' keeps its sign in a
+    sigma stretch), so the sample's theta is found by bisection on the dense output's time, and
+    the state there is the dense output with u1 = -sigma**2 exactly."""
+    ny = Ys.shape[1]
+    while si[0] < ts.shape[0]:
+        k = si[0]
+        tk = ts[k]
+        if tk > t_hi or (tk == t_hi and not closed):
+            break
+        target = tk - t0
+        lo, hi = 0.0, 1.0
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            if mid <= lo or mid >= hi:
+                break
+            if _dense_component(z0, F, mid, ny) < target:
+                lo = mid
+            else:
+                hi = mid
+        th = 0.5 * (lo + hi)
+        dense_state(z0, F, th, tmp)
+        sg = s0 + th * h
+        for i in range(ny):
+            Ys[k, i] = tmp[i]
+        Ys[k, 0] = -sg * sg
+        Fs[k] = sample_force(cp, mem, sg * sg, -Ys[k, (Ys.shape[1] - 2) // 2])
+        si[0] += 1
+
+
+@njit(cache=True, error_model="numpy")
+def sigma_phase_sampled(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc, ts, si, Ys, Fs):
+    """``sigma_phase`` (the same steps, the same arithmetic) that also fills the samples up to
+    its end (``sample_sigma``)."""
+    nm = m.shape[0]
+    ny = y.shape[0]
+    nz = ny + 1
+    sample_here(y, t, cp, mem, ts, si, Ys, Fs)
+    z = np.empty(nz)
+    z[:ny] = y
+    z[ny] = 0.0
+    s0 = math.sqrt(max(-y[0], 0.0))
+    xd0 = -y[nm]
+    if not (xd0 != 0.0 and s_b != s0):
+        return SIG_LEFT, t
+    K = np.empty((N_EXT, nz))
+    F = np.empty((N_DENSE, nz))
+    znew = np.empty(nz)
+    tmp = np.empty(nz)
+    tmp2 = np.empty(nz)
+    f0 = np.empty(nz)
+    rhs_sigma(s0, z, m, lk, c, cp, mem, f0)
+    span = s_b - s0
+    h = 0.25 * span
+    s = s0
+    code = SIG_FAIL
+    while work[0] > 0.0:
+        work[0] -= 12.0
+        last = abs(h) >= abs(s_b - s)
+        if last:
+            h = s_b - s
+        if not (abs(h) >= 1e-14 * abs(span)):  # also catches NaN
+            break
+        err = dp_step(z, f0, h, rtol, atol, m, lk, c, cp, mem, K, znew, tmp, True, s)
+        if not err <= 1.0:
+            h *= 0.2 if not err == err else max(0.2, 0.9 * err**-0.125)
+            continue
+        err_acc[0] += _momentum_error(K, h, m)
+        t_hi = t + znew[ny]
+        if si[0] < ts.shape[0] and ts[si[0]] <= t_hi:
+            dense_coeffs_sigma(z, znew, K, h, s, m, lk, c, cp, mem, F, tmp2)
+            sample_sigma(z, F, s, h, t, t_hi, not last, cp, mem, ts, si, Ys, Fs, tmp2)
+        z[:] = znew
+        f0[:] = K[N_ST]
+        s = s_b if last else s + h
+        if last:
+            code = SIG_DONE
+            break
+        if not (-z[nm] * xd0 > 0.5 * xd0 * xd0):
+            code = SIG_LEFT
+            break
+        h *= min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.125))
+    if code != SIG_FAIL:
+        y[:] = z[:ny]
+        y[0] = -s * s
+        t += z[ny]
+    return code, t

@@ -58,12 +58,16 @@ from restitution.kernels.integrators import (
     SIG_FAIL,
     STOP_NEVER,
     STOP_NO_CONTACT,
+    STOP_SAMPLES,
     accel_verlet,
     dent,
     no_contact_possible,
     rhs,
     rk_phase,
+    rk_phase_sampled,
+    sample_here,
     sigma_phase,
+    sigma_phase_sampled,
     verlet_step,
 )
 from restitution.kernels.layout import (
@@ -738,3 +742,337 @@ def solve_scene_batch(m, lk, c, n, cp, v0, method, rtol, step_frac, etol, max_ev
                 etol, max_events, max_work, hist, acct, True,
             )  # fmt: skip
     return out
+
+
+# --------------------------------------------------------------------- the trajectory sampler --
+# ``sample_scene`` runs ``_adaptive``'s contact sequence again (a copy of its loop on the sampled
+# phases of integrators.py: the same steps, the same events, the same arithmetic, so its
+# result row is ``solve_scene``'s bit for bit) and evaluates the state at requested times:
+# from each step's 7th-order dense output in time, from the dense output in sigma at the ends of
+# power-law contacts (the sample's sigma found on the step's time component), in closed form in
+# the free flight of two masses with a linear link. It records the time of every contact start
+# and end (EV_START, EV_END) and of every impact at a rigid wall (EV_IMPACT).
+EV_START = 0
+EV_END = 1
+EV_IMPACT = 2
+
+
+@njit(cache=True, error_model="numpy")
+def _free_linear_at(y0, m1, m2, k, c, s, out):
+    """The state at local time s of the closed-form free flight of ``free_flight_linear`` from
+    y0 (the same formulas; D gains the dashpot's loss)."""
+    m = m1 + m2
+    mu = m2 / m
+    inv = 1.0 / m1 + 1.0 / m2
+    w = math.sqrt(k * inv)
+    xi = c * inv / (2.0 * w)
+    x0 = (m1 * y0[0] + m2 * y0[1]) / m
+    v = (m1 * y0[2] + m2 * y0[3]) / m
+    r0 = y0[1] - y0[0]
+    w0 = (y0[3] - y0[2]) / w
+    r, wr = _osc(w * s, xi, r0, w0)
+    e_before = 0.5 * mu * m1 * w * w * (r0 * r0 + w0 * w0)
+    e_after = 0.5 * mu * m1 * w * w * (r * r + wr * wr)
+    out[0] = x0 + v * s - mu * r
+    out[1] = out[0] + r
+    out[2] = v - mu * w * wr
+    out[3] = v + (m1 / m) * w * wr
+    out[4] = y0[4]
+    out[5] = y0[5] + e_before - e_after
+
+
+@njit(cache=True, error_model="numpy")
+def _sample_free_linear(y0, t0, t_hi, m, lk, c, ts, si, Ys, Fs):
+    """Fill the samples in [t0, t_hi) from the closed-form free flight from y0 at t0."""
+    while si[0] < ts.shape[0] and ts[si[0]] < t_hi:
+        k = si[0]
+        _free_linear_at(y0, m[0], m[1], lk[0, SP_K2], c[0], ts[k] - t0, Ys[k])
+        Fs[k] = 0.0
+        si[0] += 1
+
+
+@njit(cache=True, error_model="numpy")
+def _event(evt, evk, cnt, t, kind):
+    j = cnt[0]
+    if j < evt.shape[0]:
+        evt[j] = t
+        evk[j] = kind
+        cnt[0] = j + 1
+
+
+@njit(cache=True, error_model="numpy")
+def _sigma_entry_sampled(y, t, m, lk, c, cp, mem, rtol, atol, work, err_acc, ts, si, Ys, Fs):
+    """``_sigma_entry`` on ``sigma_phase_sampled``."""
+    n = m.shape[0]
+    xd = -y[n]
+    eta = cp[3]
+    depth = ((eta + 1.0) * m[0] * xd * xd / (2.0 * cp[2])) ** (1.0 / (eta + 1.0))
+    x_sw = _sigma_room(y, m, lk, c, cp, mem, SIGMA_ZONE * depth)
+    if not x_sw > 0.0:
+        return SIG_DONE, t
+    return sigma_phase_sampled(
+        y, t, math.sqrt(x_sw), rtol, atol, m, lk, c, cp, mem, work, err_acc, ts, si, Ys, Fs
+    )
+
+
+@njit(cache=True, error_model="numpy")
+def _adaptive_sampled(
+    y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, ts, si, Ys, Fs,
+    evt, evk, cnt, max_work,
+):  # fmt: skip
+    """``_adaptive`` (free_closed = True) with the samples and the contact events recorded;
+    after the last contact the free flight goes on until the last sample (its own work budget
+    ``max_work``)."""
+    n = m.shape[0]
+    closed = n == 2 and lk[0, SP_KIND] == S_LINEAR
+    ny = 2 * n + 2
+    atol = rtol * v0
+    kind = int(cp[0])
+    W = np.zeros((2, ny))
+    B = np.zeros(2)
+    strip = np.zeros(2, dtype=np.int64)
+    err_acc = np.zeros(1)
+    y0 = np.empty(ny)
+    t = 0.0
+    tcol = 0.0
+    ncol = 1
+    w_cont = chain_frequency_bound(m, lk, cp[1] if kind != C_RIGID else 0.0)
+    w_free = chain_frequency_bound(m, lk, 0.0)
+    if not w_free > 0.0:
+        w_free = w_cont if w_cont > 0.0 else 1.0
+    if not w_cont > 0.0:
+        w_cont = w_free
+    hc = 0.05 / w_cont
+    hf = 0.05 / w_free
+    hmax_free = 0.5 / w_free
+    h = hc
+    p_in = _momentum(y, m)
+    _record(hist, 0, H_TSTART, 0.0)
+    _record(hist, 0, H_VIN, y[n] / v0)
+    xmax_c = 0.0
+    if kind == C_RIGID:
+        y[n] = -y[n]
+        ysep[:] = y
+        _record(hist, 0, H_TEND, 0.0)
+        _record(hist, 0, H_VOUT, y[n] / v0)
+        _record(hist, 0, H_IMPULSE, (_momentum(y, m) - p_in) / v0)
+        mem[M_PHASE] = 0.0
+        _event(evt, evk, cnt, 0.0, EV_IMPACT)
+    else:
+        mem[M_PHASE] = 1.0
+        mem[M_BRANCH] = 1.0
+        _event(evt, evk, cnt, 0.0, EV_START)
+    entering = True
+    how = ENTER
+    sigma_exit = True
+    while True:
+        power_entry = (
+            kind == C_HERTZ or kind == C_HUNT_CROSSLEY or (kind == C_PLASTIC and mem[M_FMAX] == 0.0)
+        )
+        if mem[M_PHASE] == 1.0:
+            if how == ENTER and mem[M_BRANCH] == 1.0 and power_entry:
+                scode, t = _sigma_entry_sampled(
+                    y, t, m, lk, c, cp, mem, rtol, atol, work, err_acc, ts, si, Ys, Fs
+                )
+                if scode == SIG_FAIL:
+                    return _fail(work), ncol, tcol, err_acc[0]
+                how = MID
+            nev = _setup_contact_events(cp, mem, W, B, strip, how, n)
+            x_sw = 0.0
+            power_exit = kind == C_HERTZ or kind == C_HUNT_CROSSLEY
+            if power_exit and mem[M_BRANCH] == 0.0 and sigma_exit:
+                x_sw = SIGMA_ZONE * xmax_c
+                if -y[0] > x_sw:
+                    B[0] -= x_sw
+                else:
+                    x_sw = 0.0
+            code, t, h = rk_phase_sampled(
+                y, t, h, 1e300, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev,
+                STOP_NEVER, work, err_acc, ts, si, Ys, Fs,
+            )  # fmt: skip
+            if code == EV_FAIL or code == EV_STOP:
+                return _fail(work), ncol, tcol, err_acc[0]
+            if code == 0 and x_sw > 0.0:
+                y[0] = -x_sw
+                scode = SIG_FAIL + 1
+                if _sigma_room(y, m, lk, c, cp, mem, x_sw) == x_sw:
+                    scode, t = sigma_phase_sampled(
+                        y, t, 0.0, rtol, atol, m, lk, c, cp, mem, work, err_acc, ts, si, Ys, Fs
+                    )  # fmt: skip
+                if scode == SIG_FAIL:
+                    return _fail(work), ncol, tcol, err_acc[0]
+                if scode != SIG_DONE:
+                    sigma_exit = False
+                    how = MID
+                    continue
+            sigma_exit = True
+            how, xmax_c, separated = _contact_switch(code, y, n, kind, cp, mem, how, xmax_c)
+            if separated:
+                tcol = t
+                ysep[:] = y
+                k = ncol - 1
+                _record(hist, k, H_TEND, t)
+                _record(hist, k, H_VOUT, y[n] / v0)
+                _record(hist, k, H_XMAX, xmax_c)
+                _record(hist, k, H_IMPULSE, (_momentum(y, m) - p_in) / v0)
+                _event(evt, evk, cnt, t, EV_END)
+                entering = True
+                h = hf
+        else:
+            inside = kind == C_KELVIN_VOIGT and -y[0] > 0.0
+            if inside:  # as in _adaptive: free inside the penetration, F = 0
+                W[0, :] = 0.0
+                W[1, :] = 0.0
+                W[0, 0] = cp[2]
+                W[0, n] = cp[3]
+                B[0] = 0.0
+                B[1] = 0.0
+                W[1, 0] = -1.0
+                strip[0] = 1
+                strip[1] = 0
+                code, t, h = rk_phase_sampled(
+                    y, t, h, hmax_free, rtol, atol, m, lk, c, cp, mem, W, B, strip, 2,
+                    STOP_NEVER, work, err_acc, ts, si, Ys, Fs,
+                )  # fmt: skip
+                if code == EV_FAIL or code == EV_STOP:
+                    return _fail(work), ncol, tcol, err_acc[0]
+                if code == 1:
+                    y[0] = 0.0
+                    inside = False
+                else:
+                    y[0] = -cp[3] * y[n] / cp[2]
+                entering = True
+            if inside:
+                pass  # the force rose through 0: a contact starts below
+            elif closed:
+                y0[:] = y
+                s = free_flight_linear(y, mem[M_XP], m[0], m[1], lk[0, SP_K2], c[0])
+                if s < 0.0:
+                    _sample_free_linear(y0, t, math.inf, m, lk, c, ts, si, Ys, Fs)
+                    return STATUS_OK, ncol, tcol, err_acc[0]
+                _sample_free_linear(y0, t, t + s, m, lk, c, ts, si, Ys, Fs)
+                t += s
+                work[0] -= 100.0
+                if work[0] <= 0.0:
+                    return STATUS_WORK_BUDGET, ncol, tcol, err_acc[0]
+            else:
+                W[0, :] = 0.0
+                W[0, 0] = 1.0
+                B[0] = mem[M_XP]
+                strip[0] = 1 if entering else 0
+                code, t, h = rk_phase_sampled(
+                    y, t, h, hmax_free, rtol, atol, m, lk, c, cp, mem, W, B, strip, 1,
+                    STOP_NO_CONTACT, work, err_acc, ts, si, Ys, Fs,
+                )  # fmt: skip
+                if code == EV_STOP:
+                    # no contact any more: the free flight on to the last sample
+                    more = np.zeros(1)
+                    more[0] = max_work
+                    rk_phase_sampled(
+                        y, t, h, hmax_free, rtol, atol, m, lk, c, cp, mem, W, B, strip, 0,
+                        STOP_SAMPLES, more, np.zeros(1), ts, si, Ys, Fs,
+                    )  # fmt: skip
+                    return STATUS_OK, ncol, tcol, err_acc[0]
+                if code == EV_FAIL:
+                    return _fail(work), ncol, tcol, err_acc[0]
+                y[0] = -mem[M_XP]
+            h = hc
+            if ncol >= max_events:
+                return STATUS_EVENT_BUDGET, ncol, tcol, err_acc[0]
+            k = ncol
+            ncol += 1
+            xmax_c = -y[0]
+            p_in = _momentum(y, m)
+            _record(hist, k, H_TSTART, t)
+            _record(hist, k, H_VIN, y[n] / v0)
+            if kind == C_RIGID:
+                y[n] = -y[n]
+                tcol = t
+                ysep[:] = y
+                _record(hist, k, H_TEND, t)
+                _record(hist, k, H_VOUT, y[n] / v0)
+                _record(hist, k, H_IMPULSE, (_momentum(y, m) - p_in) / v0)
+                _event(evt, evk, cnt, t, EV_IMPACT)
+                entering = True
+                h = hf
+            else:
+                mem[M_PHASE] = 1.0
+                if inside:  # the force rose through 0 at x > 0 while x' < 0: x still falls
+                    mem[M_BRANCH] = 0.0
+                elif contact_elastic(cp) or mem[M_FMAX] == 0.0:
+                    mem[M_BRANCH] = 1.0
+                else:
+                    mem[M_BRANCH] = 0.0
+                _event(evt, evk, cnt, t, EV_START)
+                how = ENTER
+
+
+@njit(cache=True, error_model="numpy")
+def sample_scene(m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist):
+    """The adaptive method's run of one chain (``solve_scene`` with method 0 and
+    free_closed = True: the same result row, bit for bit) with its states at the sorted times
+    ``ts`` (kernel units, >= 0).
+
+    Returns (out, Ys, Fs, evt, evk): the result row, the states (len(ts), 2n + 2; NaN where
+    the run stopped before), the contact law's force at each sample, and the contact events
+    (times and kinds EV_START / EV_END / EV_IMPACT; at most 2 max_events of them). A sample at
+    an event's time (the same float) is the state there after the event's switch: the start of
+    the contact, the separation, the reversal of an impact; so a second run with the event
+    times among the samples gives the states at the events.
+    """
+    n = m.shape[0]
+    ny = 2 * n + 2
+    ns = ts.shape[0]
+    Ys = np.full((ns, ny), np.nan)
+    Fs = np.full(ns, np.nan)
+    cap = 2 * max_events
+    evt = np.full(cap, np.nan)
+    evk = np.zeros(cap, dtype=np.int64)
+    cnt = np.zeros(1, dtype=np.int64)
+    acct = np.zeros(N_ACCT)
+    out = np.full(N_OUT, np.nan)
+    out[OUT_STATUS] = STATUS_INVALID
+    out[OUT_NCOL] = 0.0
+    out[OUT_NEVENTS] = 0.0
+    if not input_ok(m, lk, c, cp, v0):
+        return out, Ys, Fs, evt[:0], evk[:0]
+    y = np.zeros(ny)
+    for i in range(n):
+        y[n + i] = -v0
+    mem = np.zeros(N_MEM)
+    ysep = y.copy()
+    work = np.zeros(1)
+    work[0] = max_work
+    mt = 0.0
+    for i in range(n):
+        mt += m[i]
+    si = np.zeros(1, dtype=np.int64)
+    # samples at t <= 0 (only t = 0): the state at the first contact (after it, at a rigid wall)
+    if cp[0] == C_RIGID:
+        y[n] = -y[n]
+        sample_here(y, 0.0, cp, mem, ts, si, Ys, Fs)
+        y[n] = -y[n]
+    else:
+        sample_here(y, 0.0, cp, mem, ts, si, Ys, Fs)
+    status, ncol, tcol, err = _adaptive_sampled(
+        y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, ts, si, Ys, Fs,
+        evt, evk, cnt, max_work,
+    )  # fmt: skip
+    out[OUT_NCOL] = ncol
+    out[OUT_NEVENTS] = ncol
+    out[OUT_TCOL] = tcol
+    _energies(ysep, m, lk, v0, out, acct)
+    out[OUT_ERR] = err / (mt * v0)
+    if status == STATUS_OK and not abs(acct[4]) <= etol:
+        status = STATUS_ENERGY
+    if status == STATUS_OK and acct[2] < -etol:
+        status = STATUS_ENERGY
+    if status == STATUS_OK and not (
+        math.isfinite(out[OUT_COR]) and math.isfinite(out[OUT_TCOL]) and math.isfinite(out[OUT_ERR])
+    ):
+        status = STATUS_NONCONVERGED
+    if status != STATUS_OK and status != STATUS_ENERGY:
+        out[OUT_COR] = np.nan
+    out[OUT_STATUS] = status
+    k = cnt[0]
+    return out, Ys, Fs, evt[:k], evk[:k]

@@ -274,7 +274,7 @@ def result(ch: Chain, out: np.ndarray, method: str, hist=None) -> Result:
     """The Result of a numerical kernel row (alpha, beta = k_12/k with k the contact's ``k``,
     xi from the chain, as docs/general-chains.md says). A row whose energy account is open keeps
     its COR (``Result.from_row`` without ``passive``): the status says not to trust it."""
-    return Result.from_row(ch, out, method, hist)
+    return Result.from_row(ch, out, method, hist, lengths_of_v0=False)
 
 
 __all__ = [

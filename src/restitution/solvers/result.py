@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, fields
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from restitution.kernels import layout as L
-from restitution.model.units import user_time
+from restitution.model.units import user_impulse, user_length, user_speed, user_time
 
 # Status names by the layout constant that holds their code (a code the installed kernels do not
 # define is simply absent).
@@ -66,6 +67,11 @@ RESULT_COLUMNS = (
 T_COL = "t_col"
 
 HISTORY_COLUMNS = ("omega_t_start", "omega_t_end", "v1_in", "v1_out", "x_max", "impulse")
+# The same contacts in the scene's own units (Result.history, after HISTORY_COLUMNS): times, m1's
+# velocity at the start and at the end of the contact, the deepest compression x = -u_1 and the
+# wall's impulse. For the paper's non-dimensional scenes they equal the kernel-unit columns.
+HISTORY_USER_COLUMNS = ("t_start", "t_end", "velocity_in", "velocity_out", "compression",
+                        "wall_impulse")  # fmt: skip
 
 
 _NOT_IN_DICT = ("history",)
@@ -133,6 +139,32 @@ class Result:
     def message(self) -> str:
         return MESSAGES.get(self.status, self.status)
 
+    def plot(self, ax=None):
+        """Draw the contact history: m_1's velocity at the start (open circle) and at the end
+        (filled) of every contact against time, each contact a grey band from its start to its
+        end (a line at a rigid wall's impact), and the centre of mass's final velocity
+        ``cor * v0`` as a grey reference line; the scene's own units (the paper's scaled ones
+        for its scenes). Returns the Axes (by default on a new single-column figure in the house
+        style, ``restitution.plotting``). The motion itself: ``restitution.plotting.
+        plot_trajectory(restitution.trajectory(result.scene, times))``.
+
+        Needs the history: ``solve(..., history=True)``.
+        """
+        if self.history is None:
+            raise ValueError("Result.plot draws the contact history: solve(..., history=True)")
+        import matplotlib.style
+
+        with matplotlib.style.context(_STYLE):
+            if ax is None:
+                from matplotlib.backends.backend_agg import FigureCanvasAgg
+                from matplotlib.figure import Figure
+
+                fig = Figure(figsize=(3.4, 3.4 * 0.76))
+                FigureCanvasAgg(fig)
+                ax = fig.add_subplot()
+            _draw_history(ax, self)
+        return ax
+
     def to_dict(self, history: bool = False) -> dict:
         d = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in _NOT_IN_DICT}
         d["success"] = self.success
@@ -151,6 +183,7 @@ class Result:
         method: str,
         hist: np.ndarray | None = None,
         passive: bool = False,
+        lengths_of_v0: bool = True,
     ):
         """The Result of a kernel row of ``scene``: a ``restitution.Chain``, or the checked
         paper form (alpha, beta, xi, n_masses) of the fast path (its Chain is built only when
@@ -158,11 +191,13 @@ class Result:
         (``+sticking``, ``+rigid-limit``) by ``restitution.solvers.methods.label``. An unfinished
         row
         (``layout.UNFINISHED``; with ``passive``, a linear scene, an open energy account too)
-        has NaN COR, duration and energies."""
+        has NaN COR, duration and energies. ``lengths_of_v0``: the history's x_max is in units
+        of V0 / omega (the exact kernels) or, if False, of the scene's speed unit / omega (the
+        stepping kernels, where v0 enters as given)."""
         history = None
         if hist is not None:
             n = min(int(out[L.OUT_NEVENTS]), hist.shape[0])
-            history = pd.DataFrame(hist[:n], columns=list(HISTORY_COLUMNS))
+            history = _history(hist[:n], scene, lengths_of_v0)
         row = out.tolist()  # Python floats, once
         unfinished = L.UNFINISHED_PASSIVE if passive else L.UNFINISHED
         if row[L.OUT_STATUS] in unfinished or row[L.OUT_STATUS] != row[L.OUT_STATUS]:
@@ -201,6 +236,59 @@ class Result:
             _paper=paper,
         )
         return self
+
+
+# The house style (restitution/restitution.mplstyle; restitution.plotting applies the same file).
+_STYLE = str(Path(__file__).resolve().parents[1] / "restitution.mplstyle")
+
+
+def _draw_history(ax, r: Result) -> None:
+    h = r.history
+    scene = r.scene
+    scaled = scene is None or (scene.omega == 1.0 and scene.v0 == 1.0 and scene.masses[0] == 1.0)
+    v0 = 1.0 if scene is None else float(scene.v0)
+    ts, te = h["t_start"].to_numpy(), h["t_end"].to_numpy()
+    vin, vout = h["velocity_in"].to_numpy(), h["velocity_out"].to_numpy()
+    for k, (a, b) in enumerate(zip(ts, te, strict=True)):
+        if b > a:
+            ax.axvspan(a, b, color="0.88", lw=0, zorder=0, label="_contact" if k else "contact")
+        else:
+            ax.axvline(a, color="0.55", lw=0.6, ls=(0, (1, 1.5)), zorder=0,
+                       label="_impact" if k else "impact")  # fmt: skip
+        ax.plot([a, b], [vin[k], vout[k]], color="0.55", lw=0.6, zorder=1)
+    ax.plot(ts, vin, color="#000000", marker="o", mfc="none", ls="none", label="start")
+    ax.plot(te, vout, color="#000000", marker="o", ls="none", label="end")
+    if math.isfinite(r.cor):
+        ax.axhline(r.cor * v0, color="0.75", lw=2.4, zorder=0, label=r"$e\,V_0$")
+    ax.axhline(0.0, color="0.3", lw=0.4, zorder=0)
+    if scaled:
+        ax.set_xlabel(r"time $\omega t$")
+        ax.set_ylabel(r"velocity $v_1 / V_0$ of $m_1$")
+    else:
+        ax.set_xlabel("time $t$")
+        ax.set_ylabel("velocity $v_1$ of $m_1$")
+    ax.legend(loc="best")
+
+
+def _history(hist: np.ndarray, scene, lengths_of_v0: bool) -> pd.DataFrame:
+    """The history table: HISTORY_COLUMNS as the kernel recorded them, then
+    HISTORY_USER_COLUMNS in the scene's units (``restitution.model.units``)."""
+    frame = pd.DataFrame(hist, columns=list(HISTORY_COLUMNS))
+    if type(scene) is tuple:  # the paper's form: the kernel's units are the scene's
+        omega, v0, m1 = 1.0, 1.0, 1.0
+    else:
+        omega = float(getattr(scene, "omega", 1.0))
+        v0 = float(getattr(scene, "v0", 1.0))
+        masses = getattr(scene, "masses", None)
+        m1 = float(masses[0]) if masses is not None else 1.0
+    frame["t_start"] = user_time(frame["omega_t_start"].to_numpy(), omega)
+    frame["t_end"] = user_time(frame["omega_t_end"].to_numpy(), omega)
+    frame["velocity_in"] = user_speed(frame["v1_in"].to_numpy(), v0)
+    frame["velocity_out"] = user_speed(frame["v1_out"].to_numpy(), v0)
+    frame["compression"] = user_length(frame["x_max"].to_numpy(), omega,
+                                       v0 if lengths_of_v0 else 1.0)  # fmt: skip
+    frame["wall_impulse"] = user_impulse(frame["impulse"].to_numpy(), m1, v0)
+    return frame
 
 
 def label(name: str, out) -> str:
