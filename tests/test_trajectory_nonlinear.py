@@ -275,9 +275,9 @@ def test_one_mass_hertz_closed_form():
 @pytest.mark.parametrize("z", [0.2, 0.45])  # (the stand-in link bounds c: frequency spread)
 def test_kelvin_voigt_one_mass_ends_where_the_force_is_zero(z):
     # One mass (a 1e-6 link stands in for the single-mass scene, as above: it moves m1 by ~1e-6
-    # relative during the contact) on F = k x + c x': the contact
-    # ends at the inflection of x(t), inside the penetration (tests/test_kelvin_voigt.py derives
-    # t_end, and checks the kernel's critical and overdamped ends); the sampled force falls to 0 there and x > 0 still.
+    # relative during the contact) on F = k x + c x': the contact ends at the inflection of
+    # x(t), inside the penetration (tests/test_kelvin_voigt.py derives t_end and checks the
+    # kernel's critical and overdamped ends); the sampled force falls to 0 there, x > 0 still.
     m1, k, v0 = 1.5, 80.0, 0.6
     w0 = math.sqrt(k / m1)
     c = 2.0 * z * math.sqrt(k * m1)
