@@ -17,6 +17,7 @@ import pytest
 from restitution.kernels.exact_chain import (
     BETA_FALLBACK,
     BETA_RIGID,
+    EXTRAP_BELOW,
     WORK_MAX,
     _run,
     _solve,
@@ -24,6 +25,7 @@ from restitution.kernels.exact_chain import (
     solve_chain_batch,
 )
 from restitution.kernels.layout import (
+    FLAG_EXTRAPOLATED,
     FLAG_RIGID_LIMIT,
     FLAG_STICKING,
     H_IMPULSE,
@@ -167,6 +169,9 @@ def test_tiny_beta_is_the_rigid_limit_within_its_bound(xi, n):
         if int(out[OUT_FLAGS]) & FLAG_RIGID_LIMIT:
             assert beta < BETA_FALLBACK
             assert out[OUT_ERR] >= 10.0 * math.sqrt(beta)
+        elif int(out[OUT_FLAGS]) & FLAG_EXTRAPOLATED:  # the limit corrected to beta
+            assert beta < EXTRAP_BELOW
+            assert out[OUT_ERR] < 10.0 * math.sqrt(beta)
         else:  # solved with the contact spring, or k/beta overflowed to a rigid wall
             assert beta >= BETA_RIGID or scene[3] == math.inf
         if out[OUT_NCOL] == rigid[OUT_NCOL]:

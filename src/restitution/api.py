@@ -31,7 +31,14 @@ from restitution.model.ranges import HISTORY_MAX_EVENTS
 from restitution.model.units import user_time
 from restitution.solvers import exact
 from restitution.solvers import methods as M
-from restitution.solvers.result import RESULT_COLUMNS, STATUS, T_COL, Result, status_name
+from restitution.solvers.result import (
+    EXTRAPOLATED,
+    RESULT_COLUMNS,
+    STATUS,
+    T_COL,
+    Result,
+    status_name,
+)
 from restitution.tables.scene_table import scene_table
 
 _BLOCK = 2048  # rows per parallel batch call; the progress bar advances per block
@@ -375,6 +382,7 @@ def _fill(cols: dict, idx: np.ndarray, out: np.ndarray, errors: dict, passive=Tr
     method = cols["method"]
     flags = np.nan_to_num(flag_col, nan=0.0).astype(np.int64)
     method.set(idx[(flags & M.FLAG_RIGID_LIMIT) != 0], "impulsive+rigid-limit")
+    method.set(idx[(flags & M.FLAG_EXTRAPOLATED) != 0], EXTRAPOLATED)
     stick = idx[(flags & M.FLAG_STICKING) != 0]
     for code in np.unique(method.codes[stick]):
         rows = stick[method.codes[stick] == code]

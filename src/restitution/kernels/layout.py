@@ -41,6 +41,7 @@ STATUS_NOT_RUN = 8  # a batch row the kernel never finished (rows start with it,
 # Bits of out[OUT_FLAGS].
 FLAG_STICKING = 1  # a Zeno chatter was continued by its sticking limit (method impulsive+sticking)
 FLAG_RIGID_LIMIT = 2  # a very stiff contact spring was solved as its rigid limit (OUT_ERR: bound)
+FLAG_EXTRAPOLATED = 4  # ... as its rigid limit corrected by two finite-stiffness runs (sqrt(beta))
 
 # Statuses of a row that is not a finished result. Before a user sees such a row its COR,
 # duration and energies are voided (NaN, ``void_unfinished``); the count of contacts reached

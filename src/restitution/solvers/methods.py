@@ -45,6 +45,7 @@ from restitution.solvers.result import label
 FLAG_STICKING = L.FLAG_STICKING
 # Bit set by the chain kernel when a very stiff contact was solved as its rigid limit.
 FLAG_RIGID_LIMIT = L.FLAG_RIGID_LIMIT
+FLAG_EXTRAPOLATED = L.FLAG_EXTRAPOLATED
 
 
 @dataclass(frozen=True)

@@ -291,15 +291,21 @@ def _history(hist: np.ndarray, scene, lengths_of_v0: bool) -> pd.DataFrame:
     return frame
 
 
+EXTRAPOLATED = "piecewise+extrapolated"
+
+
 def label(name: str, out) -> str:
     """The method recorded in a result: ``name``, plus ``+sticking`` when the kernel used the
-    sticking limit (bit 0 of OUT_FLAGS), or ``impulsive+rigid-limit`` for a contact solved as
-    its rigid limit."""
+    sticking limit (bit 0 of OUT_FLAGS), ``impulsive+rigid-limit`` for a contact solved as
+    its rigid limit, or ``piecewise+extrapolated`` for that limit corrected to the contact's
+    stiffness by two finite-stiffness runs (kernels.exact_chain._extrapolated)."""
     flags_at = getattr(L, "OUT_FLAGS", None)
     if flags_at is not None and len(out) > flags_at and math.isfinite(out[flags_at]):
         f = int(out[flags_at])
         if f & L.FLAG_RIGID_LIMIT:
             name = "impulsive+rigid-limit"
+        if f & L.FLAG_EXTRAPOLATED:
+            name = EXTRAPOLATED
         if f & L.FLAG_STICKING:
             name += "+sticking"
     return name
