@@ -16,6 +16,7 @@ minutes of silence.
 
 from __future__ import annotations
 
+import logging
 import os
 import sys
 import tempfile
@@ -45,7 +46,8 @@ def cold(dispatcher) -> bool:
 
 
 def announce(*dispatchers) -> None:
-    """One line on stderr if any of the kernels will be compiled now (once per process)."""
+    """One line on stderr (and an INFO record of this module's logger) if any of the kernels
+    will be compiled now (once per process)."""
     global _announced
     if _announced:
         return
@@ -56,13 +58,15 @@ def announce(*dispatchers) -> None:
     _warm.update(d for d in todo if d not in cold_ones)
     if cold_ones:
         _announced = True
-        print(
-            "restitution: compiling the numba kernels (the first run after installing or "
-            "after a kernel edit takes minutes; `restitution warmup` compiles them all ahead; "
-            "later runs load them from the cache)...",
-            file=sys.stderr,
-            flush=True,
+        message = (
+            "compiling the numba kernels (the first run after installing or after a kernel "
+            "edit takes minutes; `restitution warmup` compiles them all ahead; later runs load "
+            "them from the cache)..."
         )
+        print(f"restitution: {message}", file=sys.stderr, flush=True)
+        # Into a configured log too (a workflow job's log: its minutes without a line explained
+        # there); logging that nobody configured drops INFO.
+        logging.getLogger(__name__).info(message)
 
 
 def _writable(path: str) -> bool:
