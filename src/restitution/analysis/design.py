@@ -59,7 +59,8 @@ MAX_MASSES = 16
 RELAX = 1e-6  # log step past a bound of the activity test (``_relaxed``)
 RELAX_BOX = 0.01  # a bound moved out by this (log: 1 %) for the local re-optimisation there
 # Seconds between the progress lines of a stage with no step of its own to report (the polish,
-# the bound test, the worst-case search): "masses N=4 polish: 12345 solves so far (30 s)".
+# the bound test, the worst-case search): "masses N=4 polish: 12345 solves, 67 grazing
+# evaluations so far (30 s)".
 HEARTBEAT = 30.0
 _BAD = 10.0  # objective of a scene the solver could not finish (never a minimum: COR <= 1)
 
@@ -219,6 +220,7 @@ class _Objective:
                  progress=None):  # fmt: skip
         self.fam, self.beta, self.tol, self.max_events = fam, beta, tolerance, max_events
         self.calls = 0
+        self.grazings = 0  # evaluations of a grazing condition (the polish's manifold search)
         self.samples = 16  # Sobol points of the robust objective's error box
         # Work of the polish: solves and grazing evaluations, stopped past ``limit``.
         self.spent, self.limit = 0, math.inf
@@ -241,8 +243,11 @@ class _Objective:
         """A heartbeat line if HEARTBEAT s passed since the last line (cheap: one clock read)."""
         if self.progress and self.stage and time.monotonic() - self._beat >= HEARTBEAT:
             elapsed = time.monotonic() - self._stage_start
+            work = f"{self.calls} solves"
+            if self.grazings:
+                work += f", {self.grazings} grazing evaluations"
             self.report(
-                f"{self.fam.name} N={self.fam.n_masses} {self.stage}: {self.calls} solves so far "
+                f"{self.fam.name} N={self.fam.n_masses} {self.stage}: {work} so far "
                 f"({elapsed:.0f} s)"
             )
 
@@ -348,6 +353,7 @@ def _grazing_value(fam: Family, beta: float, x, n: int, kind: str, objective=Non
 
     if objective is not None:
         objective.spend()
+        objective.grazings += 1
     m, k = fam.chain(x)
     masses, springs, kc = scaled_chain(m, k, beta)
     try:
@@ -803,7 +809,8 @@ def minimize_cor(
     progress : callable or None
         Called with one line per generation, one per polish step, and every ``HEARTBEAT``
         (30) s of a stage with no step of its own (polish, bound test, worst case: "masses N=4
-        polish: 12345 solves so far (30 s)"); default ``print``, a logger's ``info`` works.
+        polish: 12345 solves, 67 grazing evaluations so far (30 s)"); default ``print``, a
+        logger's ``info`` works.
         The lines never change the result.
     warm_starts : sequence of Design or of (masses, springs)
         Chains of ``n_masses`` masses put into the search's first population (clipped into the
