@@ -59,8 +59,8 @@ MAX_MASSES = 16
 RELAX = 1e-6  # log step past a bound of the activity test (``_relaxed``)
 RELAX_BOX = 0.01  # a bound moved out by this (log: 1 %) for the local re-optimisation there
 # Seconds between the progress lines of a stage with no step of its own to report (the polish,
-# the bound test, the worst-case search): "masses N=4 polish: 12345 solves, 67 grazing
-# evaluations so far (30 s)".
+# the bound test, the worst-case search), e.g. "masses N=4 polish: 12799 solves, ... grazing
+# evaluations so far (120 s)".
 HEARTBEAT = 30.0
 _BAD = 10.0  # objective of a scene the solver could not finish (never a minimum: COR <= 1)
 
@@ -809,7 +809,7 @@ def minimize_cor(
     progress : callable or None
         Called with one line per generation, one per polish step, and every ``HEARTBEAT``
         (30) s of a stage with no step of its own (polish, bound test, worst case: "masses N=4
-        polish: 12345 solves, 67 grazing evaluations so far (30 s)"); default ``print``, a
+        polish: 12799 solves, ... grazing evaluations so far (120 s)"); default ``print``, a
         logger's ``info`` works.
         The lines never change the result.
     warm_starts : sequence of Design or of (masses, springs)
