@@ -90,3 +90,5 @@ rule all:
         # Every documented result table (workflow/tables.yaml, docs/tables.md): a deleted one is
         # rebuilt even when no figure needs it.
         result_tables(),
+    message:
+        TARGET_MESSAGE

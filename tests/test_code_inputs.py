@@ -92,7 +92,9 @@ def reached(script: str) -> set:
 
 def dry_run(work: Path) -> list:
     """The jobs a dry run plans: rule, inputs, outputs and the files named as updated inputs."""
-    result = run_snakemake("-n", *TARGETS, *CONFIG, "--rerun-triggers", "mtime", cwd=work)
+    # --quiet host: the full job blocks with their reasons (the profile's listing is one line).
+    quiet = ("--quiet", "host")
+    result = run_snakemake("-n", *TARGETS, *CONFIG, "--rerun-triggers", "mtime", *quiet, cwd=work)
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     jobs = []
     for line in result.stdout.splitlines():

@@ -1,6 +1,7 @@
 """The minimum-COR design optimiser against closed forms and brute force."""
 
 import math
+import re
 
 import numpy as np
 import pandas as pd
@@ -58,6 +59,32 @@ def test_progress_lines_are_printed():
     lines = []
     design.minimize_cor(2, progress=lines.append, maxiter=5)
     assert any("generation 1" in s for s in lines)
+
+
+def test_heartbeat_lines_in_every_long_stage_leave_the_design_unchanged(monkeypatch):
+    """The polish and the bound test report progress while they run (every HEARTBEAT s; 0 here:
+    a line per evaluation), named after their stage; the design is the one without progress."""
+    lines = []
+    monkeypatch.setattr(design, "HEARTBEAT", 0.0)
+    # Bounds that put the optimum on a bound (0.5 < alpha*_1): the bound test runs too.
+    shown = design.minimize_cor(2, bounds=(0.01, 0.5), maxiter=5, progress=lines.append)
+    beats = [s for s in lines if re.search(r"\d+ solves(, \d+ grazing evaluations)? so far \(", s)]
+    for stage in ("polish", "bound test"):
+        assert any(s.startswith(f"masses N=2 {stage}: ") for s in beats), (stage, lines[-5:])
+    # The polish's work is mostly grazing evaluations: the heartbeat counts them.
+    assert any(s.startswith("masses N=2 polish: ") and "grazing evaluations" in s for s in beats)
+    assert not any(" worst case: " in s for s in beats)  # tolerance 0: no worst-case search
+    quiet = design.minimize_cor(2, bounds=(0.01, 0.5), maxiter=5, progress=None)
+    assert shown.masses.tolist() == quiet.masses.tolist()
+    for attr in ("cor", "evaluations", "method", "bounds_hit", "active"):
+        assert getattr(shown, attr) == getattr(quiet, attr), attr
+
+
+def test_heartbeat_waits_for_its_interval():
+    """At the default interval a short run prints no heartbeat (only its generation lines)."""
+    lines = []
+    design.minimize_cor(2, maxiter=5, progress=lines.append)
+    assert lines and not any(" so far (" in s for s in lines)
 
 
 def test_optimum_rides_a_bound_and_says_so():

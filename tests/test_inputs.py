@@ -453,3 +453,35 @@ def test_every_entry_point_shares_one_numba_cache(tmp_path):
     from restitution.kernels.compiling import default_cache_dir
 
     assert default_cache_dir() == expected
+
+
+def test_compile_notice_also_after_a_kernel_edit(tmp_path):
+    """``cold`` (the compile notice's test): True before the first compile, False once the
+    cache holds the kernel, True again once its source file is edited (numba's index is then
+    stale and it compiles anew: the minutes of silence after a kernel edit). The notice goes to
+    stderr and to a configured log (a workflow job's)."""
+    module = tmp_path / "kern.py"
+    source = "import numba\n\n@numba.njit(cache=True)\ndef f(x):\n    return x + 1\n"
+    module.write_text(source)
+    probe = (
+        "import logging, sys\n"
+        "logging.basicConfig(stream=sys.stdout, level=logging.INFO, format='log %(name)s')\n"
+        "import restitution, kern\nfrom restitution.kernels.compiling import announce, cold\n"
+        "print(cold(kern.f)); announce(kern.f); kern.f(1); print(cold(kern.f))"
+    )
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"), PYTHONPATH=os.pathsep.join(
+        [str(tmp_path), str(REPO / "src"), os.environ.get("PYTHONPATH", "")]))  # fmt: skip
+
+    def run():
+        p = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                           env=env, cwd=tmp_path, timeout=120)  # fmt: skip
+        assert p.returncode == 0, p.stderr
+        noticed = "restitution: compiling the numba kernels" in p.stderr
+        logged = "log restitution.kernels.compiling" in p.stdout.splitlines()
+        assert noticed == logged, (p.stdout, p.stderr)
+        return [line for line in p.stdout.splitlines() if line in ("True", "False")], noticed
+
+    assert run() == (["True", "False"], True)  # nothing cached; compiled in this process
+    assert run() == (["False", "False"], False)  # loaded from the cache
+    module.write_text(source.replace("x + 1", "x + 10"))  # an edit (the file's size changes)
+    assert run() == (["True", "False"], True)  # the index is stale: numba compiles again

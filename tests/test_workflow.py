@@ -129,8 +129,17 @@ def test_default_config_dry_run():
     # --forceall: list every job even when the figures are up to date (e.g. after make all).
     result = run_snakemake("-n", "--forceall", "all")
     assert result.returncode == 0, result.stdout + result.stderr
+    # The default profile's short listing: one line per job (the rules' `message:`, the reason
+    # quieted), not the rule block with its input, output and wildcards lists.
+    jobs = re.findall(r"^Job \d+: (\w+), log (\S+)$", result.stdout, re.M)
+    listed = {rule for rule, _log in jobs}
     for rule in ("simulate_fig2a", "aggregate_fig2a", *PANELS):
-        assert f"rule {rule}:" in result.stdout, rule
+        assert rule in listed, rule
+    assert ("all", None) not in jobs and "Job 0: target all" in result.stdout.splitlines()
+    n_jobs = int(re.search(r"^total\s+(\d+)$", result.stdout, re.M).group(1))
+    assert len(jobs) == n_jobs - 1  # every job but the target `all`
+    for block_line in ("    input:", "    output:", "    wildcards:", "    reason:"):
+        assert block_line not in result.stdout, block_line
 
 
 def test_small_run_keeps_to_its_folder(tmp_path):

@@ -31,6 +31,8 @@ rule approx_points:
         runtime=10,
     params:
         approx={"n_max": config["approx"]["n_max"]},
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/approx_points.py"
 
@@ -69,6 +71,8 @@ rule approx_finite_beta:
             )
         },
         max_events=config["max_events"],
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/approx_points.py"
 
@@ -114,6 +118,8 @@ rule approx_fit:
             k: config["approx"][k]
             for k in ("alpha_min", "alpha_max", "n_alpha", "n_plot", "n_eta")
         },
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/approx_fit.py"
 
@@ -147,6 +153,8 @@ rule fig2b:
     params:
         panel="fig2b",
         approx={k: config["approx"][k] for k in ("plot_alpha_min", "plot_alpha_max")},
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_fig2bcd.py"
 
@@ -179,6 +187,8 @@ rule fig2c:
     params:
         panel="fig2c",
         approx={k: config["approx"][k] for k in ("plot_alpha_min", "plot_alpha_max")},
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_fig2bcd.py"
 
@@ -212,5 +222,7 @@ rule fig2d:
     params:
         panel="fig2d",
         approx={k: config["approx"][k] for k in ("plot_alpha_min", "plot_alpha_max")},
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_fig2bcd.py"

@@ -37,6 +37,8 @@ rule bench_run:
     threads: 2
     params:
         bench=BENCH,
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/bench_run.py"
 
@@ -72,6 +74,8 @@ rule bench_collect:
         bench=BENCH,
         target_error=BENCH["target_error"],
         time_limit=BENCH["time_limit"],
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/bench_collect.py"
 
@@ -94,6 +98,8 @@ rule bench_workprecision:
         "../envs/restitution.yaml"
     params:
         ivp=ivp_settings(),
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/bench_plot_workprecision.py"
 
@@ -117,6 +123,8 @@ rule bench_scaling:
     params:
         scaling=BENCH["scaling"],
         bench=BENCH,
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/bench_scaling.py"
 
@@ -140,6 +148,8 @@ rule bench_scaling_plot:
         "../envs/restitution.yaml"
     params:
         match_error=BENCH["scaling"]["match_error"],
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/bench_plot_scaling.py"
 
@@ -153,3 +163,5 @@ rule benchmarks:
         rules.bench_workprecision.output.pdf,
         rules.bench_scaling_plot.output.png,
         rules.bench_scaling_plot.output.pdf,
+    message:
+        TARGET_MESSAGE

@@ -69,6 +69,25 @@ if RUN != "paper" and workflow.overwrite_workdir is None:
             _link.symlink_to(Path("..") / ".." / _name, target_is_directory=True)
 
 
+# ---------------------------------------------------------------------------------------------
+# One console line per job. The profiles quiet the reason (`quiet: [reason]`); then each job's
+# message is JOB_MESSAGE (targets: TARGET_MESSAGE) and snakemake prints "Job 12: design_fig8b,
+# log logs/design/masses_N4.log" instead of the input/output/wildcards block (40 lines with the
+# code inputs). The log is where a long job reports its progress (tail -f it). A failing job
+# still gets the full block and its log. Any --quiet that leaves the reason out, e.g.
+# `snakemake -n all --quiet host`, brings back the full blocks with their reasons.
+# ---------------------------------------------------------------------------------------------
+def short_listing():
+    """True when the reason is quieted (the profiles' default): one line per job."""
+    settings = workflow.output_settings
+    quiet = settings.quiet if settings is not None and settings.quiet else ()
+    return any(str(q.name).lower() == "reason" for q in quiet)
+
+
+JOB_MESSAGE = "{rule}, log {log}" if short_listing() else None
+TARGET_MESSAGE = "target {rule}" if short_listing() else None
+
+
 wildcard_constraints:
     beta=r"\d+(\.\d+)?(e[+-]?\d+)?",
     chunk=r"\d+",

@@ -27,6 +27,8 @@ rule simulate_fig8a_map:
     params:
         map=config["fig8"]["map"],
         solver=solver_settings(),
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/simulate_fig8a_map.py"
 
@@ -62,6 +64,8 @@ rule simulate_fig8a_curves:
     params:
         map=config["fig8"]["map"],
         curves=config["fig8"]["curves"],
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/simulate_fig8a_curves.py"
 
@@ -101,6 +105,8 @@ rule fig8a:
         fig2a_betas=config["fig2a"]["betas"],
         fig3_alphas=config["fig3"]["sweep"]["alphas"],
         fig3_beta_min=config["fig3"]["sweep"]["beta_min"],
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_fig8a.py"
 
@@ -135,6 +141,8 @@ rule design_fig8b:
             for k, v in config["fig8"]["design"].items()
             if k not in ("all", "extra")
         },
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/design_fig8b.py"
 
@@ -162,6 +170,8 @@ rule design_fig8b_collect:
         "logs/benchmarks/design/collect.tsv"
     conda:
         "../envs/restitution.yaml"
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/design_fig8b_collect.py"
 
@@ -183,6 +193,8 @@ rule design_extra_collect:
         "logs/benchmarks/design/collect_extra.tsv"
     conda:
         "../envs/restitution.yaml"
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/design_fig8b_collect.py"
 
@@ -192,6 +204,8 @@ rule design_extra:
     default_target: False
     input:
         rules.design_extra_collect.output.table,
+    message:
+        TARGET_MESSAGE
 
 
 rule fig8b:
@@ -234,5 +248,7 @@ rule fig8b:
                 "robust_maxiter",
             )
         },
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_fig8b.py"

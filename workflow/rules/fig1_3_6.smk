@@ -33,6 +33,8 @@ rule simulate_fig3a:
     params:
         sweep=config["fig3"]["sweep"],
         solver=solver_settings(),
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/simulate_fig3.py"
 
@@ -63,6 +65,8 @@ rule fig3a:
         "../envs/restitution.yaml"
     params:
         alphas=config["fig3"]["sweep"]["alphas"],
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_fig3a.py"
 
@@ -103,6 +107,8 @@ rule simulate_fig3b:
     params:
         compression=config["fig3"]["compression"],
         solver=solver_settings(),
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/simulate_fig3.py"
 
@@ -135,6 +141,8 @@ rule fig3b:
         "../envs/restitution.yaml"
     params:
         betas=config["fig3"]["compression"]["betas"],
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_fig3b.py"
 
@@ -163,6 +171,8 @@ rule simulate_fig6b:
     params:
         sweep=config["fig6"]["sweep"],
         solver=solver_settings(),
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/simulate_fig6b.py"
 
@@ -189,6 +199,8 @@ rule aggregate_fig6b:
         "../envs/restitution.yaml"
     params:
         fig6=config["fig6"],
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/aggregate_fig6b.py"
 
@@ -220,6 +232,8 @@ rule fig6b:
         "../envs/restitution.yaml"
     params:
         n_masses=config["fig6"]["n_masses"],
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_fig6b.py"
 
@@ -249,6 +263,8 @@ rule fig1:
         "../envs/restitution.yaml"
     params:
         model="two_mass",
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_schematics.py"
 
@@ -275,5 +291,7 @@ rule fig6a:
         "../envs/restitution.yaml"
     params:
         model="chain",
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_schematics.py"

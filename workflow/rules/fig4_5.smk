@@ -34,6 +34,8 @@ rule simulate_fig4b:
         sweep=config["fig4"]["sweep"],
         panel=config["fig4"]["b"],
         solver=solver_settings(),
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/simulate_fig4.py"
 
@@ -69,6 +71,8 @@ rule simulate_fig4c:
         sweep=config["fig4"]["sweep"],
         panel=config["fig4"]["c"],
         solver=solver_settings(),
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/simulate_fig4.py"
 
@@ -104,6 +108,8 @@ rule simulate_fig4d:
         sweep=config["fig4"]["sweep"],
         panel=config["fig4"]["d"],
         solver=solver_settings(),
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/simulate_fig4.py"
 
@@ -143,6 +149,8 @@ rule simulate_fig5b:
         spring=config["fig5"]["spring"],
         panel=config["fig5"]["b"],
         solver=solver_settings(),
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/simulate_fig5.py"
 
@@ -171,6 +179,8 @@ rule fig4a:
     params:
         name="fig4a",
         panel=config["fig4"]["a"],
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_fig4.py"
 
@@ -203,6 +213,8 @@ rule fig4b:
     params:
         name="fig4b",
         panel=config["fig4"]["b"],
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_fig4.py"
 
@@ -238,6 +250,8 @@ rule fig4c:
     params:
         name="fig4c",
         panel=config["fig4"]["c"],
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_fig4.py"
 
@@ -273,6 +287,8 @@ rule fig4d:
     params:
         name="fig4d",
         panel=config["fig4"]["d"],
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_fig4.py"
 
@@ -308,6 +324,8 @@ rule fig5a:
         name="a",
         spring=config["fig5"]["spring"],
         panel=config["fig5"]["a"],
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_fig5.py"
 
@@ -344,5 +362,7 @@ rule fig5b:
         name="b",
         spring=config["fig5"]["spring"],
         panel=config["fig5"]["b"],
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_fig5.py"

@@ -50,6 +50,8 @@ rule simulate_fig7:
     params:
         grid=FIG7_GRID,
         solver=solver_settings(),
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/simulate_fig7.py"
 
@@ -91,6 +93,8 @@ rule aggregate_fig7:
             "max_not_ok_fraction": config["fig7"]["max_not_ok_fraction"],
         },
         solver=solver_settings(),
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/aggregate_fig7.py"
 
@@ -123,6 +127,8 @@ rule fig7a:
     params:
         panel="fig7a",
         fig7=FIG7_PLOT,
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_fig7.py"
 
@@ -155,6 +161,8 @@ rule fig7b:
     params:
         panel="fig7b",
         fig7=FIG7_PLOT,
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_fig7.py"
 
@@ -187,6 +195,8 @@ rule fig7c:
     params:
         panel="fig7c",
         fig7=FIG7_PLOT,
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_fig7.py"
 
@@ -219,6 +229,8 @@ rule simulate_fig7d:
         beta=config["fig7"]["beta"],
         traces=config["fig7"]["traces"],
         solver=solver_settings(),
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/simulate_fig7d.py"
 
@@ -251,5 +263,7 @@ rule fig7d:
     params:
         beta=config["fig7"]["beta"],
         traces=config["fig7"]["traces"],
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_fig7d.py"

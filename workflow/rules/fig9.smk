@@ -31,6 +31,8 @@ rule simulate_fig9:
     params:
         fig9=config["fig9"],
         max_events=config["max_events"],
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/simulate_fig9.py"
 
@@ -63,5 +65,7 @@ rule fig9:
         "../envs/restitution.yaml"
     params:
         fig9=config["fig9"],
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_fig9.py"

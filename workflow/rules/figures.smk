@@ -28,5 +28,7 @@ rule fig2a:
         "../envs/restitution.yaml"
     params:
         betas=config["fig2a"]["betas"],
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/render_fig2a.py"

@@ -34,5 +34,7 @@ rule reproduction:
     params:
         # For the caption only (the script reads input.paper).
         paper=paper_values("cor_reduction", "alpha_reduction"),
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/reproduction.py"

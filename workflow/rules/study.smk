@@ -42,6 +42,8 @@ if STUDY_FILE is not None:
             runtime=60,
         params:
             study=STUDY.raw,
+        message:
+            JOB_MESSAGE
         script:
             "../scripts/study_simulate.py"
 
@@ -74,6 +76,8 @@ if STUDY_FILE is not None:
             "../envs/restitution.yaml"
         params:
             study=STUDY.raw,
+        message:
+            JOB_MESSAGE
         script:
             "../scripts/study_aggregate.py"
 
@@ -104,6 +108,8 @@ if STUDY_FILE is not None:
             "../envs/restitution.yaml"
         params:
             study=STUDY.raw,
+        message:
+            JOB_MESSAGE
         script:
             "../scripts/study_plot.py"
 
@@ -112,6 +118,8 @@ if STUDY_FILE is not None:
         input:
             rules.study_aggregate.output,
             rules.study_plot.output,
+        message:
+            TARGET_MESSAGE
 
 else:
 
@@ -119,3 +127,5 @@ else:
         """Target: the study named by --config study=FILE (none given: says how)."""
         input:
             no_study_given,
+        message:
+            TARGET_MESSAGE

@@ -22,6 +22,8 @@ rule simulate_fig2a:
     params:
         grid=fig2a_grid(),
         solver=solver_settings(),
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/simulate_fig2a.py"
 
@@ -51,5 +53,7 @@ rule aggregate_fig2a:
         solver=solver_settings(),
         # For the caption only (the paper's beta = 0 minima it compares with).
         paper=paper_values("rigid_min1_cor", "rigid_min2_cor", "rigid_min3_cor"),
+    message:
+        JOB_MESSAGE
     script:
         "../scripts/aggregate_fig2a.py"

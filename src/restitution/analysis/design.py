@@ -42,6 +42,7 @@ from __future__ import annotations
 import functools
 import logging
 import math
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -57,6 +58,10 @@ DEFAULT_BOUNDS = (0.01, 100.0)
 MAX_MASSES = 16
 RELAX = 1e-6  # log step past a bound of the activity test (``_relaxed``)
 RELAX_BOX = 0.01  # a bound moved out by this (log: 1 %) for the local re-optimisation there
+# Seconds between the progress lines of a stage with no step of its own to report (the polish,
+# the bound test, the worst-case search), e.g. "masses N=4 polish: 12799 solves, ... grazing
+# evaluations so far (120 s)".
+HEARTBEAT = 30.0
 _BAD = 10.0  # objective of a scene the solver could not finish (never a minimum: COR <= 1)
 
 
@@ -211,15 +216,44 @@ def family(name: str, n_masses: int) -> Family:
 class _Objective:
     """COR (or worst COR over mass errors) of a family member, counting solver calls."""
 
-    def __init__(self, fam: Family, beta: float, tolerance: float, max_events: int):
+    def __init__(self, fam: Family, beta: float, tolerance: float, max_events: int,
+                 progress=None):  # fmt: skip
         self.fam, self.beta, self.tol, self.max_events = fam, beta, tolerance, max_events
         self.calls = 0
+        self.grazings = 0  # evaluations of a grazing condition (the polish's manifold search)
         self.samples = 16  # Sobol points of the robust objective's error box
         # Work of the polish: solves and grazing evaluations, stopped past ``limit``.
         self.spent, self.limit = 0, math.inf
+        # Progress: ``report`` lines, and a heartbeat every HEARTBEAT s within a ``stage``.
+        self.progress, self.stage = progress, None
+        self._beat = self._stage_start = time.monotonic()
+
+    def report(self, text: str) -> None:
+        """One progress line (none without ``progress``); restarts the heartbeat's clock."""
+        if self.progress:
+            self.progress(text)
+        self._beat = time.monotonic()
+
+    def begin(self, stage: str | None) -> None:
+        """Enter a stage of the run: its heartbeat lines are named after it (None: no lines)."""
+        self.stage = stage
+        self._beat = self._stage_start = time.monotonic()
+
+    def tick(self) -> None:
+        """A heartbeat line if HEARTBEAT s passed since the last line (cheap: one clock read)."""
+        if self.progress and self.stage and time.monotonic() - self._beat >= HEARTBEAT:
+            elapsed = time.monotonic() - self._stage_start
+            work = f"{self.calls} solves"
+            if self.grazings:
+                work += f", {self.grazings} grazing evaluations"
+            self.report(
+                f"{self.fam.name} N={self.fam.n_masses} {self.stage}: {work} so far "
+                f"({elapsed:.0f} s)"
+            )
 
     def spend(self) -> None:
         """Count one evaluation of the polish; _Spent once its budget is used up."""
+        self.tick()
         self.spent += 1
         if self.spent > self.limit:
             raise _Spent
@@ -258,6 +292,7 @@ class _Objective:
                 chains.append(scaled_chain(mm / mm[0], k, self.beta))
                 owner.append(s)
         self.calls += len(chains)
+        self.tick()
         cor, ok = solve_scaled_many(chains, self.max_events)
         cor = np.where(ok, cor, _BAD)
         out = np.full(X.shape[1], -np.inf)
@@ -282,6 +317,7 @@ class _Objective:
 
         def neg(d):
             self.calls += 1
+            self.tick()
             r = solve_scaled(*chain(d), max_events=self.max_events)
             return -(r.cor if r.success else _BAD)
 
@@ -317,6 +353,7 @@ def _grazing_value(fam: Family, beta: float, x, n: int, kind: str, objective=Non
 
     if objective is not None:
         objective.spend()
+        objective.grazings += 1
     m, k = fam.chain(x)
     masses, springs, kc = scaled_chain(m, k, beta)
     try:
@@ -605,18 +642,19 @@ def _relaxed(objective, fam, x, lb, ub, f_x, local=None):
 
 def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, progress, polish,
               starts=()):  # fmt: skip
-    objective = _Objective(fam, beta, tolerance, max_events)
+    objective = _Objective(fam, beta, tolerance, max_events, progress)
     lb, ub = _box_of(fam, bounds)
     starts = [np.asarray(fam.coords(*s), dtype=float) for s in starts]
     gen = [0]
 
     def callback(intermediate_result):
         gen[0] += 1
-        if progress:
-            progress(
-                f"{fam.name} N={fam.n_masses} generation {gen[0]}: best "
-                f"{intermediate_result.fun:.10g} ({objective.calls} solves)"
-            )
+        objective.report(
+            f"{fam.name} N={fam.n_masses} generation {gen[0]}: best "
+            f"{intermediate_result.fun:.10g} ({objective.calls} solves)"
+        )
+
+    objective.begin("search")
 
     res = differential_evolution(
         objective.batch,
@@ -642,6 +680,7 @@ def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, 
         objective.spent = 0
         objective.limit = max(5, popsize * fam.dim) * (maxiter + 1)
         box = list(zip(lb, ub, strict=True))
+        objective.begin("polish")
         x, graz, finished = _polish(fam, beta, res.x, objective, progress, box)
         objective.limit = math.inf
         method += " + grazing-manifold polish" if graz else " + local polish (smooth minimum)"
@@ -649,6 +688,7 @@ def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, 
             method += f" (stopped at its budget of {max(5, popsize * fam.dim) * (maxiter + 1)})"
     elif tolerance > 0.0:
         # Robust objective is not a cusp of one condition: refine it where it is (bounded Powell).
+        objective.begin("local search (Powell)")
         loc = minimize(
             lambda z: float(objective.batch(np.asarray(z)[:, None])[0]),
             res.x,
@@ -681,7 +721,9 @@ def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, 
         # the worst case of its result searched as the design's was (``worst``).
         return objective(res.x)
 
+    objective.begin("bound test")
     hits = _relaxed(objective, fam, x, lb, ub, f_x, local if polish or tolerance > 0 else None)
+    objective.begin("worst case")
     active = [text for text, on in hits if on]
     if graz is not None:
         active.append(f"grazing {graz[1]} n={graz[0]}")
@@ -765,7 +807,11 @@ def minimize_cor(
     seed, popsize, maxiter
         Of ``differential_evolution`` (seeded: the same result on every run and thread count).
     progress : callable or None
-        Called with one line per generation (default ``print``; a logger's ``info`` works).
+        Called with one line per generation, one per polish step, and every ``HEARTBEAT``
+        (30) s of a stage with no step of its own (polish, bound test, worst case: "masses N=4
+        polish: 12799 solves, ... grazing evaluations so far (120 s)"); default ``print``, a
+        logger's ``info`` works.
+        The lines never change the result.
     warm_starts : sequence of Design or of (masses, springs)
         Chains of ``n_masses`` masses put into the search's first population (clipped into the
         bounds), e.g. the optimum of a smaller family: the search then ends at most at their

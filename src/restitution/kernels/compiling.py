@@ -8,13 +8,15 @@ folder), set by ``ensure_cache`` when the package is imported, before any kernel
 (numba's own default, ``__pycache__`` next to each module, would give every entry point that
 does not set the variable a cache of its own). ``restitution warmup`` fills it.
 
-A kernel with no compiled signature in this process and no index file in the cache is about to
-be compiled: ``announce`` prints one line on stderr then, once per process, so the first call
-after an install is not minutes of silence.
+A kernel with no compiled signature in this process and no index file in the cache, or a stale
+one (its source file edited since), is about to be compiled: ``announce`` prints one line on
+stderr then, once per process, so the first call after an install or a kernel edit is not
+minutes of silence.
 """
 
 from __future__ import annotations
 
+import logging
 import os
 import sys
 import tempfile
@@ -24,18 +26,28 @@ _warm = set()  # dispatchers known to be compiled or cached (checked once each)
 
 
 def cold(dispatcher) -> bool:
-    """True if calling ``dispatcher`` will compile (nothing in memory, nothing in the cache)."""
+    """True if calling ``dispatcher`` will compile: nothing in memory, and no index in the cache
+    or a stale one (written for another version of the kernel's source file, e.g. after an edit
+    or a checkout: numba then compiles again, minutes for the chain kernels)."""
     if getattr(dispatcher, "signatures", None):
         return False
     try:
-        index = dispatcher._cache._cache_file._index_path  # numba's FunctionCache internals
+        cache_file = dispatcher._cache._cache_file  # numba's FunctionCache internals
+        index = cache_file._index_path
     except AttributeError:  # another numba layout: do not guess
         return False
-    return not os.path.exists(index)
+    if not os.path.exists(index):
+        return True
+    try:
+        # numba's own reading of the index: empty when its source stamp is not the file's.
+        return not cache_file._load_index()
+    except Exception:  # an unreadable index, another numba layout: do not guess
+        return False
 
 
 def announce(*dispatchers) -> None:
-    """One line on stderr if any of the kernels will be compiled now (once per process)."""
+    """One line on stderr (and an INFO record of this module's logger) if any of the kernels
+    will be compiled now (once per process)."""
     global _announced
     if _announced:
         return
@@ -46,13 +58,15 @@ def announce(*dispatchers) -> None:
     _warm.update(d for d in todo if d not in cold_ones)
     if cold_ones:
         _announced = True
-        print(
-            "restitution: compiling the numba kernels (the first run after installing takes "
-            "minutes; `restitution warmup` compiles them all ahead; later runs load them from "
-            "the cache)...",
-            file=sys.stderr,
-            flush=True,
+        message = (
+            "compiling the numba kernels (the first run after installing or after a kernel "
+            "edit takes minutes; `restitution warmup` compiles them all ahead; later runs load "
+            "them from the cache)..."
         )
+        print(f"restitution: {message}", file=sys.stderr, flush=True)
+        # Into a configured log too (a workflow job's log: its minutes without a line explained
+        # there); logging that nobody configured drops INFO.
+        logging.getLogger(__name__).info(message)
 
 
 def _writable(path: str) -> bool:
