@@ -431,8 +431,10 @@ def test_unwritable_numba_cache_falls_back_to_a_private_one(tmp_path):
 def test_every_entry_point_shares_one_numba_cache(tmp_path):
     """Without NUMBA_CACHE_DIR, Python, the command line and the processes they start use the
     checkout's .cache/numba (the folder make uses), not numba's __pycache__ per module."""
+    from restitution.kernels.compiling import source_key
+
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
-    expected = str(REPO / ".cache" / "numba")
+    expected = str(REPO / ".cache" / "numba" / source_key())  # the sources' own folder
     probe = (
         "import os, restitution\nfrom numba.core import config\n"
         "print(os.environ['NUMBA_CACHE_DIR'], config.CACHE_DIR)"
@@ -452,7 +454,46 @@ def test_every_entry_point_shares_one_numba_cache(tmp_path):
     assert run.returncode == 0 and run.stdout.strip() == expected, run.stderr
     from restitution.kernels.compiling import default_cache_dir
 
-    assert default_cache_dir() == expected
+    assert default_cache_dir() == str(REPO / ".cache" / "numba")
+    # a process started with the keyed folder keeps it (no folder in a folder)
+    run = subprocess.run(
+        [sys.executable, "-c", "import os, restitution; print(os.environ['NUMBA_CACHE_DIR'])"],
+        capture_output=True, text=True, env=dict(env, NUMBA_CACHE_DIR=expected), cwd=tmp_path,
+        timeout=120,
+    )  # fmt: skip
+    assert run.returncode == 0 and run.stdout.strip() == expected, run.stderr
+
+
+def test_cache_folder_follows_every_compiled_source(tmp_path):
+    """numba checks a cached kernel against its own file only, while a kernel compiles in what
+    it calls from other files (paper_chain.solve_linear ran exact_chain's old code after an edit
+    of exact_chain.py): the cache folder is a hash of every compiled source, so an edit in any
+    of them (a kernel, a law, a shared constant) is a new folder, and nothing else is."""
+    import shutil
+
+    package = tmp_path / "restitution"
+    shutil.copytree(REPO / "src" / "restitution", package, ignore=shutil.ignore_patterns("*.pyc"))
+    probe = "from restitution.kernels.compiling import source_key; print(source_key())"
+
+    def key():
+        env = dict(os.environ, PYTHONPATH=str(tmp_path))
+        run = subprocess.run(
+            [sys.executable, "-c", probe], capture_output=True, text=True, env=env, timeout=120
+        )
+        assert run.returncode == 0, run.stderr
+        return run.stdout.strip()
+
+    first = key()
+    assert len(first) == 12 and key() == first
+    for edited in ("kernels/exact_chain.py", "kernels/constants.py", "model/laws.py"):
+        path = package / edited
+        path.write_text(path.read_text() + "\n# edited\n")
+        second = key()
+        assert second != first, edited
+        first = second
+    docs = package / "cli.py"  # not compiled by numba: the same folder
+    docs.write_text(docs.read_text() + "\n# edited\n")
+    assert key() == first
 
 
 def test_compile_notice_also_after_a_kernel_edit(tmp_path):

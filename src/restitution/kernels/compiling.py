@@ -8,6 +8,13 @@ folder), set by ``ensure_cache`` when the package is imported, before any kernel
 (numba's own default, ``__pycache__`` next to each module, would give every entry point that
 does not set the variable a cache of its own). ``restitution warmup`` fills it.
 
+Within that location the kernels live in a folder named by ``source_key()``, a hash of the
+package's numba-compiled sources. numba checks a cached kernel against its own file's time
+stamp only, while a kernel compiles in the functions and constants it calls from other files:
+after an edit of ``exact_chain.py`` the cached ``paper_chain.solve_linear`` still ran the old
+``exact_chain`` code (found when a kernel edit did not change the paper scenes' results). A new
+version of those sources is a new folder, so no stale machine code is ever loaded.
+
 A kernel with no compiled signature in this process and no index file in the cache, or a stale
 one (its source file edited since), is about to be compiled: ``announce`` prints one line on
 stderr then, once per process, so the first call after an install or a kernel edit is not
@@ -16,6 +23,7 @@ minutes of silence.
 
 from __future__ import annotations
 
+import hashlib
 import logging
 import os
 import sys
@@ -93,6 +101,38 @@ def default_cache_dir() -> str:
     return os.path.join(base, "restitution", "numba")
 
 
+# The numba-compiled sources, relative to the package: every module a kernel may compile in.
+_COMPILED = ("kernels", "model", os.path.join("analysis", "special_points.py"))
+_key = None
+
+
+def source_key() -> str:
+    """A hash (12 hex digits) of the bytes of the package's numba-compiled sources."""
+    global _key
+    if _key is None:
+        package = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+        files = []
+        for entry in _COMPILED:
+            path = os.path.join(package, entry)
+            if os.path.isdir(path):
+                files += [os.path.join(path, f) for f in os.listdir(path) if f.endswith(".py")]
+            else:
+                files.append(path)
+        digest = hashlib.sha1()
+        for f in sorted(files):
+            digest.update(os.path.relpath(f, package).encode())
+            with open(f, "rb") as fh:
+                digest.update(fh.read())
+        _key = digest.hexdigest()[:12]
+    return _key
+
+
+def _keyed(path: str) -> str:
+    """``path``/source_key() (``path`` itself if it is already that folder: a child process)."""
+    key = source_key()
+    return path if os.path.basename(os.path.normpath(path)) == key else os.path.join(path, key)
+
+
 def _use(path: str) -> None:
     """Make ``path`` numba's cache for this process and the processes it starts."""
     os.environ["NUMBA_CACHE_DIR"] = path
@@ -106,23 +146,29 @@ def ensure_cache() -> str | None:
     """Make sure numba's cache is the one location and one this process can write, before any
     kernel is defined.
 
-    Without ``NUMBA_CACHE_DIR``, ``default_cache_dir()`` is used (and exported, so that the
-    processes this one starts share it). A cache that cannot be written (owned by another user,
+    Without ``NUMBA_CACHE_DIR``, ``default_cache_dir()`` is used. Either way the kernels go
+    into its folder ``source_key()`` (exported, so that the processes this one starts share
+    it). A cache that cannot be written (owned by another user,
     e.g. root, or on a read-only file system) made numba look elsewhere and, where it found no
     writable place, fail at import with a traceback. Then a private cache is used instead,
     ``<tmp>/restitution-numba-<uid>`` (created 0700), with one line on stderr saying so.
     Returns the cache directory chosen here, or None when the given one is kept.
     """
     given = os.environ.get("NUMBA_CACHE_DIR")
-    if given and _writable(given):
-        return None
-    if not given:
-        given = default_cache_dir()
+    if given:
+        keyed = _keyed(given)
+        if _writable(keyed):
+            if keyed == given:
+                return None
+            _use(keyed)
+            return keyed
+    else:
+        given = _keyed(default_cache_dir())
         if _writable(given):
             _use(given)
             return given
     uid = os.getuid() if hasattr(os, "getuid") else "user"
-    private = os.path.join(tempfile.gettempdir(), f"restitution-numba-{uid}")
+    private = os.path.join(tempfile.gettempdir(), f"restitution-numba-{uid}", source_key())
     try:
         os.makedirs(private, mode=0o700, exist_ok=True)
     except OSError:
