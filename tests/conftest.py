@@ -148,3 +148,46 @@ def solve_general_many(masses, springs, dashpots=None, contact=None, links=None,
     for name, value in kw.items():
         frame[name] = value
     return restitution.solve_many(frame, max_events=max_events)
+
+
+def check_table_and_cli_agree(contact: dict) -> None:
+    """A contact law given as a table cell (a mapping, and JSON text as a CSV cell gives it) and
+    on the command line (--contact-law) gives solve()'s COR, by the adaptive method."""
+    import contextlib
+    import io
+    import json
+
+    import pandas as pd
+
+    import restitution
+    from restitution.cli import main
+
+    one = restitution.solve(masses=[1.0, 2.0], springs=[1.0], contact=contact)
+    three = restitution.solve(masses=[1.0, 0.7, 2.0], springs=[1.0, 0.5], contact=contact)
+    table = pd.DataFrame(
+        {
+            "masses": [[1.0, 2.0], [1.0, 0.7, 2.0]],
+            "springs": [[1.0], [1.0, 0.5]],
+            "contact": [contact, json.dumps(contact)],
+        }
+    )
+    many = restitution.solve_many(table)
+    assert many["cor"].tolist() == [one.cor, three.cor]
+    assert many["status"].tolist() == ["ok", "ok"]
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        code = main(
+            ["cor", "--masses", "1,2", "--springs", "1", "--contact-law", json.dumps(contact),
+             "--json"]
+        )  # fmt: skip
+    assert code == 0
+    cli = json.loads(out.getvalue())
+    assert cli["cor"] == one.cor and cli["method"] == "adaptive"
+
+
+def random_soft_chain(rng, n: int):
+    """Masses and springs 0.3..3, dashpots 0..0.05 on about half the links (lists)."""
+    m = rng.uniform(0.3, 3.0, n)
+    k = rng.uniform(0.3, 3.0, n - 1)
+    c = rng.uniform(0.0, 0.05, n - 1) * (rng.random(n - 1) < 0.5)
+    return m.tolist(), k.tolist(), c.tolist()

@@ -11,21 +11,16 @@ speed at x = 0 is the root v_out in (-1/lam, 0) of G(v_out) = G(v0) (solved here
 and three masses are compared with an independent solve_ivp integration written here.
 """
 
-import contextlib
-import io
-import json
 import math
 
 import mpmath as mp
 import numpy as np
-import pandas as pd
 import pytest
 from scipy.integrate import solve_ivp
 
 import restitution
-from conftest import solve_general_law
+from conftest import check_table_and_cli_agree, random_soft_chain, solve_general_law
 from restitution import SceneError
-from restitution.cli import main
 from restitution.kernels.layout import (
     H_XMAX,
     N_HIST,
@@ -253,40 +248,14 @@ def test_bad_parameters_name_themselves(contact, text):
 
 def test_solve_many_and_the_command_line_agree_with_solve():
     hc = {"law": HC, "k": 20.0, "alpha": 0.2}
-    one = restitution.solve(masses=[1.0, 2.0], springs=[1.0], contact=hc)
-    three = restitution.solve(masses=[1.0, 0.7, 2.0], springs=[1.0, 0.5], contact=hc)
-    table = pd.DataFrame(
-        {
-            "masses": [[1.0, 2.0], [1.0, 0.7, 2.0]],
-            "springs": [[1.0], [1.0, 0.5]],
-            "contact": [hc, json.dumps(hc)],
-        }
-    )
-    many = restitution.solve_many(table)
-    assert many["cor"].tolist() == [one.cor, three.cor]
-    assert many["status"].tolist() == ["ok", "ok"]
-    out = io.StringIO()
-    with contextlib.redirect_stdout(out):
-        code = main(
-            ["cor", "--masses", "1,2", "--springs", "1", "--contact-law", json.dumps(hc), "--json"]
-        )
-    assert code == 0
-    cli = json.loads(out.getvalue())
-    assert cli["cor"] == one.cor and cli["method"] == "adaptive"
-
-
-def _random_chain(rng, n):
-    m = rng.uniform(0.3, 3.0, n)
-    k = rng.uniform(0.3, 3.0, n - 1)
-    c = rng.uniform(0.0, 0.05, n - 1) * (rng.random(n - 1) < 0.5)
-    return m.tolist(), k.tolist(), c.tolist()
+    check_table_and_cli_agree(hc)
 
 
 @pytest.mark.parametrize("n", [2, 3, 4, 5])
 @pytest.mark.parametrize("n_exp", [1.0, 1.5, 2.0])
 def test_random_chains_against_solve_ivp(n, n_exp):
     rng = np.random.default_rng(100 * n + int(10 * n_exp))
-    m, k, dash = _random_chain(rng, n)
+    m, k, dash = random_soft_chain(rng, n)
     kc = float(rng.uniform(5.0, 30.0))
     v0 = float(rng.uniform(0.5, 2.0))
     # alpha up to 90 % of its bound 1/(1.5 v0 sqrt(M/m1))

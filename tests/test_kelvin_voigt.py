@@ -19,9 +19,6 @@ exp(-z pi/sqrt(1 - z**2)) of a contact that ends at x = 0 (checked to differ). C
 with an independent solve_ivp integration written here (rtol 1e-12).
 """
 
-import contextlib
-import io
-import json
 import math
 
 import numpy as np
@@ -30,9 +27,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import restitution
-from conftest import solve_general_law
+from conftest import check_table_and_cli_agree, random_soft_chain, solve_general_law
 from restitution import SceneError
-from restitution.cli import main
 from restitution.kernels.layout import (
     H_TEND,
     H_XMAX,
@@ -327,41 +323,14 @@ def test_bad_parameters_name_themselves(contact, text):
 
 def test_solve_many_and_the_command_line_agree_with_solve():
     kv = {"law": KV, "k": 3.0, "c": 0.4}
-    one = restitution.solve(masses=[1.0, 2.0], springs=[1.0], contact=kv)
-    three = restitution.solve(masses=[1.0, 0.7, 2.0], springs=[1.0, 0.5], contact=kv)
-    # a table's contact cell as a mapping and as JSON text (a CSV cell)
-    table = pd.DataFrame(
-        {
-            "masses": [[1.0, 2.0], [1.0, 0.7, 2.0]],
-            "springs": [[1.0], [1.0, 0.5]],
-            "contact": [kv, json.dumps(kv)],
-        }
-    )
-    many = restitution.solve_many(table)
-    assert many["cor"].tolist() == [one.cor, three.cor]
-    assert many["status"].tolist() == ["ok", "ok"]
-    out = io.StringIO()
-    with contextlib.redirect_stdout(out):
-        code = main(
-            ["cor", "--masses", "1,2", "--springs", "1", "--contact-law", json.dumps(kv), "--json"]
-        )
-    assert code == 0
-    cli = json.loads(out.getvalue())
-    assert cli["cor"] == one.cor and cli["method"] == "adaptive"
-
-
-def _random_chain(rng, n):
-    m = rng.uniform(0.3, 3.0, n)
-    k = rng.uniform(0.3, 3.0, n - 1)
-    c = rng.uniform(0.0, 0.05, n - 1) * (rng.random(n - 1) < 0.5)
-    return m.tolist(), k.tolist(), c.tolist()
+    check_table_and_cli_agree(kv)
 
 
 @pytest.mark.parametrize("n", [2, 3, 4, 5])
 @pytest.mark.parametrize("zeta", [0.05, 0.4, 1.5])
 def test_random_chains_against_solve_ivp(n, zeta):
     rng = np.random.default_rng(100 * n + int(10 * zeta))
-    m, k, dash = _random_chain(rng, n)
+    m, k, dash = random_soft_chain(rng, n)
     kc = float(rng.uniform(2.0, 30.0))
     cc = 2.0 * zeta * math.sqrt(kc * m[0])
     v0 = float(rng.uniform(0.5, 2.0))
