@@ -140,11 +140,15 @@ from restitution.kernels.locator import (
 from restitution.kernels.parallel import row_blocks
 from restitution.kernels.replica import (
     JITTER,
+    PURE_SAFETY,
     REPLICA_SAFETY,
     REPLICA_SEED,
     REPLICAS,
+    STICK_BUDGET,
+    STICK_SAFETY,
     combine,
     finished,
+    stick_check,
     weyl,
 )
 from restitution.kernels.rigid2 import XI_NEGLIGIBLE, _next_contact0, _next_contact_d, _rigid2
@@ -1146,13 +1150,15 @@ def _solve_units(
     force_free=-1,
     force_t=0.0,
     force_v=0.0,
+    stick=1.0,
 ):
     """(out, closest pass) of one run (_run's; the closest pass is none for two masses at a rigid
-    wall, whose kernel walks the gap's critical points in closed form)."""
+    wall, whose kernel walks the gap's critical points in closed form). ``stick`` scales the
+    sticking limit's cut-off speed (the half-speed check of _checked_units)."""
     if use_rigid2 and ms.size == 2 and kcs == math.inf:
         # Two masses at a rigid wall: the dedicated closed-form kernel (alpha, xi) is faster.
         xi = cs[0] / (2.0 * ks[0])
-        out = _rigid2(ms[1], xi, max_events, hist, V_STICK_RIGID2, jitter, seed)
+        out = _rigid2(ms[1], xi, max_events, hist, stick * V_STICK_RIGID2, jitter, seed)
         return out, np.array([math.inf, -1.0, 0.0, 0.0])
     rec = np.zeros((0, 3 + 2 * ms.size))
     out, _, closest = _run(
@@ -1164,7 +1170,7 @@ def _solve_units(
         hist,
         rec,
         work_max,
-        V_STICK_CHAIN,
+        stick * V_STICK_CHAIN,
         STICK_AFTER,
         jitter,
         seed,
@@ -1268,7 +1274,19 @@ def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2):
             near[2],
             near[3] * math.sqrt(depth / PASS_DEPTH),
         )[0]
-    return combine(out, reps[: REPLICAS + extra])
+    out = combine(out, reps[: REPLICAS + extra])
+    if int(out[OUT_FLAGS]) & FLAG_STICKING:  # the cut-off, measured (replica.stick_check)
+        budget = min(max_events, int(STICK_BUDGET * out[OUT_NCOL]) + 100)
+        pure = _solve_units(
+            ms, ks, cs, kcs, budget, nohist, work_max, use_rigid2, 0.0, 0, stick=0.0
+        )[0]
+        if finished(pure[OUT_STATUS]):
+            return stick_check(out, pure, PURE_SAFETY)
+        half = _solve_units(
+            ms, ks, cs, kcs, max_events, nohist, work_max, use_rigid2, 0.0, 0, stick=0.5
+        )[0]
+        out = stick_check(out, half, STICK_SAFETY)
+    return out
 
 
 @njit(cache=True)

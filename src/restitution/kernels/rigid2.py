@@ -93,7 +93,18 @@ from restitution.kernels.layout import (
     STATUS_OK,
 )
 from restitution.kernels.parallel import row_blocks
-from restitution.kernels.replica import JITTER, REPLICA_SEED, REPLICAS, combine, finished, weyl
+from restitution.kernels.replica import (
+    JITTER,
+    PURE_SAFETY,
+    REPLICA_SEED,
+    REPLICAS,
+    STICK_BUDGET,
+    STICK_SAFETY,
+    combine,
+    finished,
+    stick_check,
+    weyl,
+)
 from restitution.kernels.roots import (
     expansion,
     halley_bracketed,
@@ -653,7 +664,8 @@ def rigid2(alpha, xi, max_events, hist):
         per contact, or what the replica check reveals (restitution.kernels.replica; a scene
         whose replica moves the COR by more than ILL_TOL is STATUS_ILL_CONDITIONED); where a
         sticking phase replaced a chatter, at least the square of the speed at which chatter
-        was cut, a generous bound on the COR error (observed errors are <= 1e-3 of it).
+        was cut and 4 times the COR's change when it is cut at half that speed
+        (``replica.stick_check``).
 
     Examples
     --------
@@ -670,7 +682,16 @@ def rigid2(alpha, xi, max_events, hist):
         a = alpha * (1.0 + JITTER * weyl(seed))
         x = xi * (1.0 + JITTER * weyl(seed + 1))
         reps[r] = _rigid2(a, x, max_events, np.zeros((0, N_HIST)), V_STICK_RIGID2, JITTER, seed + 2)
-    return combine(out, reps)
+    out = combine(out, reps)
+    if int(out[OUT_FLAGS]) & FLAG_STICKING:  # the cut-off, measured (replica.stick_check)
+        nohist = np.zeros((0, N_HIST))
+        budget = min(max_events, int(STICK_BUDGET * out[OUT_NCOL]) + 100)
+        pure = _rigid2(alpha, xi, budget, nohist, 0.0, 0.0)
+        if finished(pure[OUT_STATUS]):
+            return stick_check(out, pure, PURE_SAFETY)
+        half = _rigid2(alpha, xi, max_events, nohist, 0.5 * V_STICK_RIGID2, 0.0)
+        out = stick_check(out, half, STICK_SAFETY)
+    return out
 
 
 @njit(parallel=True, cache=True)
