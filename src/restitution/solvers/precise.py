@@ -51,6 +51,7 @@ class PreciseResult:
     cor_mp: object = None
     e_translational: float = math.nan
     e_vibrational: float = math.nan
+    approach_speeds: tuple = ()
 
 
 class _Phase:
@@ -160,6 +161,7 @@ def _sequence(m, k, c, kc, dps, max_events):
         v = [mpmath.mpf(-1)] * n
         t = mpmath.mpf(0)
         times = [t]
+        speeds = [-v[0]]  # m1's approach speed at each contact start
         ncol = 1
         in_contact = not rigid
         if rigid:
@@ -196,8 +198,9 @@ def _sequence(m, k, c, kc, dps, max_events):
             t += te
             ncol += 1
             times.append(t)
+            speeds.append(-v[0])
             if ncol > max_events:
-                return None, ncol, t_last, tuple(times), None
+                return None, ncol, t_last, tuple(times), None, ()
             if rigid:
                 v[0] = -v[0]
                 t_last = t
@@ -207,7 +210,7 @@ def _sequence(m, k, c, kc, dps, max_events):
         # Vibrational energy after the final separation (relative kinetic + springs) / (mt / 2).
         evib = sum(mi * (vi - cor) ** 2 for mi, vi in zip(mp, v, strict=True))
         evib += sum(kp[i] * (u[i + 1] - u[i]) ** 2 for i in range(n - 1))
-        return cor, ncol, t_last, tuple(times), evib / mt
+        return cor, ncol, t_last, tuple(times), evib / mt, tuple(speeds)
 
 
 def solve_precise(m, k, c=None, kc=math.inf, *, dps=40, max_events=2000) -> PreciseResult:
@@ -231,8 +234,9 @@ def solve_precise(m, k, c=None, kc=math.inf, *, dps=40, max_events=2000) -> Prec
         ``cor`` rounded to float, ``digits`` (how many decimal digits of the COR the two
         precisions share), ``error_estimate`` (their difference), ``n_collisions``, ``t_col`` (time
         from first contact to final separation, the scene's units), ``status``, the contact start
-        times, the COR as an mpmath number at dps + 20 digits (``cor_mp``) and the final
-        translational and vibrational energies as fractions of the initial kinetic energy.
+        times, the COR as an mpmath number at dps + 20 digits (``cor_mp``), the final
+        translational and vibrational energies as fractions of the initial kinetic energy and
+        m1's approach speed at each contact start (``approach_speeds``, units of V0).
 
     Examples
     --------
@@ -261,4 +265,5 @@ def solve_precise(m, k, c=None, kc=math.inf, *, dps=40, max_events=2000) -> Prec
             hi[0],
             float(hi[0] ** 2),
             float(hi[4]),
+            tuple(float(x) for x in hi[5]),
         )
