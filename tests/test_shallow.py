@@ -146,30 +146,34 @@ def moderate_chain(seed: int, factor: float, c1: float = 0.0):
     return m, k, c
 
 
-# Seed 1 (N = 11): m_2 x 1.2401046278918872 (3e-11 below the kernel's own 11 -> 12 step) leaves
-# the 12th contact's dip short of the wall without damping; c_1 deepens it, v^2 = SLOPE (c_1 -
-# C_STAR) for the contact's approach speed v. C_STAR and SLOPE come from the reference alone
-# (two contacts at v ~ 1e-5, then Newton steps on v^2 at v = 1e-7 and 1e-8).
-SLOW = (1, 1.2401046278918872)
-C_STAR = 1.7336180354158998e-12
-SLOPE = 117.29930816269953
+# Two chains whose n-th contact grazes: m_2's factor, 1e-11..3e-11 beyond the kernel's own
+# count step, leaves the dip short of the wall without damping; c_1 deepens it, v^2 = slope
+# (c_1 - c_star) for the contact's approach speed v. c_star and slope come from the reference
+# alone (two contacts at v ~ 1e-5, then Newton steps on v^2 at v = 1e-6, 1e-7 and 1e-8).
+# (seed, factor, c_star, slope, contacts with the new one)
+SLOW = {
+    "N11": (1, 1.2401046278918872, 1.7336180354158998e-12, 117.29930816269953, 12),
+    "N15": (0, 1.0012164752952581, 1.5920437421914587e-12, 840.4665855713165, 21),
+}
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("side", ["contact", "miss"])
 @pytest.mark.parametrize("speed", [1e-5, 1e-6, 1e-7, 3e-8, 1e-8])
-def test_slow_approach_is_counted_or_certified(speed, side):
+@pytest.mark.parametrize("scene", SLOW)
+def test_slow_approach_is_counted_or_certified(scene, speed, side):
     """A contact whose approach speed is ``speed`` (checked by the reference to 1 %), and the
     near miss by the same clearance: the kernel's COR within its estimate of the reference,
     with the reference's count wherever that estimate is below 1e-9."""
-    dc = speed**2 / SLOPE
-    m, k, c = moderate_chain(*SLOW, C_STAR + dc if side == "contact" else C_STAR - dc)
+    seed, factor, c_star, slope, n_new = SLOW[scene]
+    dc = speed**2 / slope
+    m, k, c = moderate_chain(seed, factor, c_star + dc if side == "contact" else c_star - dc)
     ref = solve_precise(m, k, c, dps=30)
     if side == "contact":
-        assert ref.n_collisions == 12, ref
+        assert ref.n_collisions == n_new, ref
         assert abs(min(ref.approach_speeds) / speed - 1) < 0.01, ref.approach_speeds
     else:
-        assert ref.n_collisions == 11, ref
+        assert ref.n_collisions == n_new - 1, ref
     r = R.solve(masses=list(m), springs=list(k), dashpots=list(c), k_contact=math.inf)
     check_against_reference(m, k, r, ref)
 
@@ -177,7 +181,7 @@ def test_slow_approach_is_counted_or_certified(speed, side):
 def test_reference_approach_speeds_are_the_kernels():
     """The reference's approach speeds (used above to check the tuned scenes) against the
     kernel's history on a well-separated sequence: two independent computations."""
-    m, k, c = moderate_chain(*SLOW, 1e-3)
+    m, k, c = moderate_chain(*SLOW["N11"][:2], 1e-3)
     ref = solve_precise(m, k, c, dps=30)
     r = R.solve(masses=list(m), springs=list(k), dashpots=list(c), history=True)
     assert r.error_estimate < 1e-9 and r.n_collisions == ref.n_collisions >= 5, (r, ref)
