@@ -194,3 +194,22 @@ def test_reference_values_recomputed(name):
     got, n, diff, reached = solve_precise_scissor(_chain(name))
     assert (n, reached) == (contacts, points)
     assert diff < 1e-25 and abs(got - cor) <= bound
+
+
+@pytest.mark.parametrize("name", ["rigid2", "contact2", "contact4"])
+def test_the_sampler_stops_on_the_same_branch_points(name):
+    """``sample_scene`` (the trajectory) runs the solver's own steps, branch points included: its
+    result row and history equal ``solve_scene``'s bit for bit."""
+    from restitution.kernels import layout as LY
+
+    ch = _chain(name)
+    m, lk, c, cp, _, _ = packed(ch)
+    v0, rtol, work = float(ch.v0), 1e-10, float(stepping.MAX_WORK_DEFAULT)
+    h1, h2 = np.zeros((50, LY.N_HIST)), np.zeros((50, LY.N_HIST))
+    acct = np.zeros(stepping.N_ACCT)
+    a = stepping.solve_scene(m, lk, c, cp, v0, 0, rtol, 0.01, 1e-6, 50, work, h1, acct, True)
+    ts = np.linspace(0.0, 30.0, 301)
+    b, ys, _, _, _ = stepping.sample_scene(m, lk, c, cp, v0, rtol, 1e-6, 50, work, ts, h2)
+    np.testing.assert_array_equal(a, b)
+    np.testing.assert_array_equal(h1, h2)
+    assert np.isfinite(ys).all()
