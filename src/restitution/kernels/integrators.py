@@ -278,7 +278,11 @@ def dp_step(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp, sig=False, s0
     # Per component, the largest, not Hairer's RMS over all of them: with the energy and time
     # components (errors ~0) in the mean, the velocities were allowed sqrt(n) times their share
     # (single Hertz contacts 10-100 rtol off; with the largest, below rtol).
+    # A NaN or infinite component is a failed step (NaN), not a skipped one: a scissor link held
+    # on its bars' formula far past the tension cap (where that formula ends at the flat bars)
+    # overflows, and a NaN skipped here had been accepted as an exact step.
     worst = 0.0
+    finite = True
     for i in range(n):
         a5 = 0.0
         a3 = 0.0
@@ -288,9 +292,11 @@ def dp_step(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp, sig=False, s0
         sc = atol + rtol * max(abs(y[i]), abs(ynew[i]))
         q5 = (a5 / sc) ** 2
         q3 = (a3 / sc) ** 2
-        if q5 > 0.0:
+        if q5 > 0.0 and q5 < math.inf:
             worst = max(worst, q5 / math.sqrt(q5 + 0.01 * q3))
-    return abs(h) * worst
+        elif not q5 == 0.0:
+            finite = False
+    return abs(h) * worst if finite else math.nan
 
 
 @njit(cache=True, error_model="numpy")
