@@ -13,7 +13,9 @@ the contact on or off. A stretch ends at the first event, a sign change of a lin
 the positions (m1 reaching the wall or leaving it, a link extension reaching an end of its
 branch) on a grid of 1/64 of the fastest period, and also at an event function's local minimum
 below zero between two grid points (a shallow touch), found from its rate; the crossing is then
-polished by bisection on the series. The next stretch starts there with the new branch or
+polished by bisection on the series. (A grid step is halved where the held formula leaves its
+domain before the step's end: the bars' formula ends where they lie flat, a short way past the
+tension cap.) The next stretch starts there with the new branch or
 contact state. At a rigid wall m1's velocity is reversed. The sequence ends when the centre of
 mass moves away and trails m1 by less than every link can stretch at the internal energy (the
 energy never grows in free flight), so no contact can follow.
@@ -219,8 +221,16 @@ def _stretch(sc, z0, branches, contact, start_tag, tol, t_cap):
         return sum(wj * zj for wj, zj in zip(w, z[n:], strict=True))
 
     s = mp.mpf(0)
+    step = sc.h
     while s < t_cap:
-        s2 = s + sc.h
+        s2 = s + step
+        if any(isinstance(q, mpmath.mpc) for q in sol(s2)):
+            # the held formula has left its domain before s2 (the bars' formula ends where they
+            # lie flat, a short way past the tension cap): the event lies before, look closer
+            step /= 2
+            if step < tol:
+                raise RuntimeError("precise_scissor: no event before a formula's end")
+            continue
         hits = []
         for k, (_, _, tag) in enumerate(evs):
             a, b = _bracket(lambda q, k=k: g(k, q), lambda q, k=k: gd(k, q), s, s2, tol,
@@ -231,6 +241,7 @@ def _stretch(sc, z0, branches, contact, start_tag, tol, t_cap):
             r, tag = min(hits, key=lambda p: p[0])
             return r, list(sol(r)), tag
         s = s2
+        step = min(sc.h, 2 * step)
         z = sol(s)
         if not contact and sc.no_contact_possible(z[:n], z[n:]):
             return None, list(z), None
