@@ -213,3 +213,33 @@ def test_the_sampler_stops_on_the_same_branch_points(name):
     np.testing.assert_array_equal(a, b)
     np.testing.assert_array_equal(h1, h2)
     assert np.isfinite(ys).all()
+
+
+# A short scissor (L = 0.025) whose bars lie flat (the end of their formula) at 3 times the tension
+# cap's extension, crossed fast: held on the bars, a trial step far past the cap overflows.
+FLAT_BARS = dict(
+    masses=[1.0, 0.7054399080216458, 1.1744218292057698, 0.7454965955002903],
+    springs=[1.5705686923602602, 0.9946864247684413, 0.6720343707503976],
+    dashpots=[0.05, 0.05, 0.05],
+    links=[
+        dict(
+            SC,
+            L=0.024656981390038246,
+            ks=0.37618414986934834,
+            theta0=0.5275175752772772,
+            corner=100.0,
+        ),
+        dict(law="linear"),
+        dict(law="linear"),
+    ],
+)
+
+
+def test_a_step_past_the_bars_end_is_rejected_not_accepted():
+    """The overflowing trial step is rejected and shortened (its NaN error had been skipped, the
+    NaN step accepted, and the run had ended with its work budget exhausted)."""
+    ch = R.Chain(**FLAT_BARS)
+    coarse = R.solve(ch, method="adaptive", rtol=1e-9)
+    fine = R.solve(ch, method="adaptive", rtol=1e-12)
+    assert coarse.status == fine.status == "ok", (coarse, fine)
+    assert abs(coarse.cor - fine.cor) <= coarse.error_estimate
