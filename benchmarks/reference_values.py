@@ -27,10 +27,12 @@ Methods (none of them calls the numba kernels):
   fastest period) and terminal events, at rtol 1e-11, 1e-12, 1e-13 (atol 1e-2 x rtol); the value
   at 1e-13 is the reference, bound = 10 x its largest difference to the other two (a tolerance
   sweep), floored at 1e-12.
-* nonlinear laws (plastic contact, scissor spring): ``restitution.solvers.reference`` (scipy DOP853
-with
-  the force laws evaluated in Python, independent of the numba integrators) at rtol 1e-11, 1e-12,
-  1e-13; bound as for the chain.
+* the plastic contact: ``restitution.solvers.reference`` (scipy DOP853 with the force laws
+  evaluated in Python, independent of the numba integrators) at rtol 1e-11, 1e-12, 1e-13; bound
+  as for the chain (bench/scenes.py pastes benchmarks/mp_nonlinear.py's value instead);
+* the scissor spring: ``restitution.solvers.precise_scissor`` (mpmath Taylor series, branch points
+  and contacts located on the series) at 30 and 40 digits, bound 10 x their difference plus half
+  an ulp.
 """
 
 from __future__ import annotations
@@ -355,6 +357,23 @@ def nonlinear_run(sc, rtol):
     return r.cor, r.n_collisions
 
 
+def scissor_reference(sc):
+    """The scissor scene by ``restitution.solvers.precise_scissor`` at 30 and 40 digits: bound =
+    10 x their difference plus half an ulp."""
+    from restitution.model.chain import paper_with_laws
+    from restitution.solvers.precise_scissor import solve_precise_scissor
+
+    chain, _ = paper_with_laws(sc.alpha, sc.beta, sc.xi, sc.n_masses, dict(sc.law))
+    cor, n, diff, points = solve_precise_scissor(chain, dps=30)
+    bound = 10.0 * diff + 0.5 * math.ulp(cor)
+    return (
+        cor,
+        n,
+        bound,
+        f"30/40 digits differ by {diff:.1e}; branch points reached {sorted(points)}",
+    )
+
+
 def scissor_peak_ratio(sc):
     """Peak compression of the scissor spring / its lock extension (linear elastic contact).
 
@@ -409,11 +428,13 @@ def main(argv=None):
                 lambda r, sc=sc: ivp_chain(sc.alpha, sc.beta, sc.xi, sc.n_masses, r)
             )
             source = "scipy DOP853 per phase, rtol 1e-13, max_step 1/125 period"
+        elif sc.law.get("structure") == "scissor":
+            cor, n, bound, info = scissor_reference(sc)
+            source = "restitution.solvers.precise_scissor (mpmath Taylor series), 30 and 40 digits"
+            info += f"; peak compression / x_lock = {scissor_peak_ratio(sc):.4f}"
         else:
             cor, n, bound, info = sweep_reference(lambda r, sc=sc: nonlinear_run(sc, r))
             source = "restitution.solvers.reference (scipy DOP853), rtol 1e-13"
-            if sc.law.get("structure") == "scissor":
-                info += f"; peak compression / x_lock = {scissor_peak_ratio(sc):.4f}"
         print(f"# {sc.name}: {info}", file=sys.stderr)
         print(
             f"{sc.name}: reference_cor={cor!r}, reference_contacts={n}, "

@@ -50,10 +50,14 @@ from restitution.model.laws import (
     C_PLASTIC,
     C_RIGID,
     S_LINEAR,
+    S_SCISSOR,
     SP_K2,
     SP_KIND,
     contact_force,
     contact_hysteretic,
+    scissor_branch,
+    scissor_force_on,
+    scissor_point,
     structure_energy,
     structure_extent,
     structure_force,
@@ -181,6 +185,15 @@ def dense_state(y0, F, theta, out):
 
 
 @njit(cache=True, error_model="numpy")
+def link_force(sp, x, mem, i):
+    """Force of the nonlinear link i: on the branch that ``rk_phase`` holds it on
+    (mem[N_MEM + i], see "Link branch points" below), else on the branch x is on."""
+    if mem.shape[0] > N_MEM:
+        return scissor_force_on(sp, x, int(mem[N_MEM + i]))
+    return structure_force(sp, x)
+
+
+@njit(cache=True, error_model="numpy")
 def rhs(y, m, lk, c, cp, mem, dy):
     """Equations of motion of the chain with the current contact branch."""
     n = m.shape[0]
@@ -195,7 +208,7 @@ def rhs(y, m, lk, c, cp, mem, dy):
     for i in range(n - 1):
         x = y[i + 1] - y[i]
         # a linear link inline: the row view lk[i] costs a reference count (half of rhs's time)
-        f = lk[i, SP_K2] * x if lk[i, SP_KIND] == S_LINEAR else structure_force(lk[i], x)
+        f = lk[i, SP_K2] * x if lk[i, SP_KIND] == S_LINEAR else link_force(lk[i], x, mem, i)
         dv = y[n + i + 1] - y[n + i]
         fd = c[i] * dv
         dy[n + i] += f + fd
@@ -265,7 +278,11 @@ def dp_step(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp, sig=False, s0
     # Per component, the largest, not Hairer's RMS over all of them: with the energy and time
     # components (errors ~0) in the mean, the velocities were allowed sqrt(n) times their share
     # (single Hertz contacts 10-100 rtol off; with the largest, below rtol).
+    # A NaN or infinite component is a failed step (NaN), not a skipped one: a scissor link held
+    # on its bars' formula far past the tension cap (where that formula ends at the flat bars)
+    # overflows, and a NaN skipped here had been accepted as an exact step.
     worst = 0.0
+    finite = True
     for i in range(n):
         a5 = 0.0
         a3 = 0.0
@@ -275,9 +292,11 @@ def dp_step(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp, sig=False, s0
         sc = atol + rtol * max(abs(y[i]), abs(ynew[i]))
         q5 = (a5 / sc) ** 2
         q3 = (a3 / sc) ** 2
-        if q5 > 0.0:
+        if q5 > 0.0 and q5 < math.inf:
             worst = max(worst, q5 / math.sqrt(q5 + 0.01 * q3))
-    return abs(h) * worst
+        elif not q5 == 0.0:
+            finite = False
+    return abs(h) * worst if finite else math.nan
 
 
 @njit(cache=True, error_model="numpy")
@@ -350,6 +369,119 @@ def no_contact_possible(y, m, lk, xp):
     return q / mt + xp - bound > 0.0
 
 
+# ------------------------------------------------------------------------ link branch points --
+# The scissor law is C1 but not C2 where its branches meet (laws.SB_*: the pads' cap, the lock,
+# the tension cap): a step across such a point loses its order, and the step control paid for it
+# with rejected, shrinking steps. ``rk_phase`` therefore holds every scissor link on one branch's
+# formula for whole steps (mem extended by one entry per link, read by ``link_force``; each
+# formula is analytic across its ends), finds on each accepted step the first theta where a link
+# reaches an end of its branch (x_i(theta) on the dense output, the same certified root finder as
+# the contact events), steps to it as to an event and goes on from there on the next branch. The
+# callers see none of it; a scene without scissor links runs the same arithmetic as before.
+
+
+@njit(cache=True, error_model="numpy")
+def branch_mem(y, m, lk, mem, bstrip):
+    """mem extended by the branch of every scissor link (-1 for the others), or mem itself when
+    there is none. A link exactly on a point takes the branch its x moves into; bstrip[i, 0] /
+    bstrip[i, 1] = 1 marks a link that starts on its branch's lower / upper end (its event's
+    leading zero is exact, as ``rk_phase``'s ``strip``)."""
+    nm = m.shape[0]
+    held = False
+    for i in range(nm - 1):
+        held = held or lk[i, SP_KIND] == S_SCISSOR
+    if not held:
+        return mem
+    mb = np.full(N_MEM + nm - 1, -1.0)
+    mb[:N_MEM] = mem
+    for i in range(nm - 1):
+        bstrip[i, 0] = 0
+        bstrip[i, 1] = 0
+        if lk[i, SP_KIND] != S_SCISSOR:
+            continue
+        x = y[i + 1] - y[i]
+        br = scissor_branch(lk[i], x)
+        if x == scissor_point(lk[i], br - 1) and y[nm + i + 1] - y[nm + i] < 0.0:
+            br -= 1
+        mb[N_MEM + i] = br
+        bstrip[i, 0] = 1 if x == scissor_point(lk[i], br - 1) else 0
+        bstrip[i, 1] = 1 if x == scissor_point(lk[i], br) else 0
+    return mb
+
+
+@njit(cache=True, error_model="numpy")
+def link_poly(F, K, h, y, i, coef):
+    """``event_poly`` of the extension x_i = y[i + 1] - y[i] (linear coefficient h x_i')."""
+    for j in range(N_DENSE + 1):
+        coef[j] = 0.0
+    coef[0] = y[i + 1] - y[i]
+    for k in range(N_DENSE):
+        gk = F[k, i + 1] - F[k, i]
+        for j in range(2, N_DENSE + 1):
+            coef[j] += DENSE_MONO[k, j] * gk
+    coef[1] = h * (K[0, i + 1] - K[0, i])
+
+
+@njit(cache=True, error_model="numpy")
+def first_branch_root(F, K, h, y, m, lk, mb, bstrip, coef, g):
+    """First theta in [0, 1] of the step where a scissor link reaches an end of the branch it is
+    held on: (theta, link, +1 up / -1 down); theta = -1 when none."""
+    nm = m.shape[0]
+    best = 2.0
+    link = -1
+    side = 0
+    for i in range(nm - 1):
+        if lk[i, SP_KIND] != S_SCISSOR:
+            continue
+        br = int(mb[N_MEM + i])
+        link_poly(F, K, h, y, i, coef)
+        for e in range(2):
+            p = scissor_point(lk[i], br - 1 + e)
+            if not abs(p) < math.inf:
+                continue
+            sg = 1.0 - 2.0 * e  # lower end: x - p falls to 0; upper end: p - x does
+            for j in range(N_DENSE + 1):
+                g[j] = sg * coef[j]
+            g[0] -= sg * p
+            s = 0
+            if bstrip[i, e] > 0:
+                g[0] = 0.0
+                s = 1
+                while s < N_DENSE and g[s] == 0.0:
+                    s += 1
+            th = first_root(g, N_DENSE, s)
+            if th >= 0.0 and th < best:
+                best, link, side = th, i, 2 * e - 1
+    return (best if link >= 0 else -1.0), link, side
+
+
+@njit(cache=True, error_model="numpy")
+def step_to_point(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp, i, p, work):
+    """``rk_phase``'s step to an event, for link i reaching x_i = p: a step of its own and one
+    Newton correction of its length on that state; ynew is the state there. Returns the length."""
+    for it in range(2):
+        work[0] -= 12.0
+        dp_step(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp)
+        if it == 1:
+            break
+        step = -(ynew[i + 1] - ynew[i] - p) / (K[N_ST, i + 1] - K[N_ST, i])
+        if not (abs(step) < 0.01 * dt and abs(step) > 1e-15 * dt):
+            break
+        dt += step
+    return dt
+
+
+@njit(cache=True, error_model="numpy")
+def branch_switch(mb, bstrip, i, side):
+    """Link i goes on to the branch beyond the end it reached (side +1 up, -1 down), starting on
+    that branch's lower / upper end; no other link starts on a point."""
+    for k in range(bstrip.shape[0]):
+        bstrip[k, 0] = 0
+        bstrip[k, 1] = 0
+    mb[N_MEM + i] += side
+    bstrip[i, 0 if side > 0 else 1] = 1
+
+
 @njit(cache=True, error_model="numpy")
 def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, stop, work, err_acc):
     """Integrate with DOP853 until the first event (or ``stop``); y is updated in place.
@@ -362,6 +494,7 @@ def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, sto
     operations: results do not depend on the machine or thread count); EV_FAIL when it runs
     out or the step underflows.
     ``err_acc[0]`` accumulates the local error estimates of the total momentum.
+    Scissor links stop at their branch points inside the phase ("Link branch points" above).
     """
     n = y.shape[0]
     K = np.empty((N_EXT, n))
@@ -370,20 +503,25 @@ def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, sto
     tmp = np.empty(n)
     f0 = np.empty(n)
     coef = np.empty(N_DENSE + 1)
-    rhs(y, m, lk, c, cp, mem, f0)
+    gb = np.empty(N_DENSE + 1)
+    bstrip = np.zeros((max(m.shape[0] - 1, 0), 2), dtype=np.int64)
+    mb = branch_mem(y, m, lk, mem, bstrip)  # mem itself without scissor links
+    held = mb.shape[0] > N_MEM
+    still = 0  # branch switches in a row without a step (a guard against a link at rest on one)
+    rhs(y, m, lk, c, cp, mb, f0)
     first = True
     while work[0] > 0.0:
         work[0] -= 12.0
         h = min(h, hmax)
         if not (h >= 1e-14 * max(1.0, abs(t)) and h < math.inf):  # also catches NaN
             return EV_FAIL, t, h
-        err = dp_step(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp)
+        err = dp_step(y, f0, h, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp)
         if not err <= 1.0:  # also catches NaN
             fac = 0.2 if not err == err else max(0.2, 0.9 * err**-0.125)
             h *= fac
             continue
         work[0] -= 3.0
-        dense_coeffs(y, ynew, K, h, m, lk, c, cp, mem, F, tmp)
+        dense_coeffs(y, ynew, K, h, m, lk, c, cp, mb, F, tmp)
         best = 2.0
         which = -1
         for k in range(nev):
@@ -399,6 +537,25 @@ def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, sto
                 best, which = th, k
         err_acc[0] += _momentum_error(K, h, m)
         hn = h * min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.125))
+        if held and still < 2:
+            bt, bi, bs = first_branch_root(F, K, h, y, m, lk, mb, bstrip, coef, gb)
+            if bt >= 0.0 and bt < best:  # a branch point first: step to it, go on past it
+                dt = bt * h
+                p = scissor_point(lk[bi], int(mb[N_MEM + bi]) + (0 if bs > 0 else -1))
+                if dt > 0.0:
+                    dt = step_to_point(
+                        y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp, bi, p, work
+                    )  # fmt: skip
+                    y[:] = ynew
+                    t += dt
+                    first = False
+                    still = 0
+                else:
+                    still += 1
+                branch_switch(mb, bstrip, bi, bs)
+                rhs(y, m, lk, c, cp, mb, f0)
+                h = hn
+                continue
         if which >= 0:
             # The state at the event by a step of its own, and one Newton correction of the
             # event time on that state (g / g'): the step's order, not the dense output's one
@@ -407,7 +564,7 @@ def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, sto
             if dt > 0.0:
                 for it in range(2):
                     work[0] -= 12.0
-                    dp_step(y, f0, dt, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp)
+                    dp_step(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp)
                     if it == 1:
                         break
                     g = B[which]
@@ -426,6 +583,8 @@ def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, sto
         t += h
         h = hn
         first = False
+        still = 0
+        bstrip[:] = 0
         if stop == STOP_NO_CONTACT and no_contact_possible(y, m, lk, mem[M_XP]):
             return EV_STOP, t, h
     return EV_FAIL, t, h
@@ -612,23 +771,28 @@ def rk_phase_sampled(
     tmp = np.empty(n)
     f0 = np.empty(n)
     coef = np.empty(N_DENSE + 1)
+    gb = np.empty(N_DENSE + 1)
     sample_here(y, t, cp, mem, ts, si, Ys, Fs)
     if stop == STOP_SAMPLES and si[0] >= ts.shape[0]:
         return EV_STOP, t, h
-    rhs(y, m, lk, c, cp, mem, f0)
+    bstrip = np.zeros((max(m.shape[0] - 1, 0), 2), dtype=np.int64)
+    mb = branch_mem(y, m, lk, mem, bstrip)
+    held = mb.shape[0] > N_MEM
+    still = 0
+    rhs(y, m, lk, c, cp, mb, f0)
     first = True
     while work[0] > 0.0:
         work[0] -= 12.0
         h = min(h, hmax)
         if not (h >= 1e-14 * max(1.0, abs(t)) and h < math.inf):  # also catches NaN
             return EV_FAIL, t, h
-        err = dp_step(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp)
+        err = dp_step(y, f0, h, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp)
         if not err <= 1.0:  # also catches NaN
             fac = 0.2 if not err == err else max(0.2, 0.9 * err**-0.125)
             h *= fac
             continue
         work[0] -= 3.0
-        dense_coeffs(y, ynew, K, h, m, lk, c, cp, mem, F, tmp)
+        dense_coeffs(y, ynew, K, h, m, lk, c, cp, mb, F, tmp)
         best = 2.0
         which = -1
         for k in range(nev):
@@ -644,12 +808,35 @@ def rk_phase_sampled(
                 best, which = th, k
         err_acc[0] += _momentum_error(K, h, m)
         hn = h * min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.125))
+        if held and still < 2:
+            bt, bi, bs = first_branch_root(F, K, h, y, m, lk, mb, bstrip, coef, gb)
+            if bt >= 0.0 and bt < best:
+                dt = bt * h
+                p = scissor_point(lk[bi], int(mb[N_MEM + bi]) + (0 if bs > 0 else -1))
+                if dt > 0.0:
+                    dt = step_to_point(
+                        y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp, bi, p, work
+                    )  # fmt: skip
+                    # F is still the dense output of the whole step from y
+                    sample_dense(y, F, t, h, t + dt, True, cp, mem, ts, si, Ys, Fs)
+                    y[:] = ynew
+                    t += dt
+                    first = False
+                    still = 0
+                else:
+                    still += 1
+                branch_switch(mb, bstrip, bi, bs)
+                rhs(y, m, lk, c, cp, mb, f0)
+                h = hn
+                if stop == STOP_SAMPLES and si[0] >= ts.shape[0]:
+                    return EV_STOP, t, h
+                continue
         if which >= 0:
             dt = best * h
             if dt > 0.0:
                 for it in range(2):
                     work[0] -= 12.0
-                    dp_step(y, f0, dt, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp)
+                    dp_step(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp)
                     if it == 1:
                         break
                     g = B[which]
@@ -671,6 +858,8 @@ def rk_phase_sampled(
         t += h
         h = hn
         first = False
+        still = 0
+        bstrip[:] = 0
         if stop == STOP_NO_CONTACT and no_contact_possible(y, m, lk, mem[M_XP]):
             return EV_STOP, t, h
         if stop == STOP_SAMPLES and si[0] >= ts.shape[0]:

@@ -597,6 +597,58 @@ def structure_force(sp, x):
     return sp[SP_FLOCK] - 0.5 * k2 * dc - k2 * (d - dc)
 
 
+# Scissor branches, from compression to tension: past the pads' cap (linear, slope k2), the pads
+# (quadratic), the bars (Eq. 24), the tension cap (linear, slope k2). The law is C1 but not C2 at
+# the three points between them, so the adaptive integrator holds a link on one branch's formula
+# for a whole step and stops on these points as events (kernels/integrators.py).
+SB_FLAT, SB_PADS, SB_BARS, SB_CAP = 0, 1, 2, 3
+
+
+@njit(cache=True, error_model="numpy")
+def scissor_branch(sp, x):
+    """The branch that holds extension x, with ``structure_force``'s own tie rule (a point
+    belongs to the branch above it)."""
+    if x >= sp[SP_XCAP]:
+        return SB_CAP
+    if x >= sp[SP_XLOCK]:
+        return SB_BARS
+    if sp[SP_XLOCK] - x <= sp[SP_DC]:
+        return SB_PADS
+    return SB_FLAT
+
+
+@njit(cache=True, error_model="numpy")
+def scissor_point(sp, j):
+    """Extension of the point between branches j and j + 1 (j = 0, 1, 2); -inf / inf beyond."""
+    if j < 0:
+        return -math.inf
+    if j == 0:
+        return sp[SP_XLOCK] - sp[SP_DC]
+    if j == 1:
+        return sp[SP_XLOCK]
+    if j == 2:
+        return sp[SP_XCAP]
+    return math.inf
+
+
+@njit(cache=True, error_model="numpy")
+def scissor_force_on(sp, x, br):
+    """The scissor force by branch ``br``'s formula at any x: each formula is analytic across
+    its own ends, so a step held on one branch sees a smooth law (``structure_force`` picks the
+    branch by x)."""
+    k2 = sp[SP_K2]
+    if br == SB_CAP:
+        return sp[SP_FCAP] + k2 * (x - sp[SP_XCAP])
+    if br == SB_BARS:
+        c, s, ds = _scissor_angle(sp, x)
+        return 2.0 * sp[SP_KS] * sp[SP_L] * c * (-ds / max(s, 1e-150))
+    d = sp[SP_XLOCK] - x
+    dc = sp[SP_DC]
+    if br == SB_PADS:
+        return sp[SP_FLOCK] - 0.5 * sp[SP_KC] * d * d
+    return sp[SP_FLOCK] - 0.5 * k2 * dc - k2 * (d - dc)
+
+
 @njit(cache=True, error_model="numpy")
 def structure_energy(sp, x):
     """Potential U2(x) = integral of F2 from 0 to x (closed form on every branch)."""

@@ -14,8 +14,9 @@ them and prints the constants pasted here, with their source and absolute error 
 * Nonlinear laws: the plastic contact by ``benchmarks/mp_nonlinear.py`` (mpmath Taylor series, the
   power law's first loading in sigma = sqrt(x)) at 30 and 40 digits, bound 10 x their difference
   plus half an ulp (the scipy reference at rtol 1e-13 was 5e-13 off, within its 3.6e-10); the
-  scissor spring by ``restitution.solvers.reference`` (scipy, independent of the numba
-  integrators) at rtol 1e-11..1e-13, bound as for the chain.
+  scissor spring by ``restitution.solvers.precise_scissor`` (mpmath Taylor series, its branch
+  points located on the series) at 30 and 40 digits, bound 10 x their difference plus half an
+  ulp (the scipy reference at rtol 1e-13 that it replaces was 3.6e-13 off, within its 4.1e-11).
 
 Contact count at a grazing point. At alpha*_n the (n+1)-th contact is a tangency with zero
 depth and zero impulse: not a contact interval. The scene's alpha is the largest float64 below
@@ -212,10 +213,10 @@ SCENES: tuple[Scene, ...] = (
         1.0,
         beta=1.0,
         law={"structure": "scissor", "ks_ratio": 0.01, "L": 54.0},
-        reference_cor=0.9997647062622237,
+        reference_cor=0.9997647062625835,
         reference_contacts=2,
-        reference_bound=4.1e-11,
-        reference_source="restitution.solvers.reference (scipy DOP853), rtol 1e-13",
+        reference_bound=5.6e-17,
+        reference_source="restitution.solvers.precise_scissor (mpmath Taylor series), 30/40 digits",
     ),
     # Tiny mass ratio: m2 vibrates 30 times faster than m1 bounces on the contact spring
     # (beta = 1e-3, so every method applies); one contact, 1 - COR = 1.4e-12.
