@@ -65,9 +65,14 @@ def exact_row(ch: Chain, max_events: int, hist: np.ndarray):
     paper = ch.paper_form
     if paper is not None:
         return run_paper(*paper, max_events, hist)
-    from restitution.kernels.exact_chain import solve_chain
+    from restitution.kernels.exact_chain import solve_chain, solve_chain_state
 
     m, k, c, kc = ch.scaled()
+    y0 = ch.initial_state(ch.v0 / ch.omega, ch.v0)  # (the kernels' units: V0 / omega, V0)
+    if y0 is not None:  # a given initial state: the general kernel from it (paper_form is None)
+        announce(solve_chain_state)
+        with blas.one_thread(ch.n_masses):
+            return solve_chain_state(m, k, c, kc, y0, max_events, hist)
     announce(solve_chain)
     with blas.one_thread(ch.n_masses):
         return solve_chain(m, k, c, kc, max_events, hist)

@@ -155,10 +155,12 @@ def solve_chain(
     no_rows = np.zeros((0, LY.N_HIST))
     acct = np.zeros(st.N_ACCT)
     code = st.METHOD_VERLET if method == "verlet" else st.METHOD_ADAPTIVE
+    # a given initial state in the stepping kernels' units: speeds as given, lengths * omega
+    y0 = ch.initial_state(1.0 / ch.omega, 1.0)
 
     def run(tol, stp, rows, acc):
         return st.solve_scene(
-            ms, lk, cs, cp, v0, code, tol, stp, etol, max_events, work, rows, acc, free_closed
+            ms, lk, cs, cp, v0, code, tol, stp, etol, max_events, work, rows, acc, free_closed, y0
         )
 
     if method == "verlet":
@@ -219,6 +221,8 @@ def solve_chains(
     for bit. Rows the kernel did not finish are NaN with their status (never unset)."""
     st = _kernels()
     _check_stepping(method)
+    if any(ch.initial for ch in chains):
+        raise SceneError("a batch of chains starts from the uniform approach (use solve_chain)")
     m, lk, c, n, cp, v0 = pad(chains)
     if method == "verlet" and (cp[:, 0] == laws.C_RIGID).any():
         raise SceneError("method='verlet' needs a finite contact law (beta > 0), not a rigid wall")
