@@ -287,11 +287,32 @@ def test_nonlinear_contacts_from_a_given_state_close_their_energy_account(contac
     assert 0.0 < r.cor <= 1.0 + r.error_estimate
 
 
-def test_scissor_links_from_a_given_state():
-    links = [{"law": "scissor", "L": 1.0, "ks": 0.01}]
-    r = solve(masses=[1.0, 1.0], springs=[0.5], k_contact=5.0, links=links,
-              velocities=[1.0, 0.6], stretches=[0.02])  # fmt: skip
-    assert r.method == "adaptive" and r.status == "ok" and _closes(r, 1e-6)
+TWO_MASS_LAWS = [
+    dict(k_contact=5.0, links=[{"law": "scissor", "L": 1.0, "ks": 0.01}]),
+    dict(contact={"law": "plastic", "k": 5.0, "eta": 1.5, "dr": 0.3}),
+    dict(k_contact=5.0),  # linear: the scipy reference against the exact kernel as well
+]
+
+
+@pytest.mark.parametrize("law", TWO_MASS_LAWS)
+@pytest.mark.parametrize(
+    "vel, st", [([1.0, 0.6], [0.02]), ([-0.4, 1.1], [-0.05]), ([1.2, 0.0], [0.0])]
+)
+def test_two_masses_from_a_given_state_against_the_scipy_reference(law, vel, st):
+    """``method="reference"`` (scipy solve_ivp, DOP853 with events, in Python) from the state:
+    the adaptive method within both estimates, the same contacts; and both within the exact
+    kernel's COR for the linear law."""
+    sc = dict(masses=[1.0, 1.3], springs=[0.5], **law, velocities=vel, stretches=st)
+    ad = solve(**sc, rtol=1e-11)
+    ref = solve(**sc, method="reference", rtol=1e-12)
+    assert ad.status == "ok" and ref.status == "ok", (ad.status, ref.status)
+    assert ad.n_collisions == ref.n_collisions
+    assert abs(ad.cor - ref.cor) <= ad.error_estimate + ref.error_estimate + 1e-10
+    assert _closes(ad, 1e-8) and _closes(ref, 1e-8)
+    if "contact" not in law and "links" not in law:
+        ex = solve(**sc)
+        assert ex.method == "piecewise" and ex.n_collisions == ref.n_collisions
+        assert abs(ex.cor - ref.cor) <= ex.error_estimate + ref.error_estimate + 1e-10
 
 
 # ----------------------------------------------------------------------------------------------
@@ -332,9 +353,7 @@ def test_initial_state_needs_the_general_form():
         Chain([1.0, 2.0], [1.0], v0=3.0, velocities=[1.0, 2.0])
 
 
-def test_methods_that_start_from_the_uniform_approach_refuse_a_state():
-    with pytest.raises(SceneError, match=r"'reference' does not fit.*uniform approach"):
-        solve(**TWO, k_contact=5.0, velocities=[1.0, 2.0], method="reference")
+def test_trajectory_of_a_nonlinear_scene_refuses_a_state():
     hertz = dict(TWO, contact={"law": "hertz", "k": 5.0})
     with pytest.raises(SceneError, match=r"trajectory of a nonlinear scene"):
         trajectory(**hertz, velocities=[1.0, 2.0], times=[0.0, 1.0])
@@ -342,8 +361,10 @@ def test_methods_that_start_from_the_uniform_approach_refuse_a_state():
 
 def test_hunt_crossley_range_counts_the_initial_energy():
     """The uniform approach at the same centre-of-mass speed is within the range; the stretched
-    state's energy would let m1 leave faster than 1/(1.5 alpha)."""
+    state's energy (the law speed sqrt(2 E0 / M), 1.53 here) would let m1 leave faster than
+    1/(1.5 alpha): 1.5 * 0.3 * 1.53 * sqrt(3) = 1.19."""
     hc = {"law": "hunt_crossley", "k": 4.0, "alpha": 0.3}
     assert solve(**TWO, contact=hc).status == "ok"
-    with pytest.raises(SceneError, match=r"contact.alpha: 1.5 alpha sqrt\(2 E0/m1\)"):
+    assert Chain([1.0, 2.0], [1.0], stretches=[2.0]).law_speed == pytest.approx(math.sqrt(7 / 3))
+    with pytest.raises(SceneError, match=r"contact.alpha: 1.5 alpha v0 sqrt\(M/m1\) is 1.19"):
         solve(**TWO, contact=hc, stretches=[2.0])

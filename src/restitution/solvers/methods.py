@@ -162,8 +162,6 @@ REFERENCE_LINKS = ("linear", "scissor")
 
 
 def _reference_applies(ch: Chain) -> str | None:
-    if ch.initial:
-        return "it starts from the uniform approach only (no velocities or stretches)"
     if ch.n_masses != 2:
         return "it is implemented for two masses only (n_masses must be 2)"
     law = ch.contact_law["law"]

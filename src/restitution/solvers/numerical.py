@@ -102,9 +102,10 @@ def packed(ch: Chain) -> tuple:
     """(m, lk, c, cp, omega, kappa) of a validated chain in kernel units (``laws.pack_chain``;
     the arrays a nonlinear Chain packed when it was checked, if it kept them; never written)."""
     kept = getattr(ch, "_packed", None)
-    if kept is not None and kept[0] == ch.v0:
+    speed = ch.law_speed  # (v0, or the energy's speed from a given state)
+    if kept is not None and kept[0] == speed:
         return kept[1]
-    return pack_chain(ch.masses, ch.springs, ch.dashpots, ch.contact_law, ch.link_laws, ch.v0)
+    return pack_chain(ch.masses, ch.springs, ch.dashpots, ch.contact_law, ch.link_laws, speed)
 
 
 def _kernels():
@@ -264,9 +265,10 @@ def solve_reference_chain(
     xi = float(cs[0]) / (2.0 * float(sp[laws.SP_K2]))
     etol = _default_etol("reference", rtol, 0.0) if energy_tol is None else float(energy_tol)
     acct = np.zeros(5)
-    out, hist = solve_reference(alpha, v0, xi, cp, sp, rtol, max_events, acct, etol)
+    y0 = ch.initial_state(1.0 / ch.omega, 1.0)  # (kernel units of the stepping kernels)
+    out, hist = solve_reference(alpha, v0, xi, cp, sp, rtol, max_events, acct, etol, y0=y0)
     coarse, _ = solve_reference(
-        alpha, v0, xi, cp, sp, _coarser(rtol), max_events, np.zeros(5), etol
+        alpha, v0, xi, cp, sp, _coarser(rtol), max_events, np.zeros(5), etol, y0=y0
     )
     _two_setting_estimate(out, coarse)
     if account is not None:
