@@ -272,6 +272,14 @@ def test_adaptive_from_a_given_state_agrees_with_the_exact_route(seed):
     assert _closes(ad, 1e-8)
 
 
+def test_verlet_from_a_given_state_agrees_with_the_exact_route():
+    sc = dict(masses=[1.0, 0.5, 2.0], springs=[0.3, 1.2], k_contact=20.0,
+              velocities=[-0.2, 1.0, 0.8], stretches=[0.1, -0.3])  # fmt: skip
+    ex, vv = solve(**sc), solve(**sc, method="verlet", step=0.005)
+    assert vv.method == "verlet" and vv.status == "ok" and vv.n_collisions == ex.n_collisions
+    assert abs(vv.cor - ex.cor) <= vv.error_estimate + ex.error_estimate
+
+
 @pytest.mark.parametrize(
     "contact",
     [
