@@ -376,3 +376,19 @@ def test_hunt_crossley_range_counts_the_initial_energy():
     assert Chain([1.0, 2.0], [1.0], stretches=[2.0]).law_speed == pytest.approx(math.sqrt(7 / 3))
     with pytest.raises(SceneError, match=r"contact.alpha: 1.5 alpha v0 sqrt\(M/m1\) is 1.19"):
         solve(**TWO, contact=hc, stretches=[2.0])
+
+
+def test_command_line_takes_the_initial_state(capsys):
+    import json
+
+    from restitution.cli import main
+
+    argv = ["cor", "--masses", "1,0.5,2", "--springs", "0.3,1.2", "--k-contact", "50",
+            "--velocities=-0.2,1,0.8", "--stretches", "0.1,-0.3", "--json"]  # fmt: skip
+    assert main(argv) == 0
+    d = json.loads(capsys.readouterr().out)
+    r = solve(masses=[1.0, 0.5, 2.0], springs=[0.3, 1.2], k_contact=50.0,
+              velocities=[-0.2, 1.0, 0.8], stretches=[0.1, -0.3])  # fmt: skip
+    assert d["cor"] == r.cor and d["scene"]["velocities"] == [-0.2, 1.0, 0.8]
+    assert main(["cor", "--alpha", "2", "--velocities", "1,2"]) == 2
+    assert "need a general chain" in capsys.readouterr().err
