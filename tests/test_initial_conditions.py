@@ -392,3 +392,42 @@ def test_command_line_takes_the_initial_state(capsys):
     assert d["cor"] == r.cor and d["scene"]["velocities"] == [-0.2, 1.0, 0.8]
     assert main(["cor", "--alpha", "2", "--velocities", "1,2"]) == 2
     assert "need a general chain" in capsys.readouterr().err
+
+
+def test_tables_take_the_initial_state_per_row(tmp_path):
+    """List columns ``velocities`` and ``stretches`` (a missing cell: the uniform approach); each
+    row as ``solve`` gives it, bit for bit, from a frame and from its CSV (';'-separated)."""
+    import pandas as pd
+
+    from restitution import solve_many
+    from restitution.tables.io import read_table
+
+    rows = [
+        dict(masses=[1.0, 0.5, 2.0], springs=[0.3, 1.2], k_contact=math.inf,
+             velocities=[-0.2, 1.0, 0.8], stretches=[0.1, -0.3]),
+        dict(masses=[1.0, 0.5, 2.0], springs=[0.3, 1.2], k_contact=50.0,
+             velocities=None, stretches=[0.1, 0.0]),
+        dict(masses=[2.0, 0.7], springs=[3.0], k_contact=10.0, velocities=None, stretches=None),
+        dict(masses=[2.0, 0.7], springs=[3.0], k_contact=10.0, velocities=[1.0, 2.0],
+             stretches=None),
+    ]  # fmt: skip
+    frame = pd.DataFrame(rows)
+    out = solve_many(frame)
+    for i, row in enumerate(rows):
+        r = solve(**row)
+        assert out["cor"].iloc[i].hex() == r.cor.hex() and out["method"].iloc[i] == r.method
+        assert out["e_translational"].iloc[i].hex() == r.e_translational.hex()
+    row0 = {k: v for k, v in rows[0].items() if k != "k_contact"}
+    hertz = pd.DataFrame([dict(row0, contact={"law": "hertz", "k": 50.0})])
+    got = solve_many(hertz)
+    ref = solve(**row0, contact={"law": "hertz", "k": 50.0})
+    assert got["method"].iloc[0] == "adaptive" and got["cor"].iloc[0].hex() == ref.cor.hex()
+    text = frame.copy()
+    for c in ("masses", "springs", "velocities", "stretches"):
+        text[c] = [None if v is None else "; ".join(map(repr, v)) for v in frame[c]]
+    path = tmp_path / "scenes.csv"
+    text.to_csv(path, index=False)
+    again = solve_many(read_table(path))
+    assert [x.hex() for x in again["cor"]] == [x.hex() for x in out["cor"]]
+    with pytest.raises(SceneError, match=r"velocities must have 2 entries.*row 0"):
+        solve_many(pd.DataFrame([dict(masses=[1.0, 2.0], springs=[1.0], velocities=[1.0])]))

@@ -179,15 +179,34 @@ def _general_rows(table, idx: np.ndarray, max_events: int, bar, block: int):
     return out, errors
 
 
+def _initial_rows(table, idx: np.ndarray, max_events: int, bar, block: int):
+    """Kernel rows of chains with a given initial state, one by one (``exact_row``; the batch
+    kernel starts from the uniform approach)."""
+    out = np.full((len(idx), L.N_OUT), np.nan)
+    errors = {}
+    for j, i in enumerate(idx):
+        try:
+            out[j] = exact_row(table.chains[int(i)], max_events, NO_HIST)
+        except Exception as e:  # noqa: BLE001 - a kernel failure must not lose the table
+            errors[j] = f"kernel_error ({type(e).__name__}: {e})"
+        bar.update(1)
+    return out, errors
+
+
 def run_many(table, idx: np.ndarray, max_events: int, bar, block: int):
     """The batch runner of the exact methods: kernel rows of the table rows ``idx`` (sorted)
     and {position in idx: error message} of rows whose kernel raised."""
     if table.chains is None:
         return _paper_rows(table, idx, max_events, bar, block)
     paper = table.plan["paper"][idx]
+    initial = np.array([table.chains[int(i)].initial for i in idx], dtype=bool)
     out = np.full((len(idx), L.N_OUT), np.nan)
     errors = {}
-    for part, rows in ((idx[paper], _paper_rows), (idx[~paper], _general_rows)):
+    for part, rows in (
+        (idx[paper], _paper_rows),
+        (idx[~paper & ~initial], _general_rows),
+        (idx[initial], _initial_rows),
+    ):
         if len(part) == 0:
             continue
         o, e = rows(table, part, max_events, bar, block)

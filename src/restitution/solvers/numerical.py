@@ -222,8 +222,16 @@ def solve_chains(
     for bit. Rows the kernel did not finish are NaN with their status (never unset)."""
     st = _kernels()
     _check_stepping(method)
-    if any(ch.initial for ch in chains):
-        raise SceneError("a batch of chains starts from the uniform approach (use solve_chain)")
+    given = [j for j, ch in enumerate(chains) if ch.initial]
+    if given:  # chains with a given initial state one by one (the batch kernel starts uniform)
+        out = np.full((len(chains), LY.N_OUT), np.nan)
+        for j in given:
+            out[j] = solve_chain(chains[j], method, rtol, step, max_events, max_work=max_work)[0]
+        rest = [j for j in range(len(chains)) if not chains[j].initial]
+        if rest:
+            out[rest] = solve_chains([chains[j] for j in rest], method, rtol, step, max_events,
+                                     max_work=max_work)  # fmt: skip
+        return out
     m, lk, c, n, cp, v0 = pad(chains)
     if method == "verlet" and (cp[:, 0] == laws.C_RIGID).any():
         raise SceneError("method='verlet' needs a finite contact law (beta > 0), not a rigid wall")
