@@ -269,7 +269,8 @@ def solve_many(
 
     The table takes the paper's form (column ``alpha``; optional ``beta, xi, n_masses``,
     defaults 0, 0, 2) or the general form (list columns ``masses, springs`` and optional
-    ``dashpots``, scalar ``k_contact, v0``, struct columns ``contact, links``; see
+    ``dashpots``, scalar ``k_contact, v0``, struct columns ``contact, links``, list columns
+    ``velocities, stretches`` of an initial state; see
     docs/general-chains.md), plus optional ``method`` and, for numerical methods, ``rtol`` and
     ``step`` per row. Columns are read strictly (``restitution.tables.scene_table``): any other
     column is an error unless named in ``keep`` (carried through unchanged). Every row is checked
