@@ -361,10 +361,25 @@ def test_initial_state_needs_the_general_form():
         Chain([1.0, 2.0], [1.0], v0=3.0, velocities=[1.0, 2.0])
 
 
-def test_trajectory_of_a_nonlinear_scene_refuses_a_state():
-    hertz = dict(TWO, contact={"law": "hertz", "k": 5.0})
-    with pytest.raises(SceneError, match=r"trajectory of a nonlinear scene"):
-        trajectory(**hertz, velocities=[1.0, 2.0], times=[0.0, 1.0])
+@pytest.mark.parametrize("vel", [[1.0, 0.4, 1.5], [-0.3, 1.2, 1.0]])
+def test_trajectory_of_a_hertz_chain_from_a_given_state(vel):
+    """The adaptive run sampled from the state: the state itself at t = 0, and after the last
+    contact the centre of mass moving away at cor * v0 (the run is solve's, bit for bit)."""
+    sc = dict(masses=[1.0, 0.5, 2.0], springs=[0.3, 1.2], contact={"law": "hertz", "k": 50.0},
+              velocities=vel, stretches=[0.05, -0.1])  # fmt: skip
+    r = solve(**sc)
+    late = r.t_col + 50.0
+    f = trajectory(**sc, times=[0.0, late])
+    s = f[f["event"] == "sample"]
+    first, last = s.iloc[0], s.iloc[-1]
+    assert f.attrs["method"] == "adaptive"
+    assert [first["u_1"], first["u_2"], first["u_3"]] == pytest.approx([0.0, 0.05, -0.05])
+    assert [first["v_1"], first["v_2"], first["v_3"]] == pytest.approx([-v for v in vel])
+    m = np.array(sc["masses"])
+    vc = float(np.dot(m, [last["v_1"], last["v_2"], last["v_3"]]) / m.sum())
+    assert vc == pytest.approx(r.cor * r.scene.v0, rel=1e-12)
+    starts = f.loc[f["event"] == "contact_start", "t"].to_numpy()
+    assert len(starts) == r.n_collisions and (starts[0] == 0.0) == (vel[0] > 0)
 
 
 def test_hunt_crossley_range_counts_the_initial_energy():

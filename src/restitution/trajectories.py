@@ -166,6 +166,7 @@ def _sample_adaptive(ch: Chain, wt: np.ndarray, rtol: float, max_events: int):
         out, ys, fs, evt, evk = stepping.sample_scene(
             ms, lk, cs, cp, float(ch.v0), rtol, etol, max_events,
             float(stepping.MAX_WORK_DEFAULT), np.ascontiguousarray(wt[order]), hist,
+            ch.initial_state(1.0 / ch.omega, 1.0),  # (None: the uniform approach)
         )  # fmt: skip
     y = np.empty_like(ys)
     y[order] = ys
@@ -289,11 +290,6 @@ def trajectory(
     w, m1, v0 = ch.omega, float(ch.masses[0]), ch.v0
     wt = kernel_time(t, w)
     if not chosen.exact:  # 'adaptive': any law, the solver's own run
-        if ch.initial:
-            raise SceneError(
-                "trajectory of a nonlinear scene starts from the uniform approach only "
-                "(velocities/stretches: linear contact and links)"
-            )
         rtol = Options.rtol if rtol is None else check("rtol", rtol)
         out = _adaptive_frame(ch, t, np.ascontiguousarray(wt, dtype=np.float64), rtol,
                               max_events)  # fmt: skip

@@ -881,11 +881,11 @@ def _sigma_entry_sampled(y, t, m, lk, c, cp, mem, rtol, atol, work, err_acc, ts,
 @njit(cache=True, error_model="numpy")
 def _adaptive_sampled(
     y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, ts, si, Ys, Fs,
-    evt, evk, cnt, max_work,
+    evt, evk, cnt, max_work, free0=False,
 ):  # fmt: skip
     """``_adaptive`` (free_closed = True) with the samples and the contact events recorded;
     after the last contact the free flight goes on until the last sample (its own work budget
-    ``max_work``)."""
+    ``max_work``). ``free0``: a free flight first, as in ``_adaptive``."""
     n = m.shape[0]
     closed = n == 2 and lk[0, SP_KIND] == S_LINEAR
     ny = 2 * n + 2
@@ -910,10 +910,14 @@ def _adaptive_sampled(
     hmax_free = 0.5 / w_free
     h = hc
     p_in = _momentum(y, m)
-    _record(hist, 0, H_TSTART, 0.0)
-    _record(hist, 0, H_VIN, y[n] / v0)
     xmax_c = 0.0
-    if kind == C_RIGID:
+    if free0:  # no contact yet: on to the free flight (as in _adaptive)
+        ncol = 0
+        h = hf
+        mem[M_PHASE] = 0.0
+    elif kind == C_RIGID:
+        _record(hist, 0, H_TSTART, 0.0)
+        _record(hist, 0, H_VIN, y[n] / v0)
         y[n] = -y[n]
         ysep[:] = y
         _record(hist, 0, H_TEND, 0.0)
@@ -922,6 +926,8 @@ def _adaptive_sampled(
         mem[M_PHASE] = 0.0
         _event(evt, evk, cnt, 0.0, EV_IMPACT)
     else:
+        _record(hist, 0, H_TSTART, 0.0)
+        _record(hist, 0, H_VIN, y[n] / v0)
         mem[M_PHASE] = 1.0
         mem[M_BRANCH] = 1.0
         _event(evt, evk, cnt, 0.0, EV_START)
@@ -1071,7 +1077,7 @@ def _adaptive_sampled(
 
 
 @njit(cache=True, error_model="numpy")
-def sample_scene(m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist):
+def sample_scene(m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist, y0=None):
     """The adaptive method's run of one chain (``solve_scene`` with method 0 and
     free_closed = True: the same result row, bit for bit) with its states at the sorted times
     ``ts`` (kernel units, >= 0).
@@ -1081,7 +1087,8 @@ def sample_scene(m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist):
     (times and kinds EV_START / EV_END / EV_IMPACT; at most 2 max_events of them). A sample at
     an event's time (the same float) is the state there after the event's switch: the start of
     the contact, the separation, the reversal of an impact; so a second run with the event
-    times among the samples gives the states at the events.
+    times among the samples gives the states at the events. ``y0``: a given initial state, as
+    in ``solve_scene``.
     """
     n = m.shape[0]
     ny = 2 * n + 2
@@ -1102,6 +1109,15 @@ def sample_scene(m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist):
     y = np.zeros(ny)
     for i in range(n):
         y[n + i] = -v0
+    free0 = False
+    p_scale = 0.0
+    if y0 is not None:
+        if not state_ok(y0, m):
+            return out, Ys, Fs, evt[:0], evk[:0]
+        for i in range(2 * n):
+            y[i] = y0[i]
+        free0 = y[n] > 0.0
+        p_scale = -_momentum(y0, m)
     mem = np.zeros(N_MEM)
     ysep = y.copy()
     work = np.zeros(1)
@@ -1111,7 +1127,7 @@ def sample_scene(m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist):
         mt += m[i]
     si = np.zeros(1, dtype=np.int64)
     # samples at t <= 0 (only t = 0): the state at the first contact (after it, at a rigid wall)
-    if cp[0] == C_RIGID:
+    if cp[0] == C_RIGID and not free0:
         y[n] = -y[n]
         sample_here(y, 0.0, cp, mem, ts, si, Ys, Fs)
         y[n] = -y[n]
@@ -1119,13 +1135,15 @@ def sample_scene(m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist):
         sample_here(y, 0.0, cp, mem, ts, si, Ys, Fs)
     status, ncol, tcol, err = _adaptive_sampled(
         y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, ts, si, Ys, Fs,
-        evt, evk, cnt, max_work,
+        evt, evk, cnt, max_work, free0,
     )  # fmt: skip
     out[OUT_NCOL] = ncol
     out[OUT_NEVENTS] = ncol
     out[OUT_TCOL] = tcol
-    _energies(ysep, m, lk, v0, out, acct)
+    _energies(ysep, m, lk, v0, out, acct, y0)
     out[OUT_ERR] = err / (mt * v0)
+    if y0 is not None:
+        out[OUT_ERR] = err / p_scale
     if status == STATUS_OK and not abs(acct[4]) <= etol:
         status = STATUS_ENERGY
     if status == STATUS_OK and acct[2] < -etol:
