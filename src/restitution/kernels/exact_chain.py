@@ -173,8 +173,9 @@ WORK_MAX = 2e7  # operations (modal term evaluations) per scene before STATUS_WO
 BETA_RIGID = 1e-20
 BETA_FALLBACK = 1e-6
 RIGID_LIMIT_C = 10.0
-# Below EXTRAP_BELOW a finite run whose estimate exceeds EXTRAP_WORTH (a damped contact phase's
-# eigenbasis, condition ~1/beta) is compared with the rigid limit corrected by the expansion
+# Below EXTRAP_BELOW a finite run whose estimate exceeds EXTRAP_WORTH (since the damped basis is
+# consistent, _consistent_vectors, a few long sequences and the undamped runs below ~1e-21) is
+# compared with the rigid limit corrected by the expansion
 # COR(beta) = COR(0) + a1 sqrt(beta) + a2 beta + ..., its coefficients from finite runs at
 # EXTRAP_BETA and 4 EXTRAP_BETA (where the closed form is accurate): the row with the smaller
 # estimate stands (_extrapolated; FLAG_EXTRAPOLATED). Measured against the 40-digit reference on
@@ -375,13 +376,25 @@ def _modal_model(m, k, c, kg, cg, drop_rigid):
         for q in range(nm):
             for p in range(nm):
                 D[q, p] += cg * phi[0, q] * phi[0, p]
+    # The state matrix of (om q, q'), not of (q, q'): there every mode's eigenvector has parts of
+    # like size, while in (q, q') they differ by |lam| (a stiff contact's 2e4 against a slow
+    # mode's 0.1), so V^-1 reconstructed the state to eps * 3e4 (the other masses' velocities
+    # 1e-11 off after a beta = 1e-8 contact phase: COR errors of 3e-10 on a chain that round-off
+    # of its inputs moves by 2e-14).
+    sc = np.empty(nm)
+    for q in range(nm):
+        sc[q] = om[q] if om[q] > 0.0 else 1.0
     S = np.zeros((2 * nm, 2 * nm))
     for q in range(nm):
-        S[q, nm + q] = 1.0
-        S[nm + q, q] = -om[q] * om[q]
+        S[q, nm + q] = sc[q]
+        S[nm + q, q] = -om[q] * (om[q] / sc[q])
         for p in range(nm):
             S[nm + q, nm + p] = -D[q, p]
-    lamk, Vk, Wk, cond = _real_modes(S)
+    lamk, Vk, Wk, cond = _real_modes(S, sc)
+    for q in range(nm):  # back to (q, q')
+        for j in range(lamk.size):
+            Vk[q, j] /= sc[q]
+            Wk[j, q] *= sc[q]
     phic = phi.astype(np.complex128)
     U = phic @ np.ascontiguousarray(Vk[:nm, :])
     PhiTM = np.empty((nm, n), np.complex128)
@@ -413,7 +426,38 @@ def _cond1(V, W):
 
 
 @njit(cache=True)
-def _real_modes(S):
+def _consistent_vectors(wr, wi, Vr, sc):
+    """Make each eigenvector (x, y) of the modal state matrix of (sc q, q') obey y_i = lam x_i /
+    sc_i exactly, taking each component from the larger of its two parts.
+
+    The kernels rebuild velocities as lam times the displacement part. dgeev gives both parts to
+    eps of the vector, so a slow mode's share of the fast (contact) mode's displacement, small
+    there, came back multiplied by |lam_fast| / om_slow (2e5 at beta = 1e-8): the other masses'
+    velocities were 1e-11 off after a stiff damped contact phase, against 1e-15 from the velocity
+    part itself."""
+    nm = sc.size
+    K = wr.size
+    j = 0
+    while j < K:
+        lam = complex(wr[j], wi[j])
+        pair = wi[j] != 0.0 and j + 1 < K
+        for i in range(nm):
+            x = complex(Vr[i, j], Vr[i, j + 1] if pair else 0.0)
+            y = complex(Vr[nm + i, j], Vr[nm + i, j + 1] if pair else 0.0)
+            if abs(lam) >= sc[i]:
+                x = y * sc[i] / lam
+            else:
+                y = lam * x / sc[i]
+            Vr[i, j] = x.real
+            Vr[nm + i, j] = y.real
+            if pair:
+                Vr[i, j + 1] = x.imag
+                Vr[nm + i, j + 1] = y.imag
+        j += 2 if pair else 1
+
+
+@njit(cache=True)
+def _real_modes(S, sc):
     """Modal basis of the real state matrix S, one term per conjugate pair of eigenvalues.
 
     An eigenvalue lam with Im > 0 has the partner conj(lam), and the two terms of a real motion
@@ -424,6 +468,9 @@ def _real_modes(S):
     dissipation integral of an underdamped phase sums over, and reconstructs y to eps * cond
     (doubling one member of each pair of a complex inverse instead left 5e-10 at a near-critical
     pair, whose two projectors are large and cancel only to round-off).
+
+    S is the modal state matrix of (sc q, q') (see _modal_model); its eigenvectors are made
+    consistent (_consistent_vectors) before the inverse.
 
     Returns (lam, V, W, cond): the K kept eigenvalues, V (2nm, K) and W (K, 2nm) complex with
     y(t) = Re V (e^{lam t} * (W y0)), and the real basis's condition number (1-norm). Raises
@@ -437,6 +484,7 @@ def _real_modes(S):
     for j in range(K):
         for i in range(K):
             Vr[i, j] = vr[j, i]
+    _consistent_vectors(wr, wi, Vr, sc)
     nkeep = 0
     for j in range(K):
         if wi[j] >= 0.0:

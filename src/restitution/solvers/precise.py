@@ -51,6 +51,7 @@ class PreciseResult:
     cor_mp: object = None
     e_translational: float = math.nan
     e_vibrational: float = math.nan
+    approach_speeds: tuple = ()
 
 
 class _Phase:
@@ -172,10 +173,11 @@ def _sequence(m, k, c, kc, dps, max_events, u0=None, v0=None):
         e0 += sum(kp[i] * (u[i + 1] - u[i]) ** 2 for i in range(n - 1)) / 2
         t = mpmath.mpf(0)
         times = [t]
+        speeds = [-v[0]]  # m1's approach speed at each contact start
         ncol = 1
         in_contact = not rigid
         if v[0] > 0:  # m1 leaves the wall at t = 0: a free flight comes first
-            times, ncol, in_contact = [], 0, False
+            times, speeds, ncol, in_contact = [], [], 0, False
         elif rigid:
             v[0] = -v[0]
         t_last = t
@@ -210,8 +212,9 @@ def _sequence(m, k, c, kc, dps, max_events, u0=None, v0=None):
             t += te
             ncol += 1
             times.append(t)
+            speeds.append(-v[0])
             if ncol > max_events:
-                return None, ncol, t_last, tuple(times), None
+                return None, ncol, t_last, tuple(times), None, None, ()
             if rigid:
                 v[0] = -v[0]
                 t_last = t
@@ -221,10 +224,11 @@ def _sequence(m, k, c, kc, dps, max_events, u0=None, v0=None):
         # Vibrational energy after the final separation (relative kinetic + springs) / e0.
         evib = sum(mi * (vi - vc) ** 2 for mi, vi in zip(mp, v, strict=True))
         evib += sum(kp[i] * (u[i + 1] - u[i]) ** 2 for i in range(n - 1))
+        sp = tuple(speeds)
         if u0 is None:
-            return vc, ncol, t_last, tuple(times), evib / mt, vc**2
+            return vc, ncol, t_last, tuple(times), evib / mt, vc**2, sp
         # the centre of mass's velocity after over its approach speed before
-        return vc * mt / -p0, ncol, t_last, tuple(times), evib / 2 / e0, mt * vc**2 / 2 / e0
+        return vc * mt / -p0, ncol, t_last, tuple(times), evib / 2 / e0, mt * vc**2 / 2 / e0, sp
 
 
 def solve_precise(
@@ -268,8 +272,9 @@ def solve_precise(
         ``cor`` rounded to float, ``digits`` (how many decimal digits of the COR the two
         precisions share), ``error_estimate`` (their difference), ``n_collisions``, ``t_col`` (time
         from first contact to final separation, the scene's units), ``status``, the contact start
-        times, the COR as an mpmath number at dps + 20 digits (``cor_mp``) and the final
-        translational and vibrational energies as fractions of the initial kinetic energy.
+        times, the COR as an mpmath number at dps + 20 digits (``cor_mp``), the final
+        translational and vibrational energies as fractions of the initial kinetic energy and
+        m1's approach speed at each contact start (``approach_speeds``, units of V0).
 
     Examples
     --------
@@ -310,4 +315,5 @@ def solve_precise(
             hi[0],
             float(hi[5]),
             float(hi[4]),
+            tuple(float(x) for x in hi[6]),
         )
