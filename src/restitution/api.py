@@ -65,6 +65,8 @@ def solve(
     v0: float | None = None,
     contact=None,
     links=None,
+    velocities=None,
+    stretches=None,
     history: bool = False,
     max_events: int = 100_000,
     **law,
@@ -87,6 +89,9 @@ def solve(
         Approach speed in [1e-6, 1e6] (default 1; only nonlinear laws depend on it).
     contact, links : mapping, sequence of mapping, optional
         Contact and per-link laws (docs/general-chains.md).
+    velocities, stretches : sequence of float, optional
+        General form: the initial state, N velocities (positive towards the wall; instead of
+        v0) and N - 1 link extensions (positive: stretched); see ``restitution.Chain``.
     method : str
         "auto" or a name of ``restitution.solvers.methods.METHODS``; recorded in ``Result.method``.
     history : bool
@@ -106,6 +111,16 @@ def solve(
     >>> r = solve(masses=[1.0, 0.5, 2.0], springs=[0.3, 1.2], dashpots=[0.0, 0.05])
     """
     general = masses is not None or springs is not None
+    initial = velocities is not None or stretches is not None
+    if initial and not general:
+        raise SceneError(
+            "velocities=[...] and stretches=[...] need the general form (masses=..., "
+            "springs=...; Chain(...) for a Chain)"
+        )
+    if velocities is not None and v0 is not None:
+        raise SceneError(
+            "give either v0 (every mass approaching at v0) or velocities (one per mass), not both"
+        )
     if isinstance(alpha, Chain):
         ch, settings = alpha, {k: law.pop(k) for k in ("rtol", "step") if k in law}
         if law:
@@ -123,7 +138,7 @@ def solve(
                 "use contact={...} and links=[...] for nonlinear laws"
             )
         ch = make_chain(masses, springs, dashpots, k_contact, 1.0 if v0 is None else v0,
-                        contact, links)  # fmt: skip
+                        contact, links, velocities, stretches)  # fmt: skip
     else:
         if alpha is None:
             raise SceneError(
@@ -254,7 +269,8 @@ def solve_many(
 
     The table takes the paper's form (column ``alpha``; optional ``beta, xi, n_masses``,
     defaults 0, 0, 2) or the general form (list columns ``masses, springs`` and optional
-    ``dashpots``, scalar ``k_contact, v0``, struct columns ``contact, links``; see
+    ``dashpots``, scalar ``k_contact, v0``, struct columns ``contact, links``, list columns
+    ``velocities, stretches`` of an initial state; see
     docs/general-chains.md), plus optional ``method`` and, for numerical methods, ``rtol`` and
     ``step`` per row. Columns are read strictly (``restitution.tables.scene_table``): any other
     column is an error unless named in ``keep`` (carried through unchanged). Every row is checked

@@ -115,6 +115,15 @@ def _parser() -> argparse.ArgumentParser:
         help='JSON, e.g. {"law": "hertz", "k": 50}',
     )
     general.add_argument("--links", type=_json, help='JSON list, e.g. [{"law": "linear"}, ...]')
+    general.add_argument(
+        "--velocities",
+        type=_floats,
+        help="initial velocities v1,...,vN, positive towards the wall (instead of --v0; a list "
+        "that starts with a minus sign is written --velocities=-0.2,1)",
+    )
+    general.add_argument(
+        "--stretches", type=_floats, help="initial link extensions s12,...,s(N-1)N (default 0)"
+    )
     cor.add_argument(
         "--method",
         default="auto",
@@ -227,14 +236,18 @@ def _cor(args) -> int:
             k_contact=args.k_contact,
             contact=args.contact_spec,
             links=args.links,
+            velocities=args.velocities,
+            stretches=args.stretches,
             **extra,
             **common,
         )
     else:
-        if args.alpha is None:
-            from restitution.model.chain import SceneError
+        from restitution.model.chain import SceneError
 
+        if args.alpha is None:
             raise SceneError("give --alpha (the paper's form) or --masses and --springs")
+        if args.velocities is not None or args.stretches is not None:
+            raise SceneError("--velocities and --stretches need a general chain (--masses ...)")
         r = solve(alpha=args.alpha, beta=args.beta, xi=args.xi, n_masses=args.n_masses,
                   **common, **law)  # fmt: skip
     if args.json:

@@ -71,7 +71,17 @@ def _scene(scene, keywords: dict) -> tuple[Chain, dict]:
     return make_chain(**keywords), {}
 
 
-_CHAIN_KEYS = ("masses", "springs", "dashpots", "k_contact", "v0", "contact", "links")
+_CHAIN_KEYS = (
+    "masses",
+    "springs",
+    "dashpots",
+    "k_contact",
+    "v0",
+    "contact",
+    "links",
+    "velocities",
+    "stretches",
+)
 
 
 def _sample(ch: Chain, wt: np.ndarray, max_events: int):
@@ -95,9 +105,12 @@ def _sample_kernels(ch: Chain, wt: np.ndarray, max_events: int):
             h = solve(alpha, beta, xi, n, history=True, max_events=max_events).history
             impacts = h[["omega_t_start", "impulse"]].to_numpy()
         return u, v, f, impacts
-    from restitution.kernels.exact_chain import sample_chain
+    from restitution.kernels.exact_chain import sample_chain, sample_chain_state
 
     m, k, c, kc = ch.scaled()
+    y0 = ch.initial_state(ch.v0 / ch.omega, ch.v0)  # (the kernels' units, as exact.exact_row)
+    if y0 is not None:
+        return sample_chain_state(m, k, c, kc, y0, wt, max_events)
     return sample_chain(m, k, c, kc, wt, max_events)
 
 
@@ -153,6 +166,7 @@ def _sample_adaptive(ch: Chain, wt: np.ndarray, rtol: float, max_events: int):
         out, ys, fs, evt, evk = stepping.sample_scene(
             ms, lk, cs, cp, float(ch.v0), rtol, etol, max_events,
             float(stepping.MAX_WORK_DEFAULT), np.ascontiguousarray(wt[order]), hist,
+            ch.initial_state(1.0 / ch.omega, 1.0),  # (None: the uniform approach)
         )  # fmt: skip
     y = np.empty_like(ys)
     y[order] = ys
@@ -255,7 +269,9 @@ def trajectory(
     DataFrame
         Columns ``t, omega_t, u_1..u_N, v_1..v_N, f_contact, impulse, event``: positions in the
         scene's length unit (V0/omega for the paper's scenes; 0 = where the mass was at the first
-        contact, the wall at u_1 = 0), velocities, the contact law's force on m_1 and, on rows
+        contact, the wall at u_1 = 0; from a given initial state, 0 = the mass's rest position
+        with m_1 at the wall, so u_i at t = 0 sums stretches[:i - 1]), velocities (the kernels'
+        sign: negative towards the wall), the contact law's force on m_1 and, on rows
         with ``event == "impact"`` (rigid wall only, one per contact within the time range), the
         wall's impulse. Rows are sorted by time; requested times have ``event == "sample"``; the
         adaptive method adds ``"contact_start"`` / ``"contact_end"`` rows at the contacts of a

@@ -751,6 +751,7 @@ def _run(
     force_free=-1,
     force_t=0.0,
     force_v=0.0,
+    y0=None,
 ):
     """Solve one scene in normalised units (m[0] = 1, omega = 1); fill ``hist`` and, if rec has
     rows, record every phase start as [t0, kind (PH_*), duration, u(n), v(n)]. ``jitter`` > 0
@@ -759,6 +760,11 @@ def _run(
     touching band of its free flights (the replicas' BAND_LOW and BAND_HIGH). Free flight
     number ``force_free`` (from 0; -1: none) ends in a contact at ``force_t`` with approach
     speed ``force_v`` (_checked_units' pass replica: its passed dip taken as a contact).
+    ``y0`` (None: every mass at -1, every spring unstretched) is the state [u(n), v(n)] at
+    t = 0 with u[0] = 0: m1 touches the wall; it hits it at t = 0 if v[0] < 0, and the scene
+    starts in free flight if v[0] > 0 (v[0] = 0 is refused by the Python layer). The COR is then
+    the centre of mass's velocity after over its approach speed before, and the energies are
+    fractions of the initial kinetic + spring energy.
 
     Returns (out, n_records, closest pass) with the closest pass (band units, free flight
     index, time, approach speed of a contact at the band's depth there; see _checked_units).
@@ -803,6 +809,10 @@ def _run(
 
     u = np.zeros(n)
     v = -np.ones(n)
+    if y0 is not None:
+        for i in range(n):
+            u[i] = y0[i]
+            v[i] = y0[n + i]
     y = np.empty(2 * n)
     ys = np.empty(2 * n - 2)
     info = np.zeros(N_INFO)
@@ -824,10 +834,25 @@ def _run(
     in_contact = not rigid
     permanent = False
     jc = seed  # index into the jitter's Weyl sequence
-    if nh > 0:
+    if y0 is not None:
+        if v[0] > 0.0:  # m1 leaves the wall at t = 0: no contact yet, a free flight first
+            ncol = 0
+            in_contact = False
+        elif nh > 0:
+            hist[0, H_TSTART] = 0.0
+            hist[0, H_VIN] = v[0]
+        if rigid and ncol == 1:  # the impact at t = 0
+            vin = v[0]
+            v[0] = -vin
+            if nh > 0:
+                hist[0, H_TEND] = 0.0
+                hist[0, H_VOUT] = -vin
+                hist[0, H_XMAX] = 0.0
+                hist[0, H_IMPULSE] = -2.0 * vin * m[0]
+    elif nh > 0:
         hist[0, H_TSTART] = 0.0
         hist[0, H_VIN] = -1.0
-    if rigid:
+    if rigid and y0 is None:
         v[0] = 1.0
         if nh > 0:
             hist[0, H_TEND] = 0.0
@@ -1098,6 +1123,9 @@ def _run(
             hist[ncol - 1, H_IMPULSE] = -2.0 * vin * m[0]
 
     e0 = 0.5 * mt
+    p0 = -mt  # the momentum before (towards the wall)
+    if y0 is not None:
+        e0, p0 = _initial_energy(m, k, y0)
     if permanent:
         # Everything comes to rest against the wall: all energy not yet dissipated is.
         cor = 0.0
@@ -1110,11 +1138,15 @@ def _run(
         for i in range(n):
             p += m[i] * v[i]
         cor = p / mt
+        if y0 is not None:
+            cor = p / -p0
         evib = _vib_energy(m, k, u, v) / e0
     out[OUT_COR] = cor
     out[OUT_NCOL] = ncol
     out[OUT_TCOL] = t_last
     out[OUT_ETRANS] = cor * cor
+    if y0 is not None:  # the centre of mass's kinetic energy after, over the initial energy
+        out[OUT_ETRANS] = 0.5 * cor * cor * p0 * p0 / mt / e0
     out[OUT_EVIB] = evib
     out[OUT_EDISS] = (ediss + lost) / e0
     out[OUT_NEVENTS] = ncol
@@ -1131,6 +1163,20 @@ def _run(
     out[OUT_ERR] = max(err, gap) if gap == gap else err
     out[OUT_STATUS] = status
     return out, nrec, closest
+
+
+@njit(cache=True)
+def _initial_energy(m, k, y0):
+    """(kinetic + spring energy, momentum) of the state y0 = [u(n), v(n)]."""
+    n = m.size
+    e = 0.0
+    p = 0.0
+    for i in range(n):
+        e += 0.5 * m[i] * y0[n + i] * y0[n + i]
+        p += m[i] * y0[n + i]
+    for i in range(n - 1):
+        e += 0.5 * k[i] * (y0[i + 1] - y0[i]) ** 2
+    return e, p
 
 
 @njit(cache=True)
@@ -1199,15 +1245,17 @@ def _solve_units(
     force_t=0.0,
     force_v=0.0,
     stick=1.0,
+    y0=None,
 ):
     """(out, closest pass) of one run (_run's; the closest pass is none for two masses at a rigid
     wall, whose kernel walks the gap's critical points in closed form). ``stick`` scales the
     sticking limit's cut-off speed (the half-speed check of _checked_units)."""
     if use_rigid2 and ms.size == 2 and kcs == math.inf:
-        # Two masses at a rigid wall: the dedicated closed-form kernel (alpha, xi) is faster.
-        xi = cs[0] / (2.0 * ks[0])
-        out = _rigid2(ms[1], xi, max_events, hist, stick * V_STICK_RIGID2, jitter, seed)
-        return out, np.array([math.inf, -1.0, 0.0, 0.0])
+        if y0 is None:  # (the closed-form kernel starts from the uniform approach only)
+            # Two masses at a rigid wall: the dedicated closed-form kernel (alpha, xi) is faster.
+            xi = cs[0] / (2.0 * ks[0])
+            out = _rigid2(ms[1], xi, max_events, hist, stick * V_STICK_RIGID2, jitter, seed)
+            return out, np.array([math.inf, -1.0, 0.0, 0.0])
     rec = np.zeros((0, 3 + 2 * ms.size))
     out, _, closest = _run(
         ms,
@@ -1226,6 +1274,7 @@ def _solve_units(
         force_free,
         force_t,
         force_v,
+        y0,
     )
     return out, closest
 
@@ -1268,7 +1317,7 @@ def _replica_scene(m, k, c, kc, seed):
 
 
 @njit(cache=True)
-def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2):
+def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=None):
     """_solve_units with the replica check (restitution.kernels.replica): a finished row's
     error estimate covers the round-off its replica reveals, or the row is ill-conditioned.
 
@@ -1286,8 +1335,12 @@ def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2):
     pass (times REPLICA_SAFETY) is how far the exact dip may lie from the computed one; if that
     reaches within PASS_NEAR bands of gap 0, a third replica, the run itself with that dip
     taken as a contact as deep as it may be (plus locator.PASS_DEPTH bands), measures the
-    jump a passed dip can cause, and its spread enters the estimate."""
-    out, near = _solve_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, 0.0, 0)
+    jump a passed dip can cause, and its spread enters the estimate.
+
+    ``y0`` (an initial state, _run) is shared by the replicas as given: a replica scene that
+    _normalise rescales moves it by JITTER-sized amounts, one more perturbation of the
+    round-off size the replicas emulate."""
+    out, near = _solve_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, 0.0, 0, y0=y0)
     if not finished(out[OUT_STATUS]):
         return out
     nohist = np.zeros((0, N_HIST))
@@ -1298,7 +1351,18 @@ def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2):
         mr, kr, cr, kcr = _normalise(*_replica_scene(ms, ks, cs, kcs, seed))
         band = BAND_LOW if r == 0 else BAND_HIGH
         reps[r], rnear = _solve_units(
-            mr, kr, cr, kcr, max_events, nohist, work_max, use_rigid2, JITTER, seed, band
+            mr,
+            kr,
+            cr,
+            kcr,
+            max_events,
+            nohist,
+            work_max,
+            use_rigid2,
+            JITTER,
+            seed,
+            band,
+            y0=y0,
         )
         if finished(reps[r, OUT_STATUS]) and near[0] < math.inf:
             dev = max(dev, abs(rnear[0] - near[0]))
@@ -1321,24 +1385,25 @@ def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2):
             int(near[1]),
             near[2],
             near[3] * math.sqrt(depth / PASS_DEPTH),
+            y0=y0,
         )[0]
     out = combine(out, reps[: REPLICAS + extra])
     if int(out[OUT_FLAGS]) & FLAG_STICKING:  # the cut-off, measured (replica.stick_check)
         budget = min(max_events, int(STICK_BUDGET * out[OUT_NCOL]) + 100)
         pure = _solve_units(
-            ms, ks, cs, kcs, budget, nohist, work_max, use_rigid2, 0.0, 0, stick=0.0
+            ms, ks, cs, kcs, budget, nohist, work_max, use_rigid2, 0.0, 0, stick=0.0, y0=y0
         )[0]
         if finished(pure[OUT_STATUS]):
             return stick_check(out, pure, PURE_SAFETY)
         half = _solve_units(
-            ms, ks, cs, kcs, max_events, nohist, work_max, use_rigid2, 0.0, 0, stick=0.5
+            ms, ks, cs, kcs, max_events, nohist, work_max, use_rigid2, 0.0, 0, stick=0.5, y0=y0
         )[0]
         out = stick_check(out, half, STICK_SAFETY)
     return out
 
 
 @njit(cache=True)
-def _extrapolated(ms, ks, cs, beta, lim, max_events, work_max, use_rigid2):
+def _extrapolated(ms, ks, cs, beta, lim, max_events, work_max, use_rigid2, y0=None):
     """The rigid wall's row ``lim`` (its own estimate) corrected to the stiffness ratio ``beta``
     by extrapolation in s = sqrt(beta): the quadratic through the limit (s = 0) and the
     finite-stiffness runs at EXTRAP_BETA and 4 EXTRAP_BETA (where the closed form is accurate),
@@ -1349,9 +1414,11 @@ def _extrapolated(ms, ks, cs, beta, lim, max_events, work_max, use_rigid2):
     s = math.sqrt(beta)
     s1 = math.sqrt(EXTRAP_BETA)
     s2 = 2.0 * s1
-    r1 = _checked_units(ms, ks, cs, ks[0] / EXTRAP_BETA, max_events, nohist, work_max, use_rigid2)
+    r1 = _checked_units(
+        ms, ks, cs, ks[0] / EXTRAP_BETA, max_events, nohist, work_max, use_rigid2, y0
+    )
     r2 = _checked_units(
-        ms, ks, cs, ks[0] / (4.0 * EXTRAP_BETA), max_events, nohist, work_max, use_rigid2
+        ms, ks, cs, ks[0] / (4.0 * EXTRAP_BETA), max_events, nohist, work_max, use_rigid2, y0
     )
     st = lim[OUT_STATUS]
     if not (
@@ -1369,6 +1436,8 @@ def _extrapolated(ms, ks, cs, beta, lim, max_events, work_max, use_rigid2):
     for col in (OUT_COR, OUT_TCOL, OUT_EVIB, OUT_EDISS):
         out[col] = w0 * lim[col] + w1 * r1[col] + w2 * r2[col]
     out[OUT_ETRANS] = out[OUT_COR] * out[OUT_COR]
+    if y0 is not None:  # (not cor**2 from a general initial state: extrapolated as the rest)
+        out[OUT_ETRANS] = w0 * lim[OUT_ETRANS] + w1 * r1[OUT_ETRANS] + w2 * r2[OUT_ETRANS]
     # The quadratic's own truncation is bounded by its distance to the line through the first
     # two nodes (that distance is the s**2 term, times s1 / s larger than the dropped s**3 term);
     # the runs' estimates enter with their weights.
@@ -1381,7 +1450,7 @@ def _extrapolated(ms, ks, cs, beta, lim, max_events, work_max, use_rigid2):
 
 
 @njit(cache=True)
-def _solve_stiff(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2):
+def _solve_stiff(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=None):
     """Normalised scene, with the rigid-limit policy for very stiff contact springs (see
     BETA_RIGID): returns the raw kernel row (no NaN applied)."""
     beta = ks[0] / kcs
@@ -1390,7 +1459,7 @@ def _solve_stiff(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2):
     compare = False
     out = np.empty(0)
     if not limit:
-        out = _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2)
+        out = _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0)
         st = out[OUT_STATUS]
         failed = st != STATUS_OK and st != STATUS_PERMANENT_CONTACT
         limit = 0.0 < beta < BETA_FALLBACK and (
@@ -1403,11 +1472,11 @@ def _solve_stiff(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2):
         compare = finished(st) or st == STATUS_ILL_CONDITIONED
     if limit or extrapolate:
         kept = hist.copy() if compare else hist[:0]
-        lim = _checked_units(ms, ks, cs, math.inf, max_events, hist, work_max, use_rigid2)
+        lim = _checked_units(ms, ks, cs, math.inf, max_events, hist, work_max, use_rigid2, y0)
         ext = lim
         bound = RIGID_LIMIT_C * math.sqrt(beta)
         if extrapolate and finished(lim[OUT_STATUS]) and bound > lim[OUT_ERR]:
-            ext = _extrapolated(ms, ks, cs, beta, lim, max_events, work_max, use_rigid2)
+            ext = _extrapolated(ms, ks, cs, beta, lim, max_events, work_max, use_rigid2, y0)
         lim[OUT_ERR] = max(lim[OUT_ERR], bound)
         lim[OUT_FLAGS] = int(lim[OUT_FLAGS]) | FLAG_RIGID_LIMIT
         if ext[OUT_ERR] < lim[OUT_ERR]:
@@ -1426,17 +1495,62 @@ def _solve_stiff(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2):
 
 
 @njit(cache=True)
-def _solve(m, k, c, kc, max_events, hist, work_max):
+def _solve(m, k, c, kc, max_events, hist, work_max, y0=None):
     out = np.empty(N_OUT)
     if not _valid(m, k, c, kc, max_events):
         return _fail(out, STATUS_INVALID)
     ms, ks, cs, kcs = _normalise(m, k, c, kc)
-    out = _solve_stiff(ms, ks, cs, kcs, max_events, hist, work_max, True)
+    if y0 is None:
+        out = _solve_stiff(ms, ks, cs, kcs, max_events, hist, work_max, True)
+    else:
+        ys = _normalise_state(m, k, y0)
+        out = _solve_stiff(ms, ks, cs, kcs, max_events, hist, work_max, True, ys)
     st = out[OUT_STATUS]
     if st != STATUS_OK and st != STATUS_PERMANENT_CONTACT:
         out[OUT_COR] = math.nan  # an unfinished sequence has no COR
         out[OUT_ETRANS] = math.nan
     return out
+
+
+@njit(cache=True)
+def _valid_state(m, y0):
+    """An initial state the kernel takes: 2 n finite numbers, u[0] = 0, v[0] != 0 and the
+    centre of mass approaching the wall (the Python layer names the bad entry)."""
+    n = m.size
+    if y0.size != 2 * n or y0[0] != 0.0 or y0[n] == 0.0:
+        return False
+    p = 0.0
+    for i in range(2 * n):
+        if not math.isfinite(y0[i]):
+            return False
+    for i in range(n):
+        p += m[i] * y0[n + i]
+    return p < 0.0
+
+
+@njit(cache=True)
+def _normalise_state(m, k, y0):
+    """y0 in the units _normalise gives (m, k): speeds stay, lengths scale with omega, which
+    _normalise sets to 1 (a copy either way)."""
+    ys = y0.copy()
+    w2 = k[0] / m[0] + k[0] / m[1]
+    if not (m[0] == 1.0 and abs(w2 - 1.0) <= 4.0 * EPS):
+        w = math.sqrt(w2)
+        for i in range(m.size):
+            ys[i] *= w
+    return ys
+
+
+@njit(cache=True)
+def solve_chain_state(m, k, c, kc, y0, max_events, hist):
+    """``solve_chain`` from the initial state y0 = [u(n), v(n)] (u in units V0 / omega of the
+    given m, k; v in units V0; u[0] = 0, m1 touching the wall; v[0] != 0; the centre of mass
+    approaching, sum m v < 0; see _run): COR = centre-of-mass velocity after / its approach
+    speed before, energies as fractions of the initial kinetic + spring energy. An invalid
+    state gives STATUS_INVALID."""
+    if not _valid_state(m, y0):
+        return _fail(np.empty(N_OUT), STATUS_INVALID)
+    return _solve(m, k, c, kc, max_events, hist, WORK_MAX, y0)
 
 
 @njit(cache=True)
@@ -1500,12 +1614,12 @@ def solve_chain_batch(m, k, c, n, kc, max_events):
 
 
 @njit(cache=True)
-def _sample(m, k, c, kc, times, max_events):
+def _sample(m, k, c, kc, times, max_events, y0=None):
     n = m.size
     nrow = 3 * max_events + 4
     rec = np.zeros((nrow, 3 + 2 * n))
     hist = np.zeros((max_events, N_HIST))
-    out, nrec, _ = _run(m, k, c, kc, max_events, hist, rec, WORK_MAX)
+    out, nrec, _ = _run(m, k, c, kc, max_events, hist, rec, WORK_MAX, y0=y0)
     nrec = min(nrec, nrow)
     rigid = kc == math.inf
     mt = _total(m)
@@ -1537,6 +1651,9 @@ def _sample(m, k, c, kc, times, max_events):
         if tj < 0.0:
             U[j, :] = -tj
             Vv[j, :] = -1.0
+            if y0 is not None:  # (no motion before t = 0 is defined for a given state)
+                U[j, :] = math.nan
+                Vv[j, :] = math.nan
             continue
         p = 0
         while p + 1 < nrec and rec[p + 1, 0] <= tj:
@@ -1622,3 +1739,16 @@ def sample_chain(m, k, c, kc, times, max_events):
     if ks[0] / kcs < BETA_RIGID:
         kcs = math.inf  # the rigid limit (see BETA_RIGID)
     return _sample(ms, ks, cs, kcs, times, max_events)
+
+
+@njit(cache=True)
+def sample_chain_state(m, k, c, kc, y0, times, max_events):
+    """``sample_chain`` from the initial state y0 (as ``solve_chain_state``; times >= 0)."""
+    if not _valid(m, k, c, kc, max_events) or not _valid_state(m, y0):
+        nan = np.full((times.size, max(m.size, 1)), math.nan)
+        return nan, nan.copy(), np.full(times.size, math.nan), np.empty((0, 2))
+    ms, ks, cs, kcs = _normalise(m, k, c, kc)
+    ys = _normalise_state(m, k, y0)
+    if ks[0] / kcs < BETA_RIGID:
+        kcs = math.inf  # the rigid limit (see BETA_RIGID)
+    return _sample(ms, ks, cs, kcs, times, max_events, ys)

@@ -345,7 +345,10 @@ def _momentum(y, m):
 
 
 @njit(cache=True, error_model="numpy")
-def _energies(y, m, lk, v0, out, acct):
+def _energies(y, m, lk, v0, out, acct, y0=None):
+    """The result's COR and energy fractions at the final separation ``y``. From a given
+    initial state ``y0`` (solve_scene) the COR is the centre of mass's velocity over its approach
+    speed before and the fractions are of the initial kinetic + link energy."""
     n = m.shape[0]
     mt = 0.0
     ek = 0.0
@@ -360,6 +363,10 @@ def _energies(y, m, lk, v0, out, acct):
     erel = ek - 0.5 * mt * vc * vc
     out[OUT_COR] = vc / v0
     out[OUT_ETRANS] = vc * vc / (v0 * v0)
+    if y0 is not None:
+        e0, p0 = initial_energy(y0, m, lk)
+        out[OUT_COR] = vc * mt / -p0
+        out[OUT_ETRANS] = 0.5 * mt * vc * vc / e0
     out[OUT_EVIB] = (erel + eel) / e0
     out[OUT_EDISS] = (y[2 * n] + y[2 * n + 1]) / e0
     acct[0] = ek / e0
@@ -367,6 +374,32 @@ def _energies(y, m, lk, v0, out, acct):
     acct[2] = y[2 * n] / e0
     acct[3] = y[2 * n + 1] / e0
     acct[4] = out[OUT_ETRANS] + out[OUT_EVIB] + out[OUT_EDISS] - 1.0
+
+
+@njit(cache=True, error_model="numpy")
+def initial_energy(y0, m, lk):
+    """(kinetic + link energy, momentum) of the initial state y0 = [u(n), v(n)]."""
+    n = m.shape[0]
+    e = 0.0
+    for i in range(n):
+        e += 0.5 * m[i] * y0[n + i] * y0[n + i]
+    for i in range(n - 1):
+        e += structure_energy(lk[i], y0[i + 1] - y0[i])
+    return e, _momentum(y0, m)
+
+
+@njit(cache=True, error_model="numpy")
+def state_ok(y0, m):
+    """The kernel's guard of a given initial state (named by the Python layer first): 2 n
+    finite numbers, m1 on the wall (u1 = 0) and moving (v1 != 0), the centre of mass
+    approaching the wall."""
+    n = m.shape[0]
+    if y0.shape[0] != 2 * n or y0[0] != 0.0 or y0[n] == 0.0:
+        return False
+    for i in range(2 * n):
+        if not math.isfinite(y0[i]):
+            return False
+    return _momentum(y0, m) < 0.0
 
 
 @njit(cache=True, error_model="numpy")
@@ -391,7 +424,7 @@ def input_ok(m, lk, c, cp, v0):
 @njit(cache=True, error_model="numpy")
 def solve_scene(
     m, lk, c, cp, v0, method, rtol, step_frac, etol, max_events, max_work, hist, acct,
-    free_closed=True,
+    free_closed=True, y0=None,
 ):  # fmt: skip
     """COR of one chain with any contact and link laws; ``out`` as kernels/layout.py.
 
@@ -402,6 +435,12 @@ def solve_scene(
     the energy account (N_ACCT entries); ``free_closed`` = False integrates the free flight of
     two masses with a linear link too (checks of the integrated free flight). Never raises for
     finite input: a failure is a NaN COR with its status.
+
+    ``y0`` (None: the uniform approach above) is a given initial state [u(n), v(n)] in kernel
+    units (u1 = 0: m1 on the wall; v0 is then the centre of mass's approach speed, the scale of
+    atol): the scene starts with a contact if v1 < 0, in free flight if v1 > 0; the COR is the
+    centre of mass's velocity after over before, the energies fractions of the initial
+    kinetic + link energy (``_energies``).
     """
     out = np.full(N_OUT, np.nan)
     out[OUT_STATUS] = STATUS_INVALID
@@ -415,6 +454,15 @@ def solve_scene(
     y = np.zeros(2 * n + 2)
     for i in range(n):
         y[n + i] = -v0
+    free0 = False  # m1 leaving the wall at t = 0: a free flight first
+    p_scale = 0.0  # the approach momentum, the unit of the momentum error
+    if y0 is not None:
+        if not state_ok(y0, m):
+            return out
+        for i in range(2 * n):
+            y[i] = y0[i]
+        free0 = y[n] > 0.0
+        p_scale = -_momentum(y0, m)
     mem = np.zeros(N_MEM)
     ysep = y.copy()
     work = np.zeros(1)
@@ -424,18 +472,20 @@ def solve_scene(
         mt += m[i]
     if method == METHOD_VERLET:
         status, ncol, tcol = _verlet(
-            y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist, v0
+            y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist, v0, free0
         )
         err = 0.0
     else:
         status, ncol, tcol, err = _adaptive(
-            y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free_closed
+            y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free_closed, free0
         )
     out[OUT_NCOL] = ncol
     out[OUT_NEVENTS] = ncol
     out[OUT_TCOL] = tcol
-    _energies(ysep, m, lk, v0, out, acct)
+    _energies(ysep, m, lk, v0, out, acct, y0)
     out[OUT_ERR] = err / (mt * v0)
+    if y0 is not None:
+        out[OUT_ERR] = err / p_scale
     if status == STATUS_OK and not abs(acct[4]) <= etol:
         status = STATUS_ENERGY
     if status == STATUS_OK and acct[2] < -etol:
@@ -480,7 +530,10 @@ def _sigma_entry(y, t, m, lk, c, cp, mem, rtol, atol, work, err_acc):
 
 
 @njit(cache=True, error_model="numpy")
-def _adaptive(y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free_closed):
+def _adaptive(
+    y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free_closed, free0=False
+):
+    """The adaptive run from y (a contact at t = 0, or with ``free0`` a free flight first)."""
     n = m.shape[0]
     closed = free_closed and n == 2 and lk[0, SP_KIND] == S_LINEAR
     ny = 2 * n + 2
@@ -505,10 +558,14 @@ def _adaptive(y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free
     hmax_free = 0.5 / w_free
     h = hc
     p_in = _momentum(y, m)
-    _record(hist, 0, H_TSTART, 0.0)
-    _record(hist, 0, H_VIN, y[n] / v0)
     xmax_c = 0.0
-    if kind == C_RIGID:
+    if free0:  # no contact yet: on to the free flight below (the 'else' branch of the loop)
+        ncol = 0
+        h = hf
+        mem[M_PHASE] = 0.0
+    elif kind == C_RIGID:
+        _record(hist, 0, H_TSTART, 0.0)
+        _record(hist, 0, H_VIN, y[n] / v0)
         y[n] = -y[n]
         ysep[:] = y
         _record(hist, 0, H_TEND, 0.0)
@@ -516,6 +573,8 @@ def _adaptive(y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free
         _record(hist, 0, H_IMPULSE, (_momentum(y, m) - p_in) / v0)
         mem[M_PHASE] = 0.0
     else:
+        _record(hist, 0, H_TSTART, 0.0)
+        _record(hist, 0, H_VIN, y[n] / v0)
         mem[M_PHASE] = 1.0
         mem[M_BRANCH] = 1.0
     entering = True
@@ -661,7 +720,7 @@ def _fail(work):
 
 
 @njit(cache=True, error_model="numpy")
-def _verlet(y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist, v0):
+def _verlet(y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist, v0, free0=False):
     """The paper's scheme: one fixed step for the whole scene, step_frac * 2 pi / w with w the
     highest frequency with the contact's slope scale cp[1] engaged (``verlet_frequency``; k1
     also bounds the plastic unloading and the scissor's capped slope). Switching steps at
@@ -680,8 +739,12 @@ def _verlet(y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist, v0):
     in_contact = True
     xmax_c = 0.0
     p_in = _momentum(y, m)
-    _record(hist, 0, H_TSTART, 0.0)
-    _record(hist, 0, H_VIN, y[n] / v0)
+    if free0:  # m1 leaves the wall at t = 0: the first contact comes later
+        ncol = 0
+        in_contact = False
+    else:
+        _record(hist, 0, H_TSTART, 0.0)
+        _record(hist, 0, H_VIN, y[n] / v0)
     it = 0
     while work[0] > 0.0:
         work[0] -= 2.0 if damped else 1.0
@@ -818,11 +881,11 @@ def _sigma_entry_sampled(y, t, m, lk, c, cp, mem, rtol, atol, work, err_acc, ts,
 @njit(cache=True, error_model="numpy")
 def _adaptive_sampled(
     y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, ts, si, Ys, Fs,
-    evt, evk, cnt, max_work,
+    evt, evk, cnt, max_work, free0=False,
 ):  # fmt: skip
     """``_adaptive`` (free_closed = True) with the samples and the contact events recorded;
     after the last contact the free flight goes on until the last sample (its own work budget
-    ``max_work``)."""
+    ``max_work``). ``free0``: a free flight first, as in ``_adaptive``."""
     n = m.shape[0]
     closed = n == 2 and lk[0, SP_KIND] == S_LINEAR
     ny = 2 * n + 2
@@ -847,10 +910,14 @@ def _adaptive_sampled(
     hmax_free = 0.5 / w_free
     h = hc
     p_in = _momentum(y, m)
-    _record(hist, 0, H_TSTART, 0.0)
-    _record(hist, 0, H_VIN, y[n] / v0)
     xmax_c = 0.0
-    if kind == C_RIGID:
+    if free0:  # no contact yet: on to the free flight (as in _adaptive)
+        ncol = 0
+        h = hf
+        mem[M_PHASE] = 0.0
+    elif kind == C_RIGID:
+        _record(hist, 0, H_TSTART, 0.0)
+        _record(hist, 0, H_VIN, y[n] / v0)
         y[n] = -y[n]
         ysep[:] = y
         _record(hist, 0, H_TEND, 0.0)
@@ -859,6 +926,8 @@ def _adaptive_sampled(
         mem[M_PHASE] = 0.0
         _event(evt, evk, cnt, 0.0, EV_IMPACT)
     else:
+        _record(hist, 0, H_TSTART, 0.0)
+        _record(hist, 0, H_VIN, y[n] / v0)
         mem[M_PHASE] = 1.0
         mem[M_BRANCH] = 1.0
         _event(evt, evk, cnt, 0.0, EV_START)
@@ -1008,7 +1077,7 @@ def _adaptive_sampled(
 
 
 @njit(cache=True, error_model="numpy")
-def sample_scene(m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist):
+def sample_scene(m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist, y0=None):
     """The adaptive method's run of one chain (``solve_scene`` with method 0 and
     free_closed = True: the same result row, bit for bit) with its states at the sorted times
     ``ts`` (kernel units, >= 0).
@@ -1018,7 +1087,8 @@ def sample_scene(m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist):
     (times and kinds EV_START / EV_END / EV_IMPACT; at most 2 max_events of them). A sample at
     an event's time (the same float) is the state there after the event's switch: the start of
     the contact, the separation, the reversal of an impact; so a second run with the event
-    times among the samples gives the states at the events.
+    times among the samples gives the states at the events. ``y0``: a given initial state, as
+    in ``solve_scene``.
     """
     n = m.shape[0]
     ny = 2 * n + 2
@@ -1039,6 +1109,15 @@ def sample_scene(m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist):
     y = np.zeros(ny)
     for i in range(n):
         y[n + i] = -v0
+    free0 = False
+    p_scale = 0.0
+    if y0 is not None:
+        if not state_ok(y0, m):
+            return out, Ys, Fs, evt[:0], evk[:0]
+        for i in range(2 * n):
+            y[i] = y0[i]
+        free0 = y[n] > 0.0
+        p_scale = -_momentum(y0, m)
     mem = np.zeros(N_MEM)
     ysep = y.copy()
     work = np.zeros(1)
@@ -1048,7 +1127,7 @@ def sample_scene(m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist):
         mt += m[i]
     si = np.zeros(1, dtype=np.int64)
     # samples at t <= 0 (only t = 0): the state at the first contact (after it, at a rigid wall)
-    if cp[0] == C_RIGID:
+    if cp[0] == C_RIGID and not free0:
         y[n] = -y[n]
         sample_here(y, 0.0, cp, mem, ts, si, Ys, Fs)
         y[n] = -y[n]
@@ -1056,13 +1135,15 @@ def sample_scene(m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist):
         sample_here(y, 0.0, cp, mem, ts, si, Ys, Fs)
     status, ncol, tcol, err = _adaptive_sampled(
         y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, ts, si, Ys, Fs,
-        evt, evk, cnt, max_work,
+        evt, evk, cnt, max_work, free0,
     )  # fmt: skip
     out[OUT_NCOL] = ncol
     out[OUT_NEVENTS] = ncol
     out[OUT_TCOL] = tcol
-    _energies(ysep, m, lk, v0, out, acct)
+    _energies(ysep, m, lk, v0, out, acct, y0)
     out[OUT_ERR] = err / (mt * v0)
+    if y0 is not None:
+        out[OUT_ERR] = err / p_scale
     if status == STATUS_OK and not abs(acct[4]) <= etol:
         status = STATUS_ENERGY
     if status == STATUS_OK and acct[2] < -etol:

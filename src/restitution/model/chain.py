@@ -3,7 +3,8 @@
 A chain has masses m_1..m_N (m_1 touches the wall), one spring per neighbouring pair (link i joins
 m_i and m_{i+1}; stiffness ``springs[i]``, linear or the scissor law), an optional dashpot per
 link (coefficient ``dashpots[i]``), a contact law at the wall and the approach speed V0. At t = 0
-every mass moves towards the wall at -V0 with every spring unstretched.
+every mass moves towards the wall at -V0 with every spring unstretched, unless an initial state
+is given (``velocities``, ``stretches``: then V0 is the centre of mass's approach speed).
 
 Units are the user's (any consistent set). The kernels work in scaled units: m_1 = 1, V0 = 1 and
 omega = 1 with omega**2 = k_12/m_1 + k_12/m_2 (k_12 = springs[0]); ``Chain.scaled`` gives
@@ -85,7 +86,72 @@ def _check_ratios(m: np.ndarray, k: np.ndarray, c: np.ndarray, kc: float) -> Non
 
 
 # Array parameters must be finite even where the range's upper end is inf (k_contact may be inf).
-_FINITE = {"masses", "springs", "dashpots"}
+_FINITE = {"masses", "springs", "dashpots", "velocities", "stretches"}
+
+# Largest |velocities[i]| and |stretches[i]| * omega relative to the centre of mass's approach
+# speed V0 (the kernels' units of speed and length): like the mass and spring ratios (RATIOS), a
+# state spread over more decades is round-off to the kernels.
+INITIAL_RATIO = 1e8
+
+
+def _initial_state(m, k, velocities, stretches, v0):
+    """(velocities, stretches, v0) of a scene's initial state, checked: None, None and v0 for
+    the uniform approach (also when it is given as equal velocities and zero stretches, so that
+    it runs, bit for bit, as the default scene), else the arrays and the centre of mass's
+    approach speed as v0. SceneError naming the parameter and its range."""
+    n = len(m)
+    vel = None if velocities is None else _as_array("velocities", velocities)
+    if vel is not None and len(vel) != n:
+        raise SceneError(
+            f"velocities must have {n} entries (one per mass, len(masses)); got {len(vel)}"
+        )
+    st = None if stretches is None else _as_array("stretches", stretches, n - 1)
+    if st is not None and not st.any():
+        st = None  # unstretched: the default
+    if vel is not None and v0 != 1.0:
+        raise SceneError(
+            "give either v0 (every mass approaching at v0) or velocities (one per mass), not "
+            f"both; got v0={v0!r}"
+        )
+    if vel is None:
+        if st is None:
+            return None, None, v0
+        vel = np.full(n, v0)
+    if st is None and (vel == vel[0]).all() and vel[0] > 0.0:
+        return None, None, check("v0", float(vel[0]))  # the uniform approach at vel[0]
+    if vel[0] == 0.0:
+        raise SceneError(
+            "velocities[0] must not be 0: m_1 starts touching the wall, and at rest there it is "
+            "neither hitting it (velocities[0] > 0) nor leaving it (< 0)"
+        )
+    # The centre of mass's approach speed (given v0 itself when only stretches are given)
+    vc = v0 if velocities is None else math.fsum(m * vel) / math.fsum(m)
+    r = RANGES["v0"]
+    if not (r.contains(vc) and math.isfinite(vc)):
+        raise SceneError(
+            "the centre of mass must approach the wall: sum(masses*velocities)/sum(masses) must "
+            f"be {r.text}; got {vc:.6g}"
+        )
+    big = np.abs(vel) / vc
+    if big.max() > INITIAL_RATIO:
+        i = int(np.argmax(big))
+        raise SceneError(
+            f"velocities[{i}] / (the centre of mass's approach speed) must be in "
+            f"[-{INITIAL_RATIO:g}, {INITIAL_RATIO:g}]; got {vel[i] / vc:.3g}"
+        )
+    if st is not None:
+        w = math.sqrt(k[0] / m[0] + k[0] / m[1])
+        big = np.abs(st) * w / vc
+        if not big.max() <= INITIAL_RATIO:
+            i = int(np.argmax(big))
+            raise SceneError(
+                f"stretches[{i}] * omega / (the centre of mass's approach speed) must be at most "
+                f"{INITIAL_RATIO:g} in size; got {big[i]:.3g}"
+            )
+    vel.setflags(write=False)
+    if st is not None:
+        st.setflags(write=False)
+    return vel, st, vc
 
 
 def check(name: str, value):
@@ -223,6 +289,13 @@ class Chain:
     links : sequence of mapping, optional
         One law per link, {"law": "linear"} or {"law": "scissor", "L", "ks", "theta0",
         "corner"}; default: all linear.
+    velocities : sequence of float, optional
+        N initial velocities, positive towards the wall, in [-1e6, 1e6] (default: every mass at
+        v0). m_1 starts touching the wall: velocities[0] > 0 hits it at t = 0, < 0 leaves it (a
+        free flight first); 0 is refused. The centre of mass must approach the wall; its
+        approach speed becomes ``v0`` (so v0 is not given with velocities).
+    stretches : sequence of float, optional
+        N - 1 initial link extensions (positive: stretched), in length units (default: 0).
     """
 
     masses: np.ndarray
@@ -232,6 +305,8 @@ class Chain:
     v0: float = 1.0
     contact: Mapping | None = None
     links: tuple | None = None
+    velocities: np.ndarray | None = None
+    stretches: np.ndarray | None = None
     # (alpha, beta, xi) when built by Chain.paper: the paper's kernels are used bit for bit.
     preset: tuple | None = field(default=None, repr=False)
 
@@ -250,6 +325,8 @@ class Chain:
         )
         kc = check("k_contact", self.k_contact)
         v0 = check("v0", self.v0)
+        vel, st, v0 = _initial_state(m, k, self.velocities, self.stretches, v0)
+        _assign(self, velocities=vel, stretches=st)
         contact = self.contact
         if contact is not None:
             contact = _law("contact", contact, "contact")
@@ -304,8 +381,9 @@ class Chain:
             # The laws' own parameter checks (restitution.model.laws), before any work.
             from restitution.model.laws import pack_chain
 
-            packed = pack_chain(m, k, c, self.contact_law, self.link_laws, v0)
-            object.__setattr__(self, "_packed", (v0, packed))  # kept for the numerical runners
+            speed = self.law_speed
+            packed = pack_chain(m, k, c, self.contact_law, self.link_laws, speed)
+            object.__setattr__(self, "_packed", (speed, packed))  # kept for the numerical runners
 
     # ------------------------------------------------------------------------------------------
     @classmethod
@@ -378,6 +456,41 @@ class Chain:
         return float(self.dashpots[0] * self.omega / (2.0 * self.springs[0]))
 
     @property
+    def initial(self) -> bool:
+        """True when the scene starts from a given initial state (velocities, stretches)."""
+        return self.velocities is not None or self.stretches is not None
+
+    @property
+    def law_speed(self) -> float:
+        """The speed the contact and link laws are scaled with (laws.pack_chain's v0): v0 for
+        the uniform approach; from a given state sqrt(2 E0 / M), the uniform approach with the
+        same energy E0 (kinetic + springs[i] stretches[i]**2 / 2), so that the laws' depth
+        scales cover the energy the contact may have to take. (Scaled by the centre of mass's
+        speed instead, the plastic law's loading curve, fitted to absorb M v0**2 / 2, crossed its
+        unloading line where m2 brought more: its contacts created energy.)"""
+        if not self.initial:
+            return self.v0
+        m, k = self.masses, self.springs
+        vel = np.full(len(m), self.v0) if self.velocities is None else self.velocities
+        st = np.zeros(len(k)) if self.stretches is None else self.stretches
+        e0 = 0.5 * float(np.dot(m, vel * vel)) + 0.5 * float(np.dot(k, st * st))
+        return math.sqrt(2.0 * e0 / float(m.sum()))
+
+    def initial_state(self, length_unit: float, speed_unit: float) -> np.ndarray | None:
+        """The initial state [u_1..u_N, v_1..v_N] in ``length_unit`` and ``speed_unit``, the
+        kernels' sign convention (u away from the wall, v = -velocities; u_1 = 0,
+        u_{i+1} - u_i = stretches[i]); None for the uniform approach."""
+        if not self.initial:
+            return None
+        n = self.n_masses
+        y0 = np.zeros(2 * n)
+        if self.stretches is not None:
+            y0[1:n] = np.cumsum(self.stretches) / length_unit
+        vel = np.full(n, self.v0) if self.velocities is None else self.velocities
+        y0[n:] = -vel / speed_unit
+        return y0
+
+    @property
     def rigid(self) -> bool:
         """A rigid wall (k_contact = inf): contacts are instants with an impulse."""
         return self.k_contact == math.inf and self.contact is None
@@ -393,6 +506,8 @@ class Chain:
         (equal masses m_2..m_N, equal springs, a dashpot on the first link only), else None."""
         if self.preset is not None:
             return (*self.preset, self.n_masses)
+        if self.initial:  # (the paper's kernels start from the uniform approach only)
+            return None
         m, k, c = self.masses, self.springs, self.dashpots
         if (m[1:] == m[1]).all() and (k == k[0]).all() and not c[1:].any():
             return (self.alpha, self.beta, self.xi, self.n_masses)
@@ -433,11 +548,27 @@ class Chain:
             "contact": self.contact_law,
             "links": self.link_laws,
             "omega": self.omega,
+            **(
+                {
+                    "velocities": None if self.velocities is None else self.velocities.tolist(),
+                    "stretches": None if self.stretches is None else self.stretches.tolist(),
+                }
+                if self.initial
+                else {}
+            ),
         }
 
 
 def make_chain(
-    masses=None, springs=None, dashpots=None, k_contact=math.inf, v0=1.0, contact=None, links=None
+    masses=None,
+    springs=None,
+    dashpots=None,
+    k_contact=math.inf,
+    v0=1.0,
+    contact=None,
+    links=None,
+    velocities=None,
+    stretches=None,
 ) -> Chain:
     """``Chain`` from keywords, with a clear error when the required lists are missing."""
     if masses is None or springs is None:
@@ -445,7 +576,7 @@ def make_chain(
             "a general chain needs masses=[m1, ..., mN] and springs=[k12, ..., k(N-1)N] "
             "(or use the paper's form alpha=..., beta=..., xi=..., n_masses=...)"
         )
-    return Chain(masses, springs, dashpots, k_contact, v0, contact, links)
+    return Chain(masses, springs, dashpots, k_contact, v0, contact, links, velocities, stretches)
 
 
 LAW_KEYS = ("contact", "eta", "dr", "structure", "L", "ks_ratio", "theta0", "corner", "v0")

@@ -84,6 +84,12 @@ RANGES = {
     # it (tests/test_nonlinear_chain.py); one range for every law, linear ones included.
     "v0": Range(1e-6, 1e6, False, "in [1e-6, 1e6]"),
     "max_events": Range(1, 2**62, False, "a positive integer", integer=True),
+    # A given initial state (docs/general-chains.md): approach velocities (positive: towards the
+    # wall) within v0's range of magnitudes, link extensions within the masses' and springs'
+    # 200 decades; their ratios to the centre of mass's approach have ranges of their own
+    # (chain.INITIAL_RATIO).
+    "velocities": Range(-1e6, 1e6, False, "in [-1e6, 1e6] (positive: towards the wall)"),
+    "stretches": Range(-1e100, 1e100, False, "in [-1e100, 1e100] (positive: stretched)"),
     "rtol": Range(1e-14, 1e-2, False, "in [1e-14, 1e-2]"),
     "step": Range(0.0, 0.25, True, "in (0, 0.25]"),
     # Law parameters (restitution.model.laws; their combinations are checked there).

@@ -65,9 +65,14 @@ def exact_row(ch: Chain, max_events: int, hist: np.ndarray):
     paper = ch.paper_form
     if paper is not None:
         return run_paper(*paper, max_events, hist)
-    from restitution.kernels.exact_chain import solve_chain
+    from restitution.kernels.exact_chain import solve_chain, solve_chain_state
 
     m, k, c, kc = ch.scaled()
+    y0 = ch.initial_state(ch.v0 / ch.omega, ch.v0)  # (the kernels' units: V0 / omega, V0)
+    if y0 is not None:  # a given initial state: the general kernel from it (paper_form is None)
+        announce(solve_chain_state)
+        with blas.one_thread(ch.n_masses):
+            return solve_chain_state(m, k, c, kc, y0, max_events, hist)
     announce(solve_chain)
     with blas.one_thread(ch.n_masses):
         return solve_chain(m, k, c, kc, max_events, hist)
@@ -174,15 +179,34 @@ def _general_rows(table, idx: np.ndarray, max_events: int, bar, block: int):
     return out, errors
 
 
+def _initial_rows(table, idx: np.ndarray, max_events: int, bar, block: int):
+    """Kernel rows of chains with a given initial state, one by one (``exact_row``; the batch
+    kernel starts from the uniform approach)."""
+    out = np.full((len(idx), L.N_OUT), np.nan)
+    errors = {}
+    for j, i in enumerate(idx):
+        try:
+            out[j] = exact_row(table.chains[int(i)], max_events, NO_HIST)
+        except Exception as e:  # noqa: BLE001 - a kernel failure must not lose the table
+            errors[j] = f"kernel_error ({type(e).__name__}: {e})"
+        bar.update(1)
+    return out, errors
+
+
 def run_many(table, idx: np.ndarray, max_events: int, bar, block: int):
     """The batch runner of the exact methods: kernel rows of the table rows ``idx`` (sorted)
     and {position in idx: error message} of rows whose kernel raised."""
     if table.chains is None:
         return _paper_rows(table, idx, max_events, bar, block)
     paper = table.plan["paper"][idx]
+    initial = np.array([table.chains[int(i)].initial for i in idx], dtype=bool)
     out = np.full((len(idx), L.N_OUT), np.nan)
     errors = {}
-    for part, rows in ((idx[paper], _paper_rows), (idx[~paper], _general_rows)):
+    for part, rows in (
+        (idx[paper], _paper_rows),
+        (idx[~paper & ~initial], _general_rows),
+        (idx[initial], _initial_rows),
+    ):
         if len(part) == 0:
             continue
         o, e = rows(table, part, max_events, bar, block)

@@ -277,7 +277,17 @@ def _run_precise(ch: Chain, opts: Options):
     m, k, c = ch.masses, ch.springs, ch.dashpots
     try:
         for dps in PRECISE_DPS:
-            r = solve_precise(m, k, c, ch.k_contact, dps=dps, max_events=opts.max_events)
+            r = solve_precise(
+                m,
+                k,
+                c,
+                ch.k_contact,
+                dps=dps,
+                max_events=opts.max_events,
+                velocities=ch.velocities,
+                stretches=ch.stretches,
+                v0=ch.v0,
+            )
             if r.status != "ill_conditioned":
                 break
     except RuntimeError:  # a phase whose end its root search did not reach (never ending)

@@ -102,9 +102,10 @@ def packed(ch: Chain) -> tuple:
     """(m, lk, c, cp, omega, kappa) of a validated chain in kernel units (``laws.pack_chain``;
     the arrays a nonlinear Chain packed when it was checked, if it kept them; never written)."""
     kept = getattr(ch, "_packed", None)
-    if kept is not None and kept[0] == ch.v0:
+    speed = ch.law_speed  # (v0, or the energy's speed from a given state)
+    if kept is not None and kept[0] == speed:
         return kept[1]
-    return pack_chain(ch.masses, ch.springs, ch.dashpots, ch.contact_law, ch.link_laws, ch.v0)
+    return pack_chain(ch.masses, ch.springs, ch.dashpots, ch.contact_law, ch.link_laws, speed)
 
 
 def _kernels():
@@ -155,10 +156,12 @@ def solve_chain(
     no_rows = np.zeros((0, LY.N_HIST))
     acct = np.zeros(st.N_ACCT)
     code = st.METHOD_VERLET if method == "verlet" else st.METHOD_ADAPTIVE
+    # a given initial state in the stepping kernels' units: speeds as given, lengths * omega
+    y0 = ch.initial_state(1.0 / ch.omega, 1.0)
 
     def run(tol, stp, rows, acc):
         return st.solve_scene(
-            ms, lk, cs, cp, v0, code, tol, stp, etol, max_events, work, rows, acc, free_closed
+            ms, lk, cs, cp, v0, code, tol, stp, etol, max_events, work, rows, acc, free_closed, y0
         )
 
     if method == "verlet":
@@ -219,6 +222,16 @@ def solve_chains(
     for bit. Rows the kernel did not finish are NaN with their status (never unset)."""
     st = _kernels()
     _check_stepping(method)
+    given = [j for j, ch in enumerate(chains) if ch.initial]
+    if given:  # chains with a given initial state one by one (the batch kernel starts uniform)
+        out = np.full((len(chains), LY.N_OUT), np.nan)
+        for j in given:
+            out[j] = solve_chain(chains[j], method, rtol, step, max_events, max_work=max_work)[0]
+        rest = [j for j in range(len(chains)) if not chains[j].initial]
+        if rest:
+            out[rest] = solve_chains([chains[j] for j in rest], method, rtol, step, max_events,
+                                     max_work=max_work)  # fmt: skip
+        return out
     m, lk, c, n, cp, v0 = pad(chains)
     if method == "verlet" and (cp[:, 0] == laws.C_RIGID).any():
         raise SceneError("method='verlet' needs a finite contact law (beta > 0), not a rigid wall")
@@ -260,9 +273,10 @@ def solve_reference_chain(
     xi = float(cs[0]) / (2.0 * float(sp[laws.SP_K2]))
     etol = _default_etol("reference", rtol, 0.0) if energy_tol is None else float(energy_tol)
     acct = np.zeros(5)
-    out, hist = solve_reference(alpha, v0, xi, cp, sp, rtol, max_events, acct, etol)
+    y0 = ch.initial_state(1.0 / ch.omega, 1.0)  # (kernel units of the stepping kernels)
+    out, hist = solve_reference(alpha, v0, xi, cp, sp, rtol, max_events, acct, etol, y0=y0)
     coarse, _ = solve_reference(
-        alpha, v0, xi, cp, sp, _coarser(rtol), max_events, np.zeros(5), etol
+        alpha, v0, xi, cp, sp, _coarser(rtol), max_events, np.zeros(5), etol, y0=y0
     )
     _two_setting_estimate(out, coarse)
     if account is not None:

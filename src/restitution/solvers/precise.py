@@ -135,7 +135,16 @@ def _first_root(c0, c1, b, lam, tol, never_check):
     raise RuntimeError("no root found within MAX_STEPS steps")
 
 
-def _sequence(m, k, c, kc, dps, max_events):
+def _start(mp, u0, v0):
+    """(u, v) at t = 0: the uniform approach at -1 (u0 None), or the given state (floats
+    exact in mpmath)."""
+    n = len(mp)
+    if u0 is None:
+        return [mpmath.mpf(0)] * n, [mpmath.mpf(-1)] * n
+    return [mpmath.mpf(x) for x in u0], [mpmath.mpf(x) for x in v0]
+
+
+def _sequence(m, k, c, kc, dps, max_events, u0=None, v0=None):
     with mpmath.workdps(dps):
         mp = [mpmath.mpf(x) for x in m]
         kp = [mpmath.mpf(x) for x in k]
@@ -157,14 +166,19 @@ def _sequence(m, k, c, kc, dps, max_events):
         if not rigid:
             Kc, _ = _matrices(mp, kp, cp, mpmath.mpf(kc))
             contact = _Phase(_state_matrix(M, Kc, C))
-        u = [mpmath.mpf(0)] * n
-        v = [mpmath.mpf(-1)] * n
+        u, v = _start(mp, u0, v0)
+        # the momentum and energy before: -mt and mt / 2 for the uniform approach at -1
+        p0 = sum(mi * vi for mi, vi in zip(mp, v, strict=True))
+        e0 = sum(mi * vi**2 for mi, vi in zip(mp, v, strict=True)) / 2
+        e0 += sum(kp[i] * (u[i + 1] - u[i]) ** 2 for i in range(n - 1)) / 2
         t = mpmath.mpf(0)
         times = [t]
         speeds = [-v[0]]  # m1's approach speed at each contact start
         ncol = 1
         in_contact = not rigid
-        if rigid:
+        if v[0] > 0:  # m1 leaves the wall at t = 0: a free flight comes first
+            times, speeds, ncol, in_contact = [], [], 0, False
+        elif rigid:
             v[0] = -v[0]
         t_last = t
         while True:
@@ -200,20 +214,35 @@ def _sequence(m, k, c, kc, dps, max_events):
             times.append(t)
             speeds.append(-v[0])
             if ncol > max_events:
-                return None, ncol, t_last, tuple(times), None, ()
+                return None, ncol, t_last, tuple(times), None, None, ()
             if rigid:
                 v[0] = -v[0]
                 t_last = t
             else:
                 in_contact = True
-        cor = sum(mi * vi for mi, vi in zip(mp, v, strict=True)) / mt
-        # Vibrational energy after the final separation (relative kinetic + springs) / (mt / 2).
-        evib = sum(mi * (vi - cor) ** 2 for mi, vi in zip(mp, v, strict=True))
+        vc = sum(mi * vi for mi, vi in zip(mp, v, strict=True)) / mt
+        # Vibrational energy after the final separation (relative kinetic + springs) / e0.
+        evib = sum(mi * (vi - vc) ** 2 for mi, vi in zip(mp, v, strict=True))
         evib += sum(kp[i] * (u[i + 1] - u[i]) ** 2 for i in range(n - 1))
-        return cor, ncol, t_last, tuple(times), evib / mt, tuple(speeds)
+        sp = tuple(speeds)
+        if u0 is None:
+            return vc, ncol, t_last, tuple(times), evib / mt, vc**2, sp
+        # the centre of mass's velocity after over its approach speed before
+        return vc * mt / -p0, ncol, t_last, tuple(times), evib / 2 / e0, mt * vc**2 / 2 / e0, sp
 
 
-def solve_precise(m, k, c=None, kc=math.inf, *, dps=40, max_events=2000) -> PreciseResult:
+def solve_precise(
+    m,
+    k,
+    c=None,
+    kc=math.inf,
+    *,
+    dps=40,
+    max_events=2000,
+    velocities=None,
+    stretches=None,
+    v0=1.0,
+) -> PreciseResult:
     """COR of the chain (m, k, c, kc) at ``dps`` digits, checked at ``dps + 20``.
 
     Parameters
@@ -223,6 +252,15 @@ def solve_precise(m, k, c=None, kc=math.inf, *, dps=40, max_events=2000) -> Prec
         every mass starts at -1 (V0 = 1), every spring unstretched, m[0] touching the wall.
     kc : float
         Contact spring stiffness, ``math.inf`` for a rigid wall.
+    velocities, stretches : sequence of float, optional
+        A given initial state (``restitution.Chain``): N velocities, positive towards the wall
+        (m[0] hits the wall at t = 0 if velocities[0] > 0, leaves it if < 0), and N - 1 link
+        extensions. The COR is then the centre of mass's velocity after over its approach speed
+        before, the energies fractions of the initial kinetic + spring energy. Time and length
+        units: ``v0`` is the unit of speed (the uniform approach's speed when velocities is
+        None), so t_col is in the units of m, k.
+    v0 : float
+        With stretches but no velocities, every mass approaches at v0.
     dps : int
         Decimal digits of the first run (the check runs at dps + 20).
     max_events : int
@@ -245,8 +283,20 @@ def solve_precise(m, k, c=None, kc=math.inf, *, dps=40, max_events=2000) -> Prec
     (1, 0.333333333333, True)
     """
     c = [0.0] * (len(m) - 1) if c is None else list(c)
-    lo = _sequence(m, k, c, kc, dps, max_events)
-    hi = _sequence(m, k, c, kc, dps + 20, max_events)
+    u0 = w0 = None
+    if velocities is not None or stretches is not None:
+        n = len(m)
+        w0 = [-float(x) for x in velocities] if velocities is not None else [-float(v0)] * n
+        u0 = [0.0] * n
+        if stretches is not None:  # u_{i+1} = u_i + stretches[i], summed exactly in mpmath
+            with mpmath.workdps(dps + 60):
+                acc = mpmath.mpf(0)
+                u0 = [acc]
+                for x in stretches:
+                    acc += mpmath.mpf(float(x))
+                    u0.append(acc)
+    lo = _sequence(m, k, c, kc, dps, max_events, u0, w0)
+    hi = _sequence(m, k, c, kc, dps + 20, max_events, u0, w0)
     if lo[0] is None or hi[0] is None:
         return PreciseResult(math.nan, hi[1], math.nan, "event_budget_exhausted", 0.0, math.inf)
     with mpmath.workdps(dps + 20):
@@ -263,7 +313,7 @@ def solve_precise(m, k, c=None, kc=math.inf, *, dps=40, max_events=2000) -> Prec
             float(diff) if same else math.inf,
             tuple(float(x) for x in hi[3]),
             hi[0],
-            float(hi[0] ** 2),
+            float(hi[5]),
             float(hi[4]),
-            tuple(float(x) for x in hi[5]),
+            tuple(float(x) for x in hi[6]),
         )

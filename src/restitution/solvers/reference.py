@@ -102,8 +102,14 @@ def solve_reference(
     steps_per_period=50,
     deadline=None,
     minima=True,
+    y0=None,
 ):
     """Reference solution of one two-mass scene; returns (out, hist) in the kernel layout.
+
+    ``y0`` (None: both masses at -v0, the spring unstretched) is a given initial state
+    [u1, u2, v1, v2] in kernel units with u1 = 0 (``restitution.Chain.initial_state``): m1 hits
+    the wall at t = 0 if v1 < 0, else a free flight comes first; the COR is then the centre of
+    mass's velocity after over before, the energies fractions of the initial energy.
 
     ``method`` is any ``solve_ivp`` method; ``atol`` defaults to ``rtol * v0``; ``max_step`` is
     the shortest local period / ``steps_per_period`` (``None``: no max_step); ``deadline`` (a
@@ -128,10 +134,17 @@ def solve_reference(
     y = np.array([0.0, 0.0, -v0, -v0, 0.0, 0.0])
     t, tcol, ncol = 0.0, 0.0, 1
     hist = [[0.0, 0.0, -1.0, 0.0, 0.0, 0.0]]
+    free0 = False
+    if y0 is not None:
+        y[:4] = y0
+        hist[0][LY.H_VIN] = y[2] / v0
+        free0 = y[2] > 0.0  # m1 leaves the wall: no contact at t = 0
+        if free0:
+            ncol, hist, mem["phase"] = 0, [], 0
     p_in = y[2] + alpha * y[3]
     ysep = y.copy()
     status = LY.STATUS_OK
-    if kind == laws.C_RIGID:
+    if kind == laws.C_RIGID and not free0:
         y[2] = -y[2]
         hist[0][LY.H_VOUT] = y[2] / v0
         hist[0][LY.H_IMPULSE] = (y[2] + alpha * y[3] - p_in) / v0
@@ -257,6 +270,9 @@ def solve_reference(
     out = np.zeros(LY.N_OUT)
     m = 1.0 + alpha
     e0 = 0.5 * m * v0 * v0
+    if y0 is not None:  # the given state's energy; the COR over its approach speed (below)
+        e0 = 0.5 * (y0[2] ** 2 + alpha * y0[3] ** 2) + laws.structure_energy(sp, y0[1] - y0[0])
+        v0 = -(y0[2] + alpha * y0[3]) / m
     vc = (ysep[2] + alpha * ysep[3]) / m
     w = ysep[3] - ysep[2]
     eel = laws.structure_energy(sp, ysep[1] - ysep[0])
@@ -264,6 +280,8 @@ def solve_reference(
     out[LY.OUT_NCOL] = ncol
     out[LY.OUT_TCOL] = tcol
     out[LY.OUT_ETRANS] = vc * vc / (v0 * v0)
+    if y0 is not None:
+        out[LY.OUT_ETRANS] = 0.5 * m * vc * vc / e0
     out[LY.OUT_EVIB] = (0.5 * alpha / m * w * w + eel) / e0
     out[LY.OUT_EDISS] = (ysep[4] + ysep[5]) / e0
     out[LY.OUT_NEVENTS] = ncol

@@ -35,7 +35,8 @@ _MARGIN = 1e-9  # log10 units: a ratio this close to its bound goes the row-by-r
 # columns, accepted only when every cell is missing. A new general-form column must be added
 # here too (tests/test_linear_rows.py checks that the two lists agree).
 READS = ("masses", "springs", "dashpots", "k_contact", "v0")
-LAW_COLUMNS = ("contact", "links")
+# (and the initial-state columns: a table that gives one goes row by row, as a law column)
+LAW_COLUMNS = ("contact", "links", "velocities", "stretches")
 
 
 def read(frame, columns, kc: np.ndarray, v0: np.ndarray, method: np.ndarray):

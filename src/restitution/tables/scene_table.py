@@ -33,7 +33,8 @@ from restitution.solvers.result import RESULT_COLUMNS, T_COL
 from restitution.tables import linear_rows
 
 PAPER = ("alpha", "beta", "xi", "n_masses")
-GENERAL = ("masses", "springs", "dashpots", "k_contact", "v0", "contact", "links")
+GENERAL = ("masses", "springs", "dashpots", "k_contact", "v0", "contact", "links", "velocities",
+           "stretches")  # fmt: skip
 LEGACY_LAWS = ("contact", "eta", "dr", "structure", "L", "ks_ratio", "theta0", "corner", "v0")
 SETTINGS = ("method", "rtol", "step")
 COLUMNS = tuple(dict.fromkeys((*PAPER, *GENERAL, *LEGACY_LAWS, *SETTINGS)))
@@ -291,7 +292,14 @@ class SceneTable:
                     parse_law("contact", cols["contact"][i], where) if "contact" in cols else None
                 )
                 links = parse_law("links", cols["links"][i], where) if "links" in cols else None
-                chains.append(Chain(masses, springs, dashpots, kc[i], v0[i], contact, links))
+                state = [  # the initial state's list cells (missing: the uniform approach)
+                    None
+                    if name not in cols or missing_list(cols[name][i])
+                    else parse_list(name, cols[name][i], where)
+                    for name in ("velocities", "stretches")
+                ]
+                chains.append(Chain(masses, springs, dashpots, kc[i], v0[i], contact, links,
+                                    *state))  # fmt: skip
             except SceneError as e:
                 msg = str(e)
                 raise SceneError(msg if where in msg else f"{msg} ({where})") from None
