@@ -6,11 +6,11 @@ the requested times, in the scene's own units, from the same event sequence the 
 * linear chains from their exact kernels (closed form per phase; ``attrs["method"]`` is
   ``"impulsive"`` or ``"piecewise"``);
 * every other scene (Hertz, plastic contact, scissor links) from the solver's own adaptive run
-  (``restitution.kernels.stepping.sample_scene``: the same DOP853 steps and events as
-  ``solve``, its result bit for bit), each sample from the 7th-order dense output of the step
-  that crosses it (in sigma = sqrt(x) at the ends of a power-law contact, in closed form in the
-  free flight of two masses with a linear link); ``attrs["method"]`` is ``"adaptive"`` and
-  ``attrs["rtol"]`` its tolerance.
+  (``restitution.kernels.stepping.sample_scene``: the same DOP853 steps and events as the run
+  at rtol/10 that ``solve`` returns, its result bit for bit), each sample from the 7th-order
+  dense output of the step that crosses it (in sigma = sqrt(x) at the ends of a power-law
+  contact, in closed form in the free flight of two masses with a linear link);
+  ``attrs["method"]`` is ``"adaptive"`` and ``attrs["rtol"]`` its tolerance (the setting).
 
 At a rigid wall a contact is an instant: it appears as an extra row at its time with
 ``event = "impact"`` and the wall's ``impulse``; the force column is 0 there (an impulse has no
@@ -153,21 +153,25 @@ def _sample_adaptive(ch: Chain, wt: np.ndarray, rtol: float, max_events: int):
     """(y, f, (evt, evk), hist, out) of the adaptive method's run of ``ch`` at the kernel times
     wt (any order): states (len(wt), 2n + 2) and forces in the stepping kernels' units (m_1 = 1,
     omega = 1, the scene's speed unit), the contact events (times, kinds), the history and the
-    result row."""
+    result row. The run is the one ``solve`` returns for this rtol: its finer run (rtol/10), or
+    where that one does not finish the setting's own."""
     from restitution.kernels import layout as LY
     from restitution.kernels import stepping
-    from restitution.solvers.numerical import _default_etol, packed
+    from restitution.solvers.numerical import _default_etol, _finer, packed
 
     ms, lk, cs, cp, _, _ = packed(ch)
     order = np.argsort(wt, kind="stable")
-    hist = np.zeros((max_events, LY.N_HIST))
     etol = _default_etol("adaptive", rtol, 0.0)
-    with blas.one_thread(ch.n_masses):
-        out, ys, fs, evt, evk = stepping.sample_scene(
-            ms, lk, cs, cp, float(ch.v0), rtol, etol, max_events,
-            float(stepping.MAX_WORK_DEFAULT), np.ascontiguousarray(wt[order]), hist,
-            ch.initial_state(1.0 / ch.omega, 1.0),  # (None: the uniform approach)
-        )  # fmt: skip
+    for tol in (_finer(rtol), rtol):
+        hist = np.zeros((max_events, LY.N_HIST))
+        with blas.one_thread(ch.n_masses):
+            out, ys, fs, evt, evk = stepping.sample_scene(
+                ms, lk, cs, cp, float(ch.v0), tol, etol, max_events,
+                float(stepping.MAX_WORK_DEFAULT), np.ascontiguousarray(wt[order]), hist,
+                ch.initial_state(1.0 / ch.omega, 1.0),  # (None: the uniform approach)
+            )  # fmt: skip
+        if out[LY.OUT_STATUS] == LY.STATUS_OK:
+            break
     y = np.empty_like(ys)
     y[order] = ys
     f = np.empty_like(fs)
