@@ -172,6 +172,38 @@ def event_poly(F, K, h, y0, w, b, coef):
     coef[1] = h * slope
 
 
+# An accepted step skips its dense output and root search when no event can trigger on it: every
+# g_k positive at both ends with min(g_0, g_1) > EXCLUDE_MARGIN * h * (the largest |g_k'| over
+# the step's 13 stages). g stays positive over the step if its true largest rate R is below
+# (g_0 + g_1) / h, i.e. within 2 * EXCLUDE_MARGIN = 4 times the sampled one: the stages sample
+# [0, h] at gaps of at most 0.27 h, on a step accurate to rtol.
+EXCLUDE_MARGIN = 2.0
+
+
+@njit(cache=True, error_model="numpy")
+def events_excluded(K, h, y, ynew, W, B, nev):
+    """True when no event g_k = W[k].y + B[k] (k < nev) can trigger on the accepted step from y
+    to ynew (stages K[0:13]): see EXCLUDE_MARGIN. False for NaN and for an event on its surface."""
+    n = y.shape[0]
+    for k in range(nev):
+        g0 = B[k]
+        g1 = B[k]
+        for i in range(n):
+            g0 += W[k, i] * y[i]
+            g1 += W[k, i] * ynew[i]
+        if not (g0 > 0.0 and g1 > 0.0):
+            return False
+        rate = 0.0
+        for s in range(N_ST + 1):
+            r = 0.0
+            for i in range(n):
+                r += W[k, i] * K[s, i]
+            rate = max(rate, abs(r))
+        if not (min(g0, g1) > EXCLUDE_MARGIN * abs(h) * rate):
+            return False
+    return True
+
+
 @njit(cache=True, error_model="numpy")
 def dense_state(y0, F, theta, out):
     """y(theta) on the dense output (scipy's Dop853DenseOutput: nested theta, 1 - theta)."""
@@ -482,6 +514,40 @@ def branch_switch(mb, bstrip, i, side):
     bstrip[i, 0 if side > 0 else 1] = 1
 
 
+# A Newton correction of an event time below NEWTON_TAYLOR of the step is applied to the state by
+# its Taylor series to second order (y'' from the step's end slopes) instead of a second step:
+# the neglected terms, ~ step**2 dt |y(3)| / 2, are below 1e-12 dt**3 |y(3)| there.
+NEWTON_TAYLOR = 1e-6
+
+
+@njit(cache=True, error_model="numpy")
+def event_state(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp, w, b, work):
+    """ynew = the state at the event g = w.y + b = 0 located at dt on the dense output: by a
+    DOP853 step of its own and one Newton correction of the time (g / g') on that state, so the
+    state carries the step's 8th order, not the dense output's 7th (the interpolant of a long
+    step put event times off by ~1e-10 relative). Returns the corrected dt."""
+    n = y.shape[0]
+    work[0] -= 12.0
+    dp_step(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp)
+    g = b
+    gd = 0.0
+    for i in range(n):
+        g += w[i] * ynew[i]
+        gd += w[i] * K[N_ST, i]
+    step = -g / gd
+    if not (abs(step) < 0.01 * dt and abs(step) > 1e-15 * dt):
+        return dt
+    if abs(step) <= NEWTON_TAYLOR * dt:
+        for i in range(n):
+            acc = (K[N_ST, i] - K[0, i]) / dt
+            ynew[i] += step * (K[N_ST, i] + 0.5 * step * acc)
+        return dt + step
+    dt += step
+    work[0] -= 12.0
+    dp_step(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp)
+    return dt
+
+
 @njit(cache=True, error_model="numpy")
 def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, stop, work, err_acc):
     """Integrate with DOP853 until the first event (or ``stop``); y is updated in place.
@@ -520,21 +586,22 @@ def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, sto
             fac = 0.2 if not err == err else max(0.2, 0.9 * err**-0.125)
             h *= fac
             continue
-        work[0] -= 3.0
-        dense_coeffs(y, ynew, K, h, m, lk, c, cp, mb, F, tmp)
         best = 2.0
         which = -1
-        for k in range(nev):
-            event_poly(F, K, h, y, W[k], B[k], coef)
-            s = 0
-            if first and strip[k] > 0:
-                coef[0] = 0.0
-                s = strip[k]
-                while s < N_DENSE and coef[s] == 0.0:
-                    s += 1
-            th = first_root(coef, N_DENSE, s)
-            if th >= 0.0 and th < best:
-                best, which = th, k
+        if held or not events_excluded(K, h, y, ynew, W, B, nev):
+            work[0] -= 3.0
+            dense_coeffs(y, ynew, K, h, m, lk, c, cp, mb, F, tmp)
+            for k in range(nev):
+                event_poly(F, K, h, y, W[k], B[k], coef)
+                s = 0
+                if first and strip[k] > 0:
+                    coef[0] = 0.0
+                    s = strip[k]
+                    while s < N_DENSE and coef[s] == 0.0:
+                        s += 1
+                th = first_root(coef, N_DENSE, s)
+                if th >= 0.0 and th < best:
+                    best, which = th, k
         err_acc[0] += _momentum_error(K, h, m)
         hn = h * min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.125))
         if held and still < 2:
@@ -557,27 +624,12 @@ def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, sto
                 h = hn
                 continue
         if which >= 0:
-            # The state at the event by a step of its own, and one Newton correction of the
-            # event time on that state (g / g'): the step's order, not the dense output's one
-            # lower (the interpolant of a long step put the time off by ~1e-10 relative).
             dt = best * h
             if dt > 0.0:
-                for it in range(2):
-                    work[0] -= 12.0
-                    dp_step(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp)
-                    if it == 1:
-                        break
-                    g = B[which]
-                    gd = 0.0
-                    for i in range(n):
-                        g += W[which, i] * ynew[i]
-                        gd += W[which, i] * K[N_ST, i]
-                    step = -g / gd
-                    if not (abs(step) < 0.01 * dt and abs(step) > 1e-15 * dt):
-                        break
-                    dt += step
+                dt = event_state(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp,
+                                 W[which], B[which], work)  # fmt: skip
                 y[:] = ynew
-            return which, t + dt, max(dt, 0.1 * h)
+            return which, t + dt, hn
         y[:] = ynew
         f0[:] = K[N_ST]
         t += h
@@ -594,6 +646,14 @@ def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, sto
 SIG_DONE = 0  # reached the target sigma
 SIG_LEFT = 1  # x' fell below half its start value: the caller goes on in time
 SIG_FAIL = 2  # step underflow or work budget
+
+
+@njit(cache=True, error_model="numpy")
+def sigma_first_step(span, rtol):
+    """The first step of a sigma stretch: span * min(0.25, 0.13 (rtol/1e-12)**(1/8)). At a
+    quarter of the span the first step's error norm was ~100 at rtol 1e-12 (Hertz contacts:
+    a rejected step per stretch); DOP853's error grows like h**8, so this size lands near 0.5."""
+    return span * min(0.25, 0.13 * (rtol / 1e-12) ** 0.125)
 
 
 @njit(cache=True, error_model="numpy")
@@ -619,7 +679,7 @@ def sigma_phase(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc):
     f0 = np.empty(nz)
     rhs_sigma(s0, z, m, lk, c, cp, mem, f0)
     span = s_b - s0
-    h = 0.25 * span
+    h = sigma_first_step(span, rtol)
     s = s0
     code = SIG_FAIL
     while work[0] > 0.0:
@@ -791,11 +851,13 @@ def rk_phase_sampled(
             fac = 0.2 if not err == err else max(0.2, 0.9 * err**-0.125)
             h *= fac
             continue
-        work[0] -= 3.0
-        dense_coeffs(y, ynew, K, h, m, lk, c, cp, mb, F, tmp)
         best = 2.0
         which = -1
-        for k in range(nev):
+        search = held or not events_excluded(K, h, y, ynew, W, B, nev)
+        if search:  # the work rk_phase counts (the samples need the dense output anyway)
+            work[0] -= 3.0
+        dense_coeffs(y, ynew, K, h, m, lk, c, cp, mb, F, tmp)
+        for k in range(nev if search else 0):
             event_poly(F, K, h, y, W[k], B[k], coef)
             s = 0
             if first and strip[k] > 0:
@@ -834,24 +896,12 @@ def rk_phase_sampled(
         if which >= 0:
             dt = best * h
             if dt > 0.0:
-                for it in range(2):
-                    work[0] -= 12.0
-                    dp_step(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp)
-                    if it == 1:
-                        break
-                    g = B[which]
-                    gd = 0.0
-                    for i in range(n):
-                        g += W[which, i] * ynew[i]
-                        gd += W[which, i] * K[N_ST, i]
-                    step = -g / gd
-                    if not (abs(step) < 0.01 * dt and abs(step) > 1e-15 * dt):
-                        break
-                    dt += step
+                dt = event_state(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp,
+                                 W[which], B[which], work)  # fmt: skip
                 # F is still the dense output of the whole step from y (dp_step leaves it)
                 sample_dense(y, F, t, h, t + dt, False, cp, mem, ts, si, Ys, Fs)
                 y[:] = ynew
-            return which, t + dt, max(dt, 0.1 * h)
+            return which, t + dt, hn
         sample_dense(y, F, t, h, t + h, True, cp, mem, ts, si, Ys, Fs)
         y[:] = ynew
         f0[:] = K[N_ST]
@@ -957,7 +1007,7 @@ def sigma_phase_sampled(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc,
     f0 = np.empty(nz)
     rhs_sigma(s0, z, m, lk, c, cp, mem, f0)
     span = s_b - s0
-    h = 0.25 * span
+    h = sigma_first_step(span, rtol)
     s = s0
     code = SIG_FAIL
     while work[0] > 0.0:
