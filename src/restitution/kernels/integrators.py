@@ -488,6 +488,31 @@ def first_branch_root(F, K, h, y, m, lk, mb, bstrip, coef, g):
 
 
 @njit(cache=True, error_model="numpy")
+def branches_excluded(K, h, y, ynew, m, lk, mb):
+    """True when no scissor link can reach an end of the branch it is held on during the
+    accepted step from y to ynew: ``events_excluded``'s rate test on each extension against
+    each finite end of its branch (False for a link on an end)."""
+    nm = m.shape[0]
+    for i in range(nm - 1):
+        if lk[i, SP_KIND] != S_SCISSOR:
+            continue
+        x0 = y[i + 1] - y[i]
+        x1 = ynew[i + 1] - ynew[i]
+        rate = 0.0
+        for s in range(N_ST + 1):
+            rate = max(rate, abs(K[s, i + 1] - K[s, i]))
+        margin = EXCLUDE_MARGIN * abs(h) * rate
+        br = int(mb[N_MEM + i])
+        lo = scissor_point(lk[i], br - 1)
+        hi = scissor_point(lk[i], br)
+        if abs(lo) < math.inf and not (min(x0, x1) - lo > margin):
+            return False
+        if abs(hi) < math.inf and not (hi - max(x0, x1) > margin):
+            return False
+    return True
+
+
+@njit(cache=True, error_model="numpy")
 def step_to_point(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp, i, p, work):
     """``rk_phase``'s step to an event, for link i reaching x_i = p: a step of its own and one
     Newton correction of its length on that state; ynew is the state there. Returns the length."""
@@ -588,7 +613,10 @@ def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, sto
             continue
         best = 2.0
         which = -1
-        if held or not events_excluded(K, h, y, ynew, W, B, nev):
+        search = not events_excluded(K, h, y, ynew, W, B, nev) or (
+            held and not branches_excluded(K, h, y, ynew, m, lk, mb)
+        )
+        if search:
             work[0] -= 3.0
             dense_coeffs(y, ynew, K, h, m, lk, c, cp, mb, F, tmp)
             for k in range(nev):
@@ -604,7 +632,7 @@ def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, sto
                     best, which = th, k
         err_acc[0] += _momentum_error(K, h, m)
         hn = h * min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.125))
-        if held and still < 2:
+        if held and still < 2 and search:
             bt, bi, bs = first_branch_root(F, K, h, y, m, lk, mb, bstrip, coef, gb)
             if bt >= 0.0 and bt < best:  # a branch point first: step to it, go on past it
                 dt = bt * h
@@ -853,7 +881,9 @@ def rk_phase_sampled(
             continue
         best = 2.0
         which = -1
-        search = held or not events_excluded(K, h, y, ynew, W, B, nev)
+        search = not events_excluded(K, h, y, ynew, W, B, nev) or (
+            held and not branches_excluded(K, h, y, ynew, m, lk, mb)
+        )
         if search:  # the work rk_phase counts (the samples need the dense output anyway)
             work[0] -= 3.0
         dense_coeffs(y, ynew, K, h, m, lk, c, cp, mb, F, tmp)
@@ -870,7 +900,7 @@ def rk_phase_sampled(
                 best, which = th, k
         err_acc[0] += _momentum_error(K, h, m)
         hn = h * min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.125))
-        if held and still < 2:
+        if held and still < 2 and search:
             bt, bi, bs = first_branch_root(F, K, h, y, m, lk, mb, bstrip, coef, gb)
             if bt >= 0.0 and bt < best:
                 dt = bt * h
