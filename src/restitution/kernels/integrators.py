@@ -27,7 +27,11 @@ enters and leaves within one step is found. An event that starts the phase at g 
 surface) is handled exactly by dividing out the zero leading coefficients (theta**k): the linear
 coefficient is h w.f(y0) itself. The state at the event is then computed by a step of its own
 to the root, with one Newton correction of the time (g / g') on that state, so it carries the
-step's 8th order, not the interpolant's 7th.
+step's 8th order, not the interpolant's 7th (a Newton step below 1e-6 of the step is applied by
+the state's Taylor series instead of a second step). A step on which no event can trigger skips
+the dense output (its three extra stages) and the search: every g_k positive at both ends by
+more than 2 h times the largest |g_k'| over the step's 13 stages (``events_excluded``; the ends
+of a held scissor branch likewise, ``branches_excluded``).
 
 Non-smooth points. A contact on the power law F = kappa x**eta from x = 0 (Hertz's x**1.5 at
 both ends of every contact; the plastic law's first loading) makes y(t) a series in powers
