@@ -1739,37 +1739,6 @@ def solve_mass_kv(kc, cc, max_events, hist):
     return _checked_units(ms, ks, cs, kcs, max_events, hist, WORK_MAX, False, None, ccs)
 
 
-@njit(parallel=True, cache=True)
-def solve_chain_kv_batch(m, k, c, n, kc, cc, max_events):
-    """``solve_chain_batch`` with a Kelvin-Voigt contact dashpot per row, cc (rows,) (0: the
-    linear contact)."""
-    rows = n.size
-    out = np.full((rows, N_OUT), math.nan)
-    for i in range(rows):
-        out[i, OUT_STATUS] = STATUS_NOT_RUN
-    nb, size, p = row_blocks(rows)
-    for j in prange(nb):
-        b = (j * p) % nb
-        hist = np.zeros((0, N_HIST))
-        for i in range(b * size, min(rows, b * size + size)):
-            ni = n[i]
-            if ni < 2 or ni > m.shape[1] or not _valid_kv(kc[i], cc[i]):
-                out[i, :] = _fail(np.empty(N_OUT), STATUS_INVALID)
-                continue
-            out[i, :] = _solve(
-                np.ascontiguousarray(m[i, :ni]),
-                np.ascontiguousarray(k[i, : ni - 1]),
-                np.ascontiguousarray(c[i, : ni - 1]),
-                kc[i],
-                max_events,
-                hist,
-                WORK_MAX,
-                None,
-                cc[i],
-            )
-    return out
-
-
 @njit(cache=True)
 def _valid_state(m, y0):
     """An initial state the kernel takes: 2 n finite numbers, u[0] = 0, v[0] != 0 and the
