@@ -150,9 +150,10 @@ def solve_general_many(masses, springs, dashpots=None, contact=None, links=None,
     return restitution.solve_many(frame, max_events=max_events)
 
 
-def check_table_and_cli_agree(contact: dict) -> None:
+def check_table_and_cli_agree(contact: dict, method: str = "adaptive") -> None:
     """A contact law given as a table cell (a mapping, and JSON text as a CSV cell gives it) and
-    on the command line (--contact-law) gives solve()'s COR, by the adaptive method."""
+    on the command line (--contact-law) gives solve()'s COR, by the method ``auto`` picks for
+    it (``method``: adaptive, or piecewise for the Kelvin-Voigt contact)."""
     import contextlib
     import io
     import json
@@ -174,6 +175,7 @@ def check_table_and_cli_agree(contact: dict) -> None:
     many = restitution.solve_many(table)
     assert many["cor"].tolist() == [one.cor, three.cor]
     assert many["status"].tolist() == ["ok", "ok"]
+    assert one.method == three.method == method and many["method"].tolist() == [method] * 2
     out = io.StringIO()
     with contextlib.redirect_stdout(out):
         code = main(
@@ -182,7 +184,7 @@ def check_table_and_cli_agree(contact: dict) -> None:
         )  # fmt: skip
     assert code == 0
     cli = json.loads(out.getvalue())
-    assert cli["cor"] == one.cor and cli["method"] == "adaptive"
+    assert cli["cor"] == one.cor and cli["method"] == method
 
 
 def random_soft_chain(rng, n: int):

@@ -323,7 +323,7 @@ def test_bad_parameters_name_themselves(contact, text):
 
 def test_solve_many_and_the_command_line_agree_with_solve():
     kv = {"law": KV, "k": 3.0, "c": 0.4}
-    check_table_and_cli_agree(kv)
+    check_table_and_cli_agree(kv, "piecewise")  # the exact method (test_kelvin_voigt_exact.py)
 
 
 @pytest.mark.parametrize("n", [2, 3, 4, 5])

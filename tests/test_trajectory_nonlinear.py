@@ -243,6 +243,8 @@ def test_velocities_after_the_last_contact_give_the_cor(scene):
     ch = Chain(**scene)
     r = solve(ch)
     f = trajectory(ch, [0.5 * r.t_col, 1.2 * r.t_col, 3.0 * r.t_col])
+    if f.attrs["method"] != r.method:  # Kelvin-Voigt: solved by piecewise, sampled by adaptive
+        r = solve(ch, method=f.attrs["method"], rtol=f.attrs["rtol"])
     late = f[f["event"] == "sample"].iloc[-1]
     m = np.array(scene["masses"])
     p = sum(mi * late[f"v_{i + 1}"] for i, mi in enumerate(m))

@@ -38,7 +38,7 @@ from restitution.model.units import (
     user_time,
 )
 from restitution.solvers import blas, exact
-from restitution.solvers.methods import Options, check_events, choose
+from restitution.solvers.methods import METHODS, Options, check_events, choose
 
 
 def _scene(scene, keywords: dict) -> tuple[Chain, dict]:
@@ -289,6 +289,8 @@ def trajectory(
         raise SceneError("rtol given twice")
     rtol = settings.get("rtol", rtol)
     chosen = choose(ch)
+    if exact.kelvin_voigt(ch):  # (the exact sampler has no Kelvin-Voigt contact: adaptive)
+        chosen = METHODS["adaptive"]
     max_events = check_events(max_events, history=True)  # impacts are read from a history
     t = _times(times)
     w, m1, v0 = ch.omega, float(ch.masses[0]), ch.v0

@@ -3,8 +3,9 @@
 Model (non-dimensional: m1 = 1, V0 = 1, omega = 1 with omega^2 = k_12/m_1 + k_12/m_2; inputs in
 other units are rescaled on entry, so every time in and out is omega * t). Masses m_1..m_N
 (m_1 touches the wall), a spring k_i and a dashpot c_i >= 0 between m_i and m_{i+1}, and at the
-wall either a rigid wall (kc = inf: impulsive, v1 -> -v1) or a linear contact spring kc on m_1
-while u_1 < 0. At t = 0 all u = 0 and all v = -1.
+wall either a rigid wall (kc = inf: impulsive, v1 -> -v1), a linear contact spring kc on m_1
+while u_1 < 0, or a Kelvin-Voigt contact (kc with a dashpot cc, see below). At t = 0 all
+u = 0 and all v = -1.
 
 Closed form per phase
 ---------------------
@@ -29,6 +30,25 @@ can come). Dissipation is integrated per dashpot in closed form (a sum over pair
 (e^{(lam_p + lam_q) T} - 1) / (lam_p + lam_q) terms, restitution.kernels.locator._diss_modal),
 from the modal amplitudes alone: it never uses the propagated state, so the energy account is an
 independent check. Where those terms would cancel, Gauss-Legendre (round-off exact) is used.
+
+Kelvin-Voigt contact
+--------------------
+A contact dashpot cc in parallel with kc (solve_chain_kv; F = max(0, kc x + cc x'), x = -u_1,
+restitution.model.laws) keeps every phase linear. *Contact phase*: the chain with kc and cc from
+m_1 to the ground (_modal_model(..., kc, cc)); it ends where the force returns to 0,
+kc x + cc x' = 0, an exponential sum with the penetration's modal coefficients times
+(kc + cc lam), located by the same locator (from cc x' > 0 at a contact from the wall); x > 0
+there in general. *Free stretch*: m_1 then flies free inside the penetration (the free phase's
+modes, for two masses too): until the force rises through 0 again while x > 0 (a new contact,
+counted, starting inside; its v1_in is then > 0) or x falls to 0 (the free flight from the
+wall), whichever the locator finds first. Energy: the contact dashpot's work is integrated in
+closed form with the link dashpots (it is link 0 from the ground to m_1 in _diss_links), the
+spring's kc x^2 / 2 left at a force-zero end is booked as dissipated (the massless surface
+relaxes) and that of a contact starting inside is taken back, so the account is the contact's
+work on m_1 and closes to round-off. The replicas move cc like kc (relative). A scene of one
+mass (solve_mass_kv, for the closed form of the tests) runs the same loop with no free modes.
+No rigid-limit policy applies (the laws' ranges keep kc finite). An exactly critically damped
+contact mode (one mass at zeta = 1) has a defective eigenbasis: STATUS_ILL_CONDITIONED.
 
 Chatter and sticking
 --------------------
@@ -530,6 +550,8 @@ def _total(m):
     m_2 = ... = m_N gives m_1 + (N - 1) m_2 exactly as rounded before (dashpot chatter is so
     sensitive that 1 ulp of the total mass moves the COR by ~1e-11 after 900 contacts)."""
     n = m.size
+    if n == 1:
+        return m[0]
     uniform = True
     for i in range(2, n):
         if m[i] != m[1]:
@@ -752,6 +774,7 @@ def _run(
     force_t=0.0,
     force_v=0.0,
     y0=None,
+    cc=0.0,
 ):
     """Solve one scene in normalised units (m[0] = 1, omega = 1); fill ``hist`` and, if rec has
     rows, record every phase start as [t0, kind (PH_*), duration, u(n), v(n)]. ``jitter`` > 0
@@ -766,6 +789,12 @@ def _run(
     the centre of mass's velocity after over its approach speed before, and the energies are
     fractions of the initial kinetic + spring energy.
 
+    ``cc`` > 0 (with a finite kc): a Kelvin-Voigt contact, the dashpot cc in parallel with kc,
+    whose contact ends where the force -(kc u1 + cc v1) returns to 0 while u1 < 0; m1 then flies
+    free inside the penetration until that force rises through 0 again (a new contact there) or
+    u1 rises through 0 (the free flight). See the module docstring, "Kelvin-Voigt contact".
+    A chain of one mass (n = 1) is taken with a Kelvin-Voigt contact (no free modes).
+
     Returns (out, n_records, closest pass) with the closest pass (band units, free flight
     index, time, approach speed of a contact at the band's depth there; see _checked_units).
     """
@@ -775,8 +804,9 @@ def _run(
     rigid = kc == math.inf
     mt = _total(m)
     floor = DISS_FLOOR * 0.5 * mt  # of a phase's dissipation: see _diss_phase
-    mu = m[1] / (m[0] + m[1])
-    xi = c[0] / (2.0 * k[0])  # of the scalar two-mass oscillator (omega = 1)
+    kv = cc > 0.0 and not rigid  # a Kelvin-Voigt contact (its dashpot cc on m1)
+    mu = m[1] / (m[0] + m[1]) if n > 1 else 0.0
+    xi = c[0] / (2.0 * k[0]) if n > 1 else 0.0  # of the scalar two-mass oscillator (omega = 1)
     if xi < XI_NEGLIGIBLE:
         xi = 0.0  # subnormal: undamped to within any float (see kernels.rigid2)
     q2 = (1.0 - xi) * (1.0 + xi)  # its 1 - xi^2 and frequency, as restitution.kernels.rigid2
@@ -784,18 +814,28 @@ def _run(
     status = STATUS_OK
     flags = 0
     cond = 1.0
-    if n > 2:
+    if n > 2 or kv:  # (two masses: the closed-form walk, except inside a KV penetration)
         lamF, UF, PF, condF = _safe_model(m, k, c, 0.0, 0.0, True)
         cond = max(cond, condF)
     else:
         lamF, UF, PF = _empty_model(n)
     A1F, A2F, BF = _diss_matrices(UF, lamF, c, 0)
+    # The contact phase's dashpots: the links' (offset 0), or with a Kelvin-Voigt contact its
+    # dashpot cc as a link 0 from the ground to m1 followed by the links (offset 1, so that
+    # link i >= 1 joins masses i - 1 and i; _diss_links).
+    cC = np.empty(n if kv else n - 1)
+    offC = 1 if kv else 0
+    if kv:
+        cC[0] = cc
+        cC[1:] = c
+    else:
+        cC[:] = c
     if not rigid:
-        lamC, UC, PC, condC = _safe_model(m, k, c, kc, 0.0, False)
+        lamC, UC, PC, condC = _safe_model(m, k, c, kc, cc if kv else 0.0, False)
         cond = max(cond, condC)
     else:
         lamC, UC, PC = _empty_model(n)
-    A1C, A2C, BC = _diss_matrices(UC, lamC, c, 0)
+    A1C, A2C, BC = _diss_matrices(UC, lamC, cC, offC)
     lamS, US, PS = _empty_model(n - 1)  # clamped chain m_2..m_N, built on first sticking
     A1S, A2S, BS = _diss_matrices(US, lamS, c, 1)
     have_stick = False
@@ -821,7 +861,10 @@ def _run(
     # one allocation per scene instead of three or four per contact.
     zbuf = np.empty(2 * n, np.complex128)
     bbuf = np.empty(2 * n, np.complex128)
+    xbuf = np.empty(2 * n if kv else 0, np.complex128)  # a KV phase's penetration
     res = np.empty(N_RES)
+    inside = False  # (KV) m1 free inside the penetration: the phase after a force-zero end
+    recontact = False  # (KV) the contact starts inside the penetration, where the force rose
     t = 0.0
     t_last = 0.0
     ncol = 1
@@ -883,10 +926,24 @@ def _run(
                 p_in += m[i] * v[i]
             z = _project(PC, y, zbuf)
             bgap = bbuf[: z.size]
-            for q in range(z.size):
-                bgap[q] = -UC[0, q] * z[q]
+            g0 = 0.0  # the end event's function at the start: the penetration, 0 at the wall
+            if kv:
+                # The force kc x + cc x' = -(kc u1 + cc v1): its modal coefficients are the
+                # penetration's times (kc + cc lam); it is cc x' > 0 at a contact from the
+                # wall, 0 at one from inside the penetration (started by that very event).
+                bx = xbuf[: z.size]
+                for q in range(z.size):
+                    bx[q] = -UC[0, q] * z[q]
+                    bgap[q] = -(kc + cc * lamC[q]) * UC[0, q] * z[q]
+                if not recontact:
+                    g0 = -(kc * u[0] + cc * v[0])
+                x0 = -u[0]
+                ediss -= 0.5 * kc * x0 * x0  # the contact spring is loaded again (W = F x')
+            else:
+                for q in range(z.size):
+                    bgap[q] = -UC[0, q] * z[q]
             code = _locate(
-                0.0,
+                g0,
                 0.0,
                 bgap,
                 lamC,
@@ -904,22 +961,36 @@ def _run(
                 # Dissipation to infinite time, in closed form (the slowest decay can be 1e10
                 # times slower than the fastest mode: no quadrature reaches it in bounded work).
                 slow = _slowest(bgap, lamC)
-                ediss += _diss_links(math.inf, z, lamC, UC, c, 0)
+                ediss += _diss_links(math.inf, z, lamC, UC, cC, offC)
                 if ncol - 1 < nh:
                     hist[ncol - 1, H_TEND] = math.inf
                     hist[ncol - 1, H_VOUT] = 0.0
-                    hist[ncol - 1, H_XMAX] = _xmax(info[2], 80.0 / slow, 0.0, 0.0, bgap, lamC)
+                    if kv:
+                        xm = _xmax(0.0, 80.0 / slow, -u[0], 0.0, xbuf[: z.size], lamC)
+                    else:
+                        xm = _xmax(info[2], 80.0 / slow, 0.0, 0.0, bgap, lamC)
+                    hist[ncol - 1, H_XMAX] = xm
                     hist[ncol - 1, H_IMPULSE] = -p_in
                 break
             te = info[0]
-            dw, cost = _diss_phase(te, z, lamC, A1C, A2C, BC, UC, c, 0, work_max - work, floor)
+            dw, cost = _diss_phase(te, z, lamC, A1C, A2C, BC, UC, cC, offC, work_max - work, floor)
             work += cost
             if work > work_max:
                 status = STATUS_WORK_BUDGET
                 break
             ediss += dw
+            x0 = -u[0]
             _modal_state(te, z, lamC, UC, 0.0, 0.0, u, v)
-            u[0] = 0.0  # separation: exactly at the wall
+            inside = False
+            if not kv:
+                u[0] = 0.0  # separation: exactly at the wall
+            elif u[0] < 0.0:
+                # The force is 0 with m1 inside the penetration: the spring's energy there is
+                # lost (the massless surface relaxes), and m1 flies free inside.
+                ediss += 0.5 * kc * u[0] * u[0]
+                inside = True
+            else:
+                u[0] = 0.0  # (the force-zero end at the wall itself)
             t += te
             t_last = t
             if nrec - 1 < rec.shape[0]:
@@ -930,9 +1001,84 @@ def _run(
                     p_out += m[i] * v[i]
                 hist[ncol - 1, H_TEND] = t
                 hist[ncol - 1, H_VOUT] = v[0]
-                hist[ncol - 1, H_XMAX] = _xmax(info[2], te, 0.0, 0.0, bgap, lamC)
+                if kv:
+                    xm = _xmax(0.0, te, x0, 0.0, xbuf[: z.size], lamC)
+                else:
+                    xm = _xmax(info[2], te, 0.0, 0.0, bgap, lamC)
+                hist[ncol - 1, H_XMAX] = xm
                 hist[ncol - 1, H_IMPULSE] = p_out - p_in
             in_contact = False
+            continue
+        if inside:
+            # (KV) Free inside the penetration (x = -u1 > 0, force 0): until the force
+            # -(kc u1 + cc v1) rises through 0 (a new contact, from inside) or x falls to 0 (on
+            # to the free flight). Both are exponential sums of the free modes plus the centre
+            # of mass's X0 + V t, located by the same locator.
+            X0 = 0.0
+            V = 0.0
+            for i in range(n):
+                X0 += m[i] * u[i]
+                V += m[i] * v[i]
+            X0 /= mt
+            V /= mt
+            for i in range(n):
+                y[i] = u[i] - X0
+                y[n + i] = v[i] - V
+            z = _project(PF, y, zbuf)
+            bx = xbuf[: z.size]
+            bgap = bbuf[: z.size]
+            for q in range(z.size):
+                bx[q] = -UF[0, q] * z[q]
+                bgap[q] = (kc + cc * lamF[q]) * UF[0, q] * z[q]
+            code_x = _locate(
+                -u[0], -V, bx, lamF, False, info, _steps_left(work_max - work, z.size), res, band
+            )
+            work += (info[3] + 1.0) * (z.size + 1)
+            tx = info[0]
+            code = _locate(
+                0.0,  # the force-zero end itself
+                kc * V,
+                bgap,
+                lamF,
+                False,
+                info,
+                _steps_left(work_max - work, z.size),
+                res,
+                band,
+            )
+            work += (info[3] + 1.0) * (z.size + 1)
+            tg = info[0]
+            if code_x == LOC_BUDGET or code == LOC_BUDGET:
+                status = STATUS_WORK_BUDGET if work >= work_max else STATUS_NONCONVERGED
+                break
+            if code_x != LOC_EVENT and code != LOC_EVENT:
+                status = STATUS_NONCONVERGED  # (m1 inside for ever: not a motion of the model)
+                break
+            out_first = code_x == LOC_EVENT and (code != LOC_EVENT or tx <= tg)
+            te = tx if out_first else tg
+            dw, cost = _diss_phase(te, z, lamF, A1F, A2F, BF, UF, c, 0, work_max - work, floor)
+            work += cost
+            if work > work_max:
+                status = STATUS_WORK_BUDGET
+                break
+            ediss += dw
+            _modal_state(te, z, lamF, UF, X0, V, u, v)
+            t += te
+            if nrec - 1 < rec.shape[0]:
+                rec[nrec - 1, 2] = te
+            inside = False
+            if out_first:
+                u[0] = 0.0  # m1 leaves the penetration: the free flight from the wall
+                continue
+            if ncol >= max_events:
+                status = STATUS_EVENT_BUDGET
+                break
+            ncol += 1
+            if ncol - 1 < nh:
+                hist[ncol - 1, H_TSTART] = t
+                hist[ncol - 1, H_VIN] = v[0]
+            in_contact = True
+            recontact = True
             continue
         # Free flight.
         nfree += 1
@@ -1028,6 +1174,7 @@ def _run(
             hist[ncol - 1, H_VIN] = v[0]
         if not rigid:
             in_contact = True
+            recontact = False
             continue
         vin = v[0]
         force = k[0] * u[1] + c[0] * v[1]  # of link 1 on m1 held at the wall (< 0: compressive)
@@ -1220,12 +1367,21 @@ def _valid(m, k, c, kc, max_events):
 def _normalise(m, k, c, kc):
     """(m, k, c, kc) in the kernel's units m[0] = 1, omega = 1 (unchanged, bit for bit, when
     they already are)."""
-    w2 = k[0] / m[0] + k[0] / m[1]
+    w2 = k[0] / m[0] + k[0] / m[1] if m.size > 1 else kc / m[0]  # (one mass: its contact)
     if m[0] == 1.0 and abs(w2 - 1.0) <= 4.0 * EPS:
         return m.copy(), k.copy(), c.copy(), kc
     m0 = m[0]
     w = math.sqrt(w2)
     return m / m0, k / (m0 * w2), c / (m0 * w), kc / (m0 * w2)
+
+
+@njit(cache=True)
+def _scale_dashpot(m, k, kc, cc):
+    """A contact dashpot cc of the scene (m, k, kc) in the units _normalise gives (as c)."""
+    w2 = k[0] / m[0] + k[0] / m[1] if m.size > 1 else kc / m[0]
+    if m[0] == 1.0 and abs(w2 - 1.0) <= 4.0 * EPS:
+        return cc
+    return cc / (m[0] * math.sqrt(w2))
 
 
 @njit(cache=True)
@@ -1246,6 +1402,7 @@ def _solve_units(
     force_v=0.0,
     stick=1.0,
     y0=None,
+    ccs=0.0,
 ):
     """(out, closest pass) of one run (_run's; the closest pass is none for two masses at a rigid
     wall, whose kernel walks the gap's critical points in closed form). ``stick`` scales the
@@ -1275,6 +1432,7 @@ def _solve_units(
         force_t,
         force_v,
         y0,
+        ccs,
     )
     return out, closest
 
@@ -1317,7 +1475,7 @@ def _replica_scene(m, k, c, kc, seed):
 
 
 @njit(cache=True)
-def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=None):
+def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=None, ccs=0.0):
     """_solve_units with the replica check (restitution.kernels.replica): a finished row's
     error estimate covers the round-off its replica reveals, or the row is ill-conditioned.
 
@@ -1339,8 +1497,11 @@ def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=N
 
     ``y0`` (an initial state, _run) is shared by the replicas as given: a replica scene that
     _normalise rescales moves it by JITTER-sized amounts, one more perturbation of the
-    round-off size the replicas emulate."""
-    out, near = _solve_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, 0.0, 0, y0=y0)
+    round-off size the replicas emulate. ``ccs``: a Kelvin-Voigt contact's dashpot (_run),
+    moved by JITTER relative to itself in the replicas, as the contact spring."""
+    out, near = _solve_units(
+        ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, 0.0, 0, y0=y0, ccs=ccs
+    )
     if not finished(out[OUT_STATUS]):
         return out
     nohist = np.zeros((0, N_HIST))
@@ -1348,7 +1509,13 @@ def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=N
     dev = 0.0  # the replicas' largest deviation of the closest pass (bands)
     for r in range(REPLICAS):
         seed = r * REPLICA_SEED
-        mr, kr, cr, kcr = _normalise(*_replica_scene(ms, ks, cs, kcs, seed))
+        mr0, kr0, cr0, kcr0 = _replica_scene(ms, ks, cs, kcs, seed)
+        ccr = 0.0
+        if ccs > 0.0:
+            ccr = _scale_dashpot(
+                mr0, kr0, kcr0, ccs * (1.0 + JITTER * weyl(seed + 3 * ms.size + 1))
+            )
+        mr, kr, cr, kcr = _normalise(mr0, kr0, cr0, kcr0)
         band = BAND_LOW if r == 0 else BAND_HIGH
         reps[r], rnear = _solve_units(
             mr,
@@ -1363,6 +1530,7 @@ def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=N
             seed,
             band,
             y0=y0,
+            ccs=ccr,
         )
         if finished(reps[r, OUT_STATUS]) and near[0] < math.inf:
             dev = max(dev, abs(rnear[0] - near[0]))
@@ -1386,6 +1554,7 @@ def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=N
             near[2],
             near[3] * math.sqrt(depth / PASS_DEPTH),
             y0=y0,
+            ccs=ccs,
         )[0]
     out = combine(out, reps[: REPLICAS + extra])
     if int(out[OUT_FLAGS]) & FLAG_STICKING:  # the cut-off, measured (replica.stick_check)
@@ -1495,10 +1664,12 @@ def _solve_stiff(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=Non
 
 
 @njit(cache=True)
-def _solve(m, k, c, kc, max_events, hist, work_max, y0=None):
+def _solve(m, k, c, kc, max_events, hist, work_max, y0=None, cc=0.0):
     out = np.empty(N_OUT)
     if not _valid(m, k, c, kc, max_events):
         return _fail(out, STATUS_INVALID)
+    if cc > 0.0:  # Kelvin-Voigt (checked by the caller: kc finite, cc finite)
+        return _solve_kv(m, k, c, kc, cc, max_events, hist, work_max, y0)
     ms, ks, cs, kcs = _normalise(m, k, c, kc)
     if y0 is None:
         out = _solve_stiff(ms, ks, cs, kcs, max_events, hist, work_max, True)
@@ -1510,6 +1681,62 @@ def _solve(m, k, c, kc, max_events, hist, work_max, y0=None):
         out[OUT_COR] = math.nan  # an unfinished sequence has no COR
         out[OUT_ETRANS] = math.nan
     return out
+
+
+@njit(cache=True)
+def _solve_kv(m, k, c, kc, cc, max_events, hist, work_max, y0=None):
+    """A Kelvin-Voigt contact (kc, cc): the checked run (no rigid-limit policy: the contact's
+    dashpot has no rigid limit of the chain's, and the laws' ranges keep kc finite)."""
+    ms, ks, cs, kcs = _normalise(m, k, c, kc)
+    ccs = _scale_dashpot(m, k, kc, cc)
+    if y0 is None:
+        out = _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, True, None, ccs)
+    else:
+        ys = _normalise_state(m, k, y0)
+        out = _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, True, ys, ccs)
+    st = out[OUT_STATUS]
+    if st != STATUS_OK and st != STATUS_PERMANENT_CONTACT:
+        out[OUT_COR] = math.nan
+        out[OUT_ETRANS] = math.nan
+    return out
+
+
+@njit(cache=True)
+def _valid_kv(kc, cc):
+    return 0.0 < kc < math.inf and 0.0 <= cc < math.inf
+
+
+@njit(cache=True)
+def solve_chain_kv(m, k, c, kc, cc, max_events, hist):
+    """``solve_chain`` with a Kelvin-Voigt contact: the contact spring kc (finite) with the
+    dashpot cc >= 0 in parallel (units of c; cc = 0 is the linear contact, solve_chain's row
+    bit for bit). Invalid kc or cc give STATUS_INVALID."""
+    if not _valid_kv(kc, cc):
+        return _fail(np.empty(N_OUT), STATUS_INVALID)
+    return _solve(m, k, c, kc, max_events, hist, WORK_MAX, None, cc)
+
+
+@njit(cache=True)
+def solve_chain_kv_state(m, k, c, kc, cc, y0, max_events, hist):
+    """``solve_chain_state`` with a Kelvin-Voigt contact (as ``solve_chain_kv``)."""
+    if not _valid_kv(kc, cc) or not _valid_state(m, y0):
+        return _fail(np.empty(N_OUT), STATUS_INVALID)
+    return _solve(m, k, c, kc, max_events, hist, WORK_MAX, y0, cc)
+
+
+@njit(cache=True)
+def solve_mass_kv(kc, cc, max_events, hist):
+    """One mass m1 = 1 hitting a Kelvin-Voigt contact (kc, cc) at speed 1: the kernel's run
+    (with its replica check) on a chain of one mass, in units m1 = 1, omega = sqrt(kc / m1)
+    (times omega * t, lengths V0 / omega). A check of the contact phase, its force-zero end and
+    its dissipation against the closed form (tests/test_kelvin_voigt_exact.py)."""
+    m = np.ones(1)
+    e = np.zeros(0)
+    if not (_valid_kv(kc, cc) and cc > 0.0 and max_events >= 1):
+        return _fail(np.empty(N_OUT), STATUS_INVALID)
+    ms, ks, cs, kcs = _normalise(m, e, e, kc)
+    ccs = _scale_dashpot(m, e, kc, cc)
+    return _checked_units(ms, ks, cs, kcs, max_events, hist, WORK_MAX, False, None, ccs)
 
 
 @njit(cache=True)

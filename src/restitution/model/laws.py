@@ -44,7 +44,10 @@ the gap closes; m1 then flies free, and a new contact starts where x rises throu
 k*x + c*x' rises through 0 again while x > 0. The contact's work on m1 is all dissipated (the
 spring's k*x**2/2 left at the force-zero end is lost in the massless surface's own relaxation).
 One mass: the COR of Schwager and Poeschel (2007), not exp(-z*pi/sqrt(1 - z**2))
-(tests/test_kelvin_voigt.py). c is a dashpot (force per speed: kernel unit m1*omega).
+(tests/test_kelvin_voigt.py). c is a dashpot (force per speed: kernel unit m1*omega). Every
+phase is linear, so on linear links the exact method solves it (``piecewise``:
+restitution.kernels.exact_chain, "Kelvin-Voigt contact"; tests/test_kelvin_voigt_exact.py);
+the numerical methods take it as any other law.
 
 Hunt-Crossley contact
 ---------------------

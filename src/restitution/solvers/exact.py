@@ -1,5 +1,8 @@
 """Runners of the exact methods (``impulsive``, ``piecewise``): one scene or a block of rows.
 
+A Kelvin-Voigt contact (``kelvin_voigt``: a spring with a dashpot in parallel) on linear links
+is piecewise linear too: ``kernels.exact_chain`` solves it (``solve_chain_kv``), row by row.
+
 Which kernel solves a linear chain is decided here and nowhere else (``linear_kernel``): the
 paper's two-mass rigid-wall scenes by the closed form ``kernels.rigid2``, the paper's other scenes
 (equal masses m_2..m_N, equal springs, a dashpot on the first link) by ``kernels.paper_chain``, bit
@@ -60,8 +63,37 @@ def run_paper(alpha: float, beta: float, xi: float, n: int, max_events: int, his
         return solve_linear(alpha, beta, xi, n, max_events, hist)
 
 
+def kelvin_voigt(ch: Chain) -> bool:
+    """A Kelvin-Voigt contact on linear links: the exact chain kernel's piecewise-linear
+    contact (``kv_row``)."""
+    return ch.links is None and ch.contact is not None and ch.contact["law"] == "kelvin_voigt"
+
+
+def kv_row(ch: Chain, max_events: int, hist: np.ndarray):
+    """Kernel row of a Kelvin-Voigt chain (``kelvin_voigt``): ``exact_chain.solve_chain_kv``
+    with the contact's k and c in kernel units as the numerical methods pack them
+    (``laws.pack_chain``), from the chain's initial state if it has one."""
+    from restitution.kernels.exact_chain import solve_chain_kv, solve_chain_kv_state
+    from restitution.solvers.numerical import packed
+
+    m, k, c, _ = ch.scaled()
+    cp = packed(ch)[3]
+    kc, cc = float(cp[2]), float(cp[3])
+    y0 = ch.initial_state(ch.v0 / ch.omega, ch.v0)
+    if y0 is not None:
+        announce(solve_chain_kv_state)
+        with blas.one_thread(ch.n_masses):
+            return solve_chain_kv_state(m, k, c, kc, cc, y0, max_events, hist)
+    announce(solve_chain_kv)
+    with blas.one_thread(ch.n_masses):
+        return solve_chain_kv(m, k, c, kc, cc, max_events, hist)
+
+
 def exact_row(ch: Chain, max_events: int, hist: np.ndarray):
-    """Kernel row of a linear chain, on the kernel ``linear_kernel`` names."""
+    """Kernel row of a linear chain, on the kernel ``linear_kernel`` names (a Kelvin-Voigt
+    chain: ``kv_row``)."""
+    if ch.contact is not None:
+        return kv_row(ch, max_events, hist)
     paper = ch.paper_form
     if paper is not None:
         return run_paper(*paper, max_events, hist)
@@ -180,8 +212,8 @@ def _general_rows(table, idx: np.ndarray, max_events: int, bar, block: int):
 
 
 def _initial_rows(table, idx: np.ndarray, max_events: int, bar, block: int):
-    """Kernel rows of chains with a given initial state, one by one (``exact_row``; the batch
-    kernel starts from the uniform approach)."""
+    """Kernel rows of chains with a given initial state or a Kelvin-Voigt contact, one by one
+    (``exact_row``; the batch kernel starts from the uniform approach at a linear contact)."""
     out = np.full((len(idx), L.N_OUT), np.nan)
     errors = {}
     for j, i in enumerate(idx):
@@ -198,8 +230,12 @@ def run_many(table, idx: np.ndarray, max_events: int, bar, block: int):
     and {position in idx: error message} of rows whose kernel raised."""
     if table.chains is None:
         return _paper_rows(table, idx, max_events, bar, block)
-    paper = table.plan["paper"][idx]
-    initial = np.array([table.chains[int(i)].initial for i in idx], dtype=bool)
+    # chains with a given initial state, or a Kelvin-Voigt contact: one by one (exact_row)
+    initial = np.array(
+        [table.chains[int(i)].initial or table.chains[int(i)].contact is not None for i in idx],
+        dtype=bool,
+    )
+    paper = table.plan["paper"][idx] & ~initial  # (a KV chain may have the paper's form)
     out = np.full((len(idx), L.N_OUT), np.nan)
     errors = {}
     for part, rows in (

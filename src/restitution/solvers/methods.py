@@ -8,8 +8,8 @@ nowhere else). docs/guides/adding-a-method.md shows how to add one.
 ========== ===================================================================================
 impulsive  rigid wall, linear links and dashpots: impulsive reversal of m1's velocity at each
            contact, closed-form motion between contacts (exact)
-piecewise  linear contact spring, linear links and dashpots: closed form per phase, exact
-           switching times (exact)
+piecewise  linear contact spring, or a Kelvin-Voigt contact (spring and dashpot), linear links
+           and dashpots: closed form per phase, exact switching times (exact)
 adaptive   Dormand-Prince 8(5,3) (DOP853) with guaranteed event location, for the phases whose
            force law is nonlinear (any law)
 verlet     the paper's velocity Verlet, fixed step (finite contact stiffness, any chain)
@@ -120,8 +120,13 @@ def _impulsive_applies(ch: Chain) -> str | None:
 
 
 def _piecewise_applies(ch: Chain) -> str | None:
+    if exact.kelvin_voigt(ch):
+        return None  # piecewise linear: the force-zero end and the free stretch are events
     if not ch.linear:
-        return "it needs linear contact and links; use 'adaptive' for nonlinear laws"
+        return (
+            "it needs a linear or Kelvin-Voigt contact and linear links; use 'adaptive' for "
+            "nonlinear laws"
+        )
     if ch.rigid:
         return "'piecewise' needs beta > 0 (a finite k_contact); use 'impulsive'"
     return None
@@ -150,8 +155,11 @@ def _verlet_applies(ch: Chain) -> str | None:
 
 
 def _precise_applies(ch: Chain) -> str | None:
-    if not ch.linear:
-        return "it needs linear contact and links (the event sequence is solved in closed form)"
+    if not ch.linear and not exact.kelvin_voigt(ch):
+        return (
+            "it needs a linear or Kelvin-Voigt contact and linear links (the event sequence is "
+            "solved in closed form)"
+        )
     return None
 
 
@@ -275,6 +283,7 @@ def _run_precise(ch: Chain, opts: Options):
     out = np.full(L.N_OUT, math.nan)
     out[L.OUT_FLAGS] = 0.0
     m, k, c = ch.masses, ch.springs, ch.dashpots
+    cc = float(ch.contact["c"]) if exact.kelvin_voigt(ch) else 0.0  # (the user's units)
     try:
         for dps in PRECISE_DPS:
             r = solve_precise(
@@ -282,6 +291,7 @@ def _run_precise(ch: Chain, opts: Options):
                 k,
                 c,
                 ch.k_contact,
+                cc=cc,
                 dps=dps,
                 max_events=opts.max_events,
                 velocities=ch.velocities,
@@ -323,7 +333,7 @@ METHODS: dict[str, Method] = {
         _piecewise_applies,
         exact.run,
         _exact_many,
-        "linear contact spring, exact",
+        "linear or Kelvin-Voigt contact, exact",
     ),  # fmt: skip
     "adaptive": Method(
         "adaptive",

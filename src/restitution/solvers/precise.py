@@ -18,7 +18,14 @@ decimal digits:
   side where ``g > 0``. A free flight ends for good once ``c0 + c1 t - sum |b_q| exp(Re lam_q t)``
   is positive with ``c1 >= 0`` (no later contact is possible);
 * at a rigid wall m1's velocity is reversed; with a contact spring the contact phase ends where
-  m1 returns to the wall.
+  m1 returns to the wall;
+* a Kelvin-Voigt contact (``cc`` > 0: a dashpot in parallel with the contact spring) adds cc to
+  the contact phase's damping matrix at m1; its contact ends where the force
+  ``kc x + cc x'`` (x = -u1, the penetration, x' = -v1, both read off the phase's own state
+  eigenvectors) returns to 0, with x > 0 in general; m1 then flies free inside the penetration
+  until that force rises through 0 again (a new contact, counted as one) or x falls to 0 (the
+  free flight), whichever root comes first (each located as above, the second only up to the
+  first).
 
 ``solve_precise`` runs the whole sequence twice, at ``dps`` and at ``dps + 20`` digits, and reports
 how many digits of the COR agree (``digits``) and their difference (``error_estimate``): the
@@ -101,15 +108,18 @@ def _state_matrix(M, K, C):
     return A
 
 
-def _first_root(c0, c1, b, lam, tol, never_check):
+def _first_root(c0, c1, b, lam, tol, never_check, t_stop=None):
     """First t > 0 where g(t) = c0 + c1 t + Re sum b_q e^{lam_q t} returns to 0, g starting at
-    (about) 0 and rising; None if ``never_check`` proves there is none. Steps of the quadratic
-    lower bound: each lands where the bound g + g's - M2 s^2/2 first reaches 0."""
+    (about) 0 and rising; None if ``never_check`` proves there is none, or if it lies beyond
+    ``t_stop``. Steps of the quadratic lower bound: each lands where the bound
+    g + g's - M2 s^2/2 first reaches 0."""
     t = mpmath.mpf(0)
     decay = [min(mpmath.re(x), 0) for x in lam]
     absb = [abs(x) for x in b]
     lam2 = [abs(x) ** 2 for x in lam]
     for _ in range(MAX_STEPS):
+        if t_stop is not None and t > t_stop:
+            return None
         g = c0 + c1 * t
         g1 = c1
         m2 = 0
@@ -144,7 +154,7 @@ def _start(mp, u0, v0):
     return [mpmath.mpf(x) for x in u0], [mpmath.mpf(x) for x in v0]
 
 
-def _sequence(m, k, c, kc, dps, max_events, u0=None, v0=None):
+def _sequence(m, k, c, kc, dps, max_events, u0=None, v0=None, cc=0.0):
     with mpmath.workdps(dps):
         mp = [mpmath.mpf(x) for x in m]
         kp = [mpmath.mpf(x) for x in k]
@@ -163,9 +173,13 @@ def _sequence(m, k, c, kc, dps, max_events, u0=None, v0=None):
         K, C = _matrices(mp, kp, cp, 0)
         free = _Phase(_state_matrix(T.T * M * T, T.T * K * T, T.T * C * T))
         contact = None
+        kv = cc > 0 and not rigid  # a Kelvin-Voigt contact
+        kcp = mpmath.mpf(kc) if not rigid else None
+        ccp = mpmath.mpf(cc)
         if not rigid:
-            Kc, _ = _matrices(mp, kp, cp, mpmath.mpf(kc))
-            contact = _Phase(_state_matrix(M, Kc, C))
+            Kc, Cc = _matrices(mp, kp, cp, kcp)
+            Cc[0, 0] += ccp  # the contact's dashpot (0: the linear contact spring)
+            contact = _Phase(_state_matrix(M, Kc, Cc))
         u, v = _start(mp, u0, v0)
         # the momentum and energy before: -mt and mt / 2 for the uniform approach at -1
         p0 = sum(mi * vi for mi, vi in zip(mp, v, strict=True))
@@ -181,14 +195,23 @@ def _sequence(m, k, c, kc, dps, max_events, u0=None, v0=None):
         elif rigid:
             v[0] = -v[0]
         t_last = t
+        inside = False  # (Kelvin-Voigt) m1 free inside the penetration
+        row = [-mp[j + 1] / mp[0] for j in range(n - 1)]
         while True:
             if in_contact:
                 z = contact.modal(mpmath.matrix(u + v))
-                b = [-contact.V[0, q] * z[q] for q in range(2 * n)]
+                if kv:  # the force kc x + cc x' = -(kc u1 + cc v1) returns to 0
+                    V_ = contact.V
+                    b = [-(kcp * V_[0, q] + ccp * V_[n, q]) * z[q] for q in range(2 * n)]
+                else:
+                    b = [-contact.V[0, q] * z[q] for q in range(2 * n)]
                 te = _first_root(0, 0, b, contact.lam, tol, False)
                 y = contact.state(z, te)
                 u, v = y[:n], y[n:]
-                u[0] = mpmath.mpf(0)
+                if kv and u[0] < 0:
+                    inside = True  # the force is 0 inside the penetration
+                else:
+                    u[0] = mpmath.mpf(0)
                 t += te
                 t_last = t
                 in_contact = False
@@ -197,19 +220,40 @@ def _sequence(m, k, c, kc, dps, max_events, u0=None, v0=None):
             V = sum(mi * vi for mi, vi in zip(mp, v, strict=True)) / mt
             q0 = [u[j + 1] - X0 for j in range(n - 1)] + [v[j + 1] - V for j in range(n - 1)]
             z = free.modal(mpmath.matrix(q0))
-            row = [-mp[j + 1] / mp[0] for j in range(n - 1)]
             b = [sum(row[j] * free.V[j, q] for j in range(n - 1)) * z[q] for q in range(2 * n - 2)]
-            te = _first_root(X0, V, b, free.lam, tol, True)
-            if te is None:
-                break
+            recontact = False
+            left = False
+            if inside:
+                # u1 = X0 + V t + Re sum b e^{lam t}, v1 = V + Re sum bv e^{lam t}
+                bv = [
+                    sum(row[j] * free.V[n - 1 + j, q] for j in range(n - 1)) * z[q]
+                    for q in range(2 * n - 2)
+                ]
+                tx = _first_root(-X0, -V, [-x for x in b], free.lam, tol, True)  # x falls to 0
+                bg = [kcp * b[q] + ccp * bv[q] for q in range(2 * n - 2)]
+                # -(kc x + cc x') = kc u1 + cc v1 falls to 0: the force rises through 0
+                tg = _first_root(kcp * X0 + ccp * V, kcp * V, bg, free.lam, tol, True, tx)
+                if tx is None and tg is None:
+                    raise RuntimeError("m1 stays inside the penetration for ever")
+                recontact = tg is not None and (tx is None or tg < tx)
+                te = tg if recontact else tx
+                left = not recontact
+                inside = False
+            else:
+                te = _first_root(X0, V, b, free.lam, tol, True)
+                if te is None:
+                    break
             y = free.state(z, te)
             qv = y[: n - 1]
             qd = y[n - 1 :]
             X = X0 + V * te
             u = [X + sum(row[j] * qv[j] for j in range(n - 1))] + [X + x for x in qv]
             v = [V + sum(row[j] * qd[j] for j in range(n - 1))] + [V + x for x in qd]
-            u[0] = mpmath.mpf(0)
+            if not recontact:
+                u[0] = mpmath.mpf(0)
             t += te
+            if left:  # m1 left the penetration at x = 0: on to the free flight
+                continue
             ncol += 1
             times.append(t)
             speeds.append(-v[0])
@@ -242,6 +286,7 @@ def solve_precise(
     velocities=None,
     stretches=None,
     v0=1.0,
+    cc=0.0,
 ) -> PreciseResult:
     """COR of the chain (m, k, c, kc) at ``dps`` digits, checked at ``dps + 20``.
 
@@ -252,6 +297,9 @@ def solve_precise(
         every mass starts at -1 (V0 = 1), every spring unstretched, m[0] touching the wall.
     kc : float
         Contact spring stiffness, ``math.inf`` for a rigid wall.
+    cc : float
+        A Kelvin-Voigt contact's dashpot (in parallel with kc, finite; the units of c): the
+        contact ends where kc x + cc x' returns to 0 (module docstring). 0: the linear contact.
     velocities, stretches : sequence of float, optional
         A given initial state (``restitution.Chain``): N velocities, positive towards the wall
         (m[0] hits the wall at t = 0 if velocities[0] > 0, leaves it if < 0), and N - 1 link
@@ -295,8 +343,9 @@ def solve_precise(
                 for x in stretches:
                     acc += mpmath.mpf(float(x))
                     u0.append(acc)
-    lo = _sequence(m, k, c, kc, dps, max_events, u0, w0)
-    hi = _sequence(m, k, c, kc, dps + 20, max_events, u0, w0)
+    cc = float(cc)
+    lo = _sequence(m, k, c, kc, dps, max_events, u0, w0, cc)
+    hi = _sequence(m, k, c, kc, dps + 20, max_events, u0, w0, cc)
     if lo[0] is None or hi[0] is None:
         return PreciseResult(math.nan, hi[1], math.nan, "event_budget_exhausted", 0.0, math.inf)
     with mpmath.workdps(dps + 20):
