@@ -5,7 +5,8 @@ the requested times, in the scene's own units, from the same event sequence the 
 
 * linear chains from their exact kernels (closed form per phase; ``attrs["method"]`` is
   ``"impulsive"`` or ``"piecewise"``);
-* every other scene (Hertz, plastic contact, scissor links) from the solver's own adaptive run
+* every other scene (Hertz, plastic contact, scissor links; the Kelvin-Voigt contact too, which
+  ``solve`` takes exactly) from the solver's own adaptive run
   (``restitution.kernels.stepping.sample_scene``: the same DOP853 steps and events as the run
   at rtol/10 that ``solve`` returns, its result bit for bit), each sample from the 7th-order
   dense output of the step that crosses it (in sigma = sqrt(x) at the ends of a power-law
