@@ -33,6 +33,10 @@ def _steps() -> list[tuple[str, Callable[[], object]]]:
         ("trajectory, paper chain", lambda: r.trajectory(alpha=2.0, beta=0.1, times=[0.5])),
         ("trajectory, general chain", lambda: r.trajectory(**chain, times=[0.5])),
         (
+            "Kelvin-Voigt contact (piecewise)",
+            lambda: r.solve(**chain, contact={"law": "kelvin_voigt", "k": 50.0, "c": 0.5}),
+        ),
+        (
             "plastic contact (adaptive)",
             lambda: r.solve(alpha=2.0, beta=0.1, contact="plastic", eta=1.5, dr=0.3),
         ),
