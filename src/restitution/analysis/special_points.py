@@ -34,10 +34,11 @@ import math
 
 import numpy as np
 import pandas as pd
-from numba import njit, prange
+from numba import prange
 from scipy.optimize import brentq
 
 from restitution.analysis.sweeps import interior_minima
+from restitution.kernels.jit import njit
 from restitution.kernels.parallel import row_blocks
 
 TWO_PI = 2.0 * math.pi

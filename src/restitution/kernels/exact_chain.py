@@ -92,7 +92,7 @@ other than STATUS_OK and STATUS_PERMANENT_CONTACT comes with a NaN cor from solv
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
 from restitution.kernels.constants import (
     ENERGY_TOL,
@@ -102,6 +102,7 @@ from restitution.kernels.constants import (
     V_STICK_CHAIN,
     V_STICK_RIGID2,
 )
+from restitution.kernels.jit import njit
 from restitution.kernels.lapack import eig_real
 from restitution.kernels.layout import (
     FLAG_EXTRAPOLATED,

@@ -46,9 +46,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
 from restitution.kernels import dop853_tableau as T
+from restitution.kernels.jit import njit
 from restitution.kernels.roots import first_root
 from restitution.model.laws import (
     C_PLASTIC,

@@ -10,8 +10,10 @@ eigenvalue, vr[j] +- i vr[j + 1] for a pair.
 """
 
 import numpy as np
-from numba import njit, types
+from numba import types
 from numba.np.linalg import _LAPACK
+
+from restitution.kernels.jit import njit
 
 _rgeev = _LAPACK().numba_ez_rgeev(types.float64)
 _KIND = ord("d")  # double precision

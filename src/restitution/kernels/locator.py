@@ -22,9 +22,9 @@ import cmath
 import math
 
 import numpy as np
-from numba import njit
 
 from restitution.kernels.constants import EPS
+from restitution.kernels.jit import njit
 from restitution.kernels.roots import bisection, first_cubic_root, newton_polish
 
 # Touching band, in ulps of the gap's own round-off scale at that moment (_eval_gap's res[7]):

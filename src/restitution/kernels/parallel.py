@@ -20,7 +20,7 @@ Use::
             ...  # row i
 """
 
-from numba import njit
+from restitution.kernels.jit import njit
 
 BLOCK = 16  # rows per block on large tables
 MIN_BLOCKS = 64  # below BLOCK * MIN_BLOCKS rows, blocks of one row (balance first)

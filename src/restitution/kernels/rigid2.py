@@ -58,7 +58,7 @@ xi = 0 never sticks.
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
 from restitution.kernels.constants import (
     ENERGY_TOL,
@@ -67,6 +67,7 @@ from restitution.kernels.constants import (
     STICK_AFTER,
     V_STICK_RIGID2,
 )
+from restitution.kernels.jit import njit
 from restitution.kernels.layout import (
     FLAG_STICKING,
     H_IMPULSE,

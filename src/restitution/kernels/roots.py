@@ -25,9 +25,9 @@ imports no kernel).
 import math
 
 import numpy as np
-from numba import njit
 
 from restitution.kernels.constants import EPS
+from restitution.kernels.jit import njit
 
 MAX_ITER = 200  # iterations of a Newton-type finder before it reports no convergence
 

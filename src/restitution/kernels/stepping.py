@@ -43,7 +43,7 @@ does a negative net contact work (a passive contact cannot create energy; see so
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
 from restitution.kernels.integrators import (
     EV_FAIL,
@@ -70,6 +70,7 @@ from restitution.kernels.integrators import (
     sigma_phase_sampled,
     verlet_step,
 )
+from restitution.kernels.jit import njit
 from restitution.kernels.layout import (
     H_IMPULSE,
     H_TEND,

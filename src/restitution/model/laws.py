@@ -97,8 +97,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from restitution.kernels.jit import njit
 from restitution.model.ranges import MAX_MASSES, RANGES, SceneError, _real, _show
 
 # Contact law kinds (contact_params[0]).

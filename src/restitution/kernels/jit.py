@@ -1,0 +1,55 @@
+"""``njit``: numba's, with one compiled specialisation per kernel and argument types.
+
+A kernel called from another kernel is compiled for the exact types of the call: numba keeps a
+constant argument as a literal type (``0`` as Literal[int](0), ``True`` as Literal[bool](True), a
+module constant as its value) and an argument left at its default as Omitted(default), so every
+distinct call site compiled the kernel again. The chain kernel's event loop (``exact_chain._run``)
+was compiled four times and its wrapper eight, each time with everything it calls linked in and
+optimised again: most of a cold start. This dispatcher compiles the types a call from Python
+would give instead (literals as their plain types, an omitted argument as its default's type),
+so a kernel has one specialisation per real difference in types (an array's rank, None against an
+array); the call sites convert their literals to it, as numba does for any typed call.
+"""
+
+from __future__ import annotations
+
+from numba import typeof, types
+from numba.core import typing
+from numba.core.registry import CPUDispatcher
+
+
+def _plain(t):
+    """The type a call from Python would give for an argument typed ``t`` in a kernel."""
+    if isinstance(t, types.Omitted):
+        return types.none if t.value is None else typeof(t.value)
+    return types.unliteral(t)
+
+
+class _OneSpecialisation(CPUDispatcher):
+    def get_call_template(self, args, kws):
+        # numba's Dispatcher.get_call_template, compiling the plain types instead of the call's
+        pysig, args = self._compiler.fold_argument_types(args, kws)
+        args = tuple(_plain(a) for a in args)
+        if self._can_compile:
+            self.compile(args)
+        name = self.py_func.__name__
+        template = typing.make_concrete_template(
+            f"CallTemplate({name})", key=name, signatures=self.nopython_signatures
+        )
+        return template, pysig, args, {}
+
+
+def njit(function=None, *, cache=False, **options):
+    """``numba.njit`` (same options) with one specialisation per plain argument types (module
+    docstring)."""
+
+    def decorate(f):
+        dispatcher = _OneSpecialisation(f, targetoptions={"nopython": True, **options})
+        if cache:
+            dispatcher.enable_caching()
+        return dispatcher
+
+    return decorate if function is None else decorate(function)
+
+
+__all__ = ["njit"]
