@@ -1,11 +1,13 @@
-"""The row order of the parallel batch kernels (restitution.kernels.parallel)."""
+"""The row order of the parallel batch kernels and the thread pool of the chain batches
+(restitution.kernels.parallel)."""
 
 import numba
 import numpy as np
 import pytest
 
+from restitution.kernels.jit import njit
 from restitution.kernels.layout import N_HIST
-from restitution.kernels.parallel import BLOCK, MIN_BLOCKS, row_blocks
+from restitution.kernels.parallel import BLOCK, MIN_BLOCKS, over_threads, row_blocks, spread_order
 from restitution.kernels.rigid2 import rigid2, rigid2_batch
 
 
@@ -54,3 +56,27 @@ def test_blocked_batch_matches_rows_for_any_thread_count():
     )
     assert np.array_equal(one, rows, equal_nan=True)
     assert np.array_equal(two, rows, equal_nan=True)
+
+
+@pytest.mark.parametrize("n", [0, 1, 5, 1023, 1025, 20_000])
+def test_spread_order_is_the_block_order(n):
+    assert spread_order(n).tolist() == _order(n)
+
+
+@njit(nogil=True)
+def _count_rows(out, order, start, stop):
+    for j in range(start, stop):
+        out[order[j]] += 1.0 + order[j]
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+@pytest.mark.parametrize("n", [1, 3, 100, 2049])
+def test_over_threads_visits_every_row_once(n, threads):
+    before = numba.get_num_threads()
+    try:
+        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+        out = np.zeros(n)
+        over_threads(_count_rows, n, out)
+    finally:
+        numba.set_num_threads(before)
+    assert np.array_equal(out, 1.0 + np.arange(n))

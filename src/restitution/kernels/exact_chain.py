@@ -92,7 +92,6 @@ other than STATUS_OK and STATUS_PERMANENT_CONTACT comes with a NaN cor from solv
 import math
 
 import numpy as np
-from numba import prange
 
 from restitution.kernels.constants import (
     ENERGY_TOL,
@@ -158,7 +157,7 @@ from restitution.kernels.locator import (
     _scalar_state,
     _xmax,
 )
-from restitution.kernels.parallel import row_blocks
+from restitution.kernels.parallel import over_threads
 from restitution.kernels.replica import (
     JITTER,
     PURE_SAFETY,
@@ -1810,34 +1809,37 @@ def solve_chain(m, k, c, kc, max_events, hist):
     return _solve(m, k, c, kc, max_events, hist, WORK_MAX)
 
 
-@njit(parallel=True, cache=True)
+@njit(cache=True, nogil=True)
+def _chain_rows(m, k, c, n, kc, max_events, out, order, start, stop):
+    """``solve_chain`` of the padded rows order[start:stop] into ``out`` (kernels.parallel)."""
+    hist = np.zeros((0, N_HIST))
+    for j in range(start, stop):
+        i = order[j]
+        ni = n[i]
+        if ni < 2 or ni > m.shape[1]:
+            out[i, :] = _fail(np.empty(N_OUT), STATUS_INVALID)
+            continue
+        out[i, :] = _solve(
+            np.ascontiguousarray(m[i, :ni]),
+            np.ascontiguousarray(k[i, : ni - 1]),
+            np.ascontiguousarray(c[i, : ni - 1]),
+            kc[i],
+            max_events,
+            hist,
+            WORK_MAX,
+        )
+
+
 def solve_chain_batch(m, k, c, n, kc, max_events):
     """``solve_chain`` over padded arrays: m (rows, nmax), k and c (rows, nmax - 1), n (rows,)
-    int64, kc (rows,). Every row starts as NaN with STATUS_NOT_RUN before any work, so no row is
-    ever left uninitialised; rows are independent and their work budgets count operations, so
-    the result is bit-identical for any thread count."""
-    rows = n.size
-    out = np.full((rows, N_OUT), math.nan)
-    for i in range(rows):
-        out[i, OUT_STATUS] = STATUS_NOT_RUN
-    nb, size, p = row_blocks(rows)  # rows spread over the threads (kernels.parallel)
-    for j in prange(nb):
-        b = (j * p) % nb
-        hist = np.zeros((0, N_HIST))
-        for i in range(b * size, min(rows, b * size + size)):
-            ni = n[i]
-            if ni < 2 or ni > m.shape[1]:
-                out[i, :] = _fail(np.empty(N_OUT), STATUS_INVALID)
-                continue
-            out[i, :] = _solve(
-                np.ascontiguousarray(m[i, :ni]),
-                np.ascontiguousarray(k[i, : ni - 1]),
-                np.ascontiguousarray(c[i, : ni - 1]),
-                kc[i],
-                max_events,
-                hist,
-                WORK_MAX,
-            )
+    int64, kc (rows,), on numba's threads. Every row starts as NaN with STATUS_NOT_RUN before
+    any work, so no row is ever left uninitialised; rows are independent and their work budgets
+    count operations, so the result is bit-identical for any thread count."""
+    m, k, c, kc = (np.ascontiguousarray(a, dtype=np.float64) for a in (m, k, c, kc))
+    n = np.ascontiguousarray(n, dtype=np.int64)
+    out = np.full((n.size, N_OUT), math.nan)
+    out[:, OUT_STATUS] = STATUS_NOT_RUN
+    over_threads(_chain_rows, n.size, m, k, c, n, kc, int(max_events), out)
     return out
 
 

@@ -73,7 +73,6 @@ permanent contacts too (STATUS_ENERGY if off by more than 1e-9, or NaN).
 import math
 
 import numpy as np
-from numba import prange
 
 from restitution.kernels.exact_chain import BETA_RIGID, WORK_MAX, _solve_stiff
 from restitution.kernels.exact_chain import _modal_model as _chain_modal_model
@@ -87,7 +86,7 @@ from restitution.kernels.locator import (  # noqa: F401  (re-exported for tests 
     LOC_PERMANENT,
     _locate,
 )
-from restitution.kernels.parallel import row_blocks
+from restitution.kernels.parallel import over_threads
 
 
 @njit(cache=True)
@@ -145,18 +144,22 @@ def solve_linear(alpha, beta, xi, n_masses, max_events, hist):
     return _solve_stiff(m, k, c, kc, max_events, hist, WORK_MAX, False)
 
 
-@njit(parallel=True, cache=True)
+@njit(cache=True, nogil=True)
+def _linear_rows(alpha, beta, xi, n_masses, max_events, out, order, start, stop):
+    """``solve_linear`` of the rows order[start:stop] into ``out`` (kernels.parallel)."""
+    hist = np.zeros((0, N_HIST))
+    for j in range(start, stop):
+        i = order[j]
+        out[i, :] = solve_linear(alpha[i], beta[i], xi[i], int(n_masses[i]), max_events, hist)
+
+
 def solve_linear_batch(alpha, beta, xi, n_masses, max_events):
-    """``solve_linear`` over arrays of scenes (one row each); scenes are independent, so the
-    result is bit-identical for any thread count."""
-    ns = alpha.size
-    out = np.empty((ns, N_OUT))
-    nb, size, p = row_blocks(ns)  # rows spread over the threads (kernels.parallel)
-    for j in prange(nb):
-        b = (j * p) % nb
-        hist = np.zeros((0, N_HIST))
-        for i in range(b * size, min(ns, b * size + size)):
-            out[i, :] = solve_linear(alpha[i], beta[i], xi[i], int(n_masses[i]), max_events, hist)
+    """``solve_linear`` over arrays of scenes (one row each) on numba's threads; scenes are
+    independent, so the result is bit-identical for any thread count."""
+    alpha, beta, xi = (np.ascontiguousarray(a, dtype=np.float64) for a in (alpha, beta, xi))
+    n_masses = np.ascontiguousarray(n_masses, dtype=np.int64)
+    out = np.empty((alpha.size, N_OUT))
+    over_threads(_linear_rows, alpha.size, alpha, beta, xi, n_masses, int(max_events), out)
     return out
 
 

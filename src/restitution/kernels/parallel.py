@@ -1,4 +1,5 @@
-"""Row order of the parallel batch kernels: every thread gets an even sample of the table.
+"""Row order of the parallel batch kernels: every thread gets an even sample of the table; and
+``over_threads``, which runs a serial row kernel on numba's thread count.
 
 numba's ``prange`` gives each thread one contiguous block of iterations. Scene tables are mostly
 sweeps sorted by a parameter that sets the cost of a row (the number of contacts grows with
@@ -11,6 +12,13 @@ count - is an even sample of the table. Rows inside a block stay in order (a swe
 run alike; visiting single rows in the spread order cost 7 % on one thread). Rows stay
 independent: results are bit-identical for any thread count.
 
+The chain batches (``paper_chain``, ``exact_chain``, ``stepping``) do not use ``prange``: a
+``parallel=True`` kernel compiles everything it calls twice more (its parallel region is a
+kernel of its own), 15 s against 4 s for the same loop serial (2026-11-26, quiet). They are a
+serial row kernel (``nogil``) over a slice of ``spread_order(n)``, which ``over_threads`` runs
+in chunks on a pool of ``numba.get_num_threads()`` threads (so ``numba.set_num_threads`` and
+``NUMBA_NUM_THREADS`` still set how many run).
+
 Use::
 
     nb, size, p = row_blocks(n)
@@ -20,8 +28,13 @@ Use::
             ...  # row i
 """
 
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+
 from restitution.kernels.jit import njit
 
+CHUNKS_PER_THREAD = 4  # chunks of the spread order per thread (the pool balances what is left)
 BLOCK = 16  # rows per block on large tables
 MIN_BLOCKS = 64  # below BLOCK * MIN_BLOCKS rows, blocks of one row (balance first)
 _INV_PHI = 0.6180339887498949
@@ -52,3 +65,38 @@ def _gcd(a, b):
     while b:
         a, b = b, a % b
     return a
+
+
+def spread_order(n: int) -> np.ndarray:
+    """The rows 0..n-1 in the order the blocks of ``row_blocks(n)`` are visited (int64)."""
+    nb, size, p = row_blocks(n)
+    starts = (np.arange(nb, dtype=np.int64) * p) % nb * size
+    order = (starts[:, None] + np.arange(size, dtype=np.int64)[None, :]).ravel()
+    return order[order < n]
+
+
+def over_threads(kernel, n: int, *args) -> None:
+    """``kernel(*args, order, start, stop)`` for consecutive slices [start, stop) of
+    ``order = spread_order(n)`` covering every row once, on ``numba.get_num_threads()``
+    threads (the kernel must be ``nogil`` and write row ``order[j]`` only). A kernel error is
+    raised here once every chunk has ended."""
+    import numba
+
+    from restitution.kernels.compiling import announce
+
+    announce(kernel)
+    order = spread_order(n)
+    threads = min(numba.get_num_threads(), n)
+    if threads <= 1:
+        kernel(*args, order, 0, n)
+        return
+    if not kernel.signatures:
+        kernel(*args, order, 0, 0)  # compile (or load) it once, before the threads call it
+    edges = np.linspace(0, n, min(n, threads * CHUNKS_PER_THREAD) + 1).astype(np.int64)
+    with ThreadPoolExecutor(max_workers=threads) as pool:
+        chunks = [
+            pool.submit(kernel, *args, order, int(a), int(b))
+            for a, b in zip(edges[:-1], edges[1:], strict=True)
+        ]
+    for chunk in chunks:
+        chunk.result()

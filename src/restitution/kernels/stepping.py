@@ -43,7 +43,6 @@ does a negative net contact work (a passive contact cannot create energy; see so
 import math
 
 import numpy as np
-from numba import prange
 
 from restitution.kernels.integrators import (
     EV_FAIL,
@@ -96,7 +95,7 @@ from restitution.kernels.layout import (
     STATUS_OK,
     STATUS_WORK_BUDGET,
 )
-from restitution.kernels.parallel import row_blocks
+from restitution.kernels.parallel import over_threads
 from restitution.kernels.roots import bisection
 from restitution.model.laws import (
     C_HERTZ,
@@ -788,32 +787,40 @@ def _verlet(y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist, v0, f
     return STATUS_WORK_BUDGET, ncol, tcol
 
 
-@njit(cache=True, parallel=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy")
+def _scene_rows(m, lk, c, n, cp, v0, method, rtol, step_frac, etol, max_events, max_work, out,
+                order, start, stop):  # fmt: skip
+    """``solve_scene`` of the padded rows order[start:stop] into ``out`` (kernels.parallel)."""
+    hist = np.zeros((0, 6))
+    for j in range(start, stop):
+        i = order[j]
+        k = n[i]
+        if k < 2 or k > m.shape[1]:
+            out[i, OUT_STATUS] = STATUS_INVALID
+            continue
+        acct = np.zeros(N_ACCT)
+        out[i] = solve_scene(
+            m[i, :k], lk[i, : k - 1], c[i, : k - 1], cp[i], v0[i], method, rtol, step_frac,
+            etol, max_events, max_work, hist, acct, True,
+        )  # fmt: skip
+
+
 def solve_scene_batch(m, lk, c, n, cp, v0, method, rtol, step_frac, etol, max_events, max_work):
     """``solve_scene`` over padded rows: m (rows, nmax), lk (rows, nmax-1, N_SP),
-    c (rows, nmax-1), n (rows,) int64 masses per row, cp (rows, N_CP), v0 (rows,).
+    c (rows, nmax-1), n (rows,) int64 masses per row, cp (rows, N_CP), v0 (rows,), on numba's
+    threads (kernels.parallel).
 
     Every row starts as NaN with STATUS_NOT_RUN before any work, so a row the kernel did not
     finish can never pass as a result. Rows are independent: bit-identical for any thread count.
     """
-    rows = m.shape[0]
-    out = np.full((rows, N_OUT), np.nan)
-    for i in range(rows):
-        out[i, OUT_STATUS] = STATUS_NOT_RUN
-    nb, size, p = row_blocks(rows)  # rows spread over the threads (kernels.parallel)
-    for j in prange(nb):
-        b = (j * p) % nb
-        hist = np.zeros((0, 6))
-        for i in range(b * size, min(rows, b * size + size)):
-            k = n[i]
-            if k < 2 or k > m.shape[1]:
-                out[i, OUT_STATUS] = STATUS_INVALID
-                continue
-            acct = np.zeros(N_ACCT)
-            out[i] = solve_scene(
-                m[i, :k], lk[i, : k - 1], c[i, : k - 1], cp[i], v0[i], method, rtol, step_frac,
-                etol, max_events, max_work, hist, acct, True,
-            )  # fmt: skip
+    m, lk, c, cp, v0 = (np.ascontiguousarray(a, dtype=np.float64) for a in (m, lk, c, cp, v0))
+    n = np.ascontiguousarray(n, dtype=np.int64)
+    out = np.full((n.size, N_OUT), np.nan)
+    out[:, OUT_STATUS] = STATUS_NOT_RUN
+    over_threads(
+        _scene_rows, n.size, m, lk, c, n, cp, v0, int(method), float(rtol), float(step_frac),
+        float(etol), int(max_events), float(max_work), out,
+    )  # fmt: skip
     return out
 
 
