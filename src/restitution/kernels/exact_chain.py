@@ -570,7 +570,7 @@ def _total(m):
     return s + comp
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _safe_model(m, k, c, kg, cg, drop_rigid):
     """_modal_model, or (empty model, inf) if the eigen-solver fails or returns non-finite
     values (extreme parameters): the caller reports STATUS_ILL_CONDITIONED, never raises."""
@@ -1384,7 +1384,7 @@ def _scale_dashpot(m, k, kc, cc):
     return cc / (m[0] * math.sqrt(w2))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _solve_units(
     ms,
     ks,
@@ -1571,7 +1571,7 @@ def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=N
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _extrapolated(ms, ks, cs, beta, lim, max_events, work_max, use_rigid2, y0=None):
     """The rigid wall's row ``lim`` (its own estimate) corrected to the stiffness ratio ``beta``
     by extrapolation in s = sqrt(beta): the quadratic through the limit (s = 0) and the
@@ -1618,7 +1618,7 @@ def _extrapolated(ms, ks, cs, beta, lim, max_events, work_max, use_rigid2, y0=No
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _solve_stiff(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=None):
     """Normalised scene, with the rigid-limit policy for very stiff contact springs (see
     BETA_RIGID): returns the raw kernel row (no NaN applied)."""
@@ -1683,7 +1683,7 @@ def _solve(m, k, c, kc, max_events, hist, work_max, y0=None, cc=0.0):
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _solve_kv(m, k, c, kc, cc, max_events, hist, work_max, y0=None):
     """A Kelvin-Voigt contact (kc, cc): the checked run (no rigid-limit policy: the contact's
     dashpot has no rigid limit of the chain's, and the laws' ranges keep kc finite)."""
