@@ -68,8 +68,8 @@ def announce(*dispatchers) -> None:
         _announced = True
         message = (
             "compiling the numba kernels (the first run after installing or after a kernel "
-            "edit takes minutes; `restitution warmup` compiles them all ahead; later runs load "
-            "them from the cache)..."
+            "edit takes up to a minute per kind of scene; `restitution warmup` compiles them all "
+            "ahead; later runs load them from the cache)..."
         )
         print(f"restitution: {message}", file=sys.stderr, flush=True)
         # Into a configured log too (a workflow job's log: its minutes without a line explained
