@@ -199,6 +199,7 @@ NOT_IN_API = {
     "restitution.solvers.numerical": "internal: the numerical methods' runners (methods)",
     "restitution.solvers.exact": "internal: the exact methods' runners (adding-a-method.md)",
     "restitution.warmup": "behind `restitution warmup` (docs/install.md)",
+    "restitution.jit": "internal: the numba decorator of the kernels (docs/install.md)",
 }
 
 

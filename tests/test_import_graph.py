@@ -47,6 +47,7 @@ def test_the_module_graph_has_no_cycle():
 # The package's layers from the ground up (restitution/__init__.py describes them): a module
 # imports only from its own layer or the layers below.
 LAYERS = (
+    ("restitution.jit",),
     ("restitution.model",),
     ("restitution.kernels",),
     ("restitution.solvers",),

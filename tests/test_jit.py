@@ -1,8 +1,8 @@
-"""restitution.kernels.jit: one compiled specialisation per plain argument types."""
+"""restitution.jit: one compiled specialisation per plain argument types."""
 
 import numpy as np
 
-from restitution.kernels.jit import njit
+from restitution.jit import njit
 
 
 @njit

@@ -5,7 +5,7 @@ import numba
 import numpy as np
 import pytest
 
-from restitution.kernels.jit import njit
+from restitution.jit import njit
 from restitution.kernels.layout import N_HIST
 from restitution.kernels.parallel import BLOCK, MIN_BLOCKS, over_threads, row_blocks, spread_order
 from restitution.kernels.rigid2 import rigid2, rigid2_batch

@@ -8,6 +8,7 @@ scene; ``Chain`` is the scene model and ``restitution.solvers.methods.METHODS`` 
 The package is split by layer, each importing only from the layers below it
 (tests/test_import_graph.py checks the order):
 
+0. ``restitution.jit`` -- the ``njit`` decorator every numba kernel is defined with;
 1. ``restitution.model`` -- the scene (``Chain``), the range table, the contact and link laws;
 2. ``restitution.kernels`` -- the numba kernels (exact event-driven and time-stepping);
 3. ``restitution.solvers`` -- the solver table (the one place a method is chosen), its runners,

@@ -20,16 +20,14 @@ import multiprocessing
 import time
 from collections.abc import Callable
 
-_CHAIN = {"masses": [1.0, 0.5, 2.0], "springs": [0.3, 1.2]}
-_HERTZ = {"law": "hertz", "k": 50.0}
-
 
 def _groups() -> list[list[tuple[str, Callable[[], object]]]]:
     import pandas as pd
 
     import restitution as r
 
-    chain = _CHAIN
+    chain = {"masses": [1.0, 0.5, 2.0], "springs": [0.3, 1.2]}
+    hertz = {"law": "hertz", "k": 50.0}
     general = pd.DataFrame({"masses": [chain["masses"]] * 2, "springs": [chain["springs"]] * 2})
     paper_table = pd.DataFrame({"alpha": [1.0], "beta": [0.1], "n_masses": [3]})
     exact = [
@@ -50,11 +48,11 @@ def _groups() -> list[list[tuple[str, Callable[[], object]]]]:
             "plastic contact (adaptive)",
             lambda: r.solve(alpha=2.0, beta=0.1, contact="plastic", eta=1.5, dr=0.3),
         ),
-        ("Hertz contact, chain (adaptive)", lambda: r.solve(**chain, contact=_HERTZ)),
+        ("Hertz contact, chain (adaptive)", lambda: r.solve(**chain, contact=hertz)),
         ("Verlet", lambda: r.solve(alpha=2.0, beta=0.1, method="verlet")),
         (
             "trajectory, Hertz contact (adaptive sampler)",
-            lambda: r.trajectory(**chain, contact=_HERTZ, times=[0.5]),
+            lambda: r.trajectory(**chain, contact=hertz, times=[0.5]),
         ),
         ("table: paper chains", lambda: r.solve_many(paper_table)),
     ]

@@ -38,7 +38,7 @@ from numba import prange
 from scipy.optimize import brentq
 
 from restitution.analysis.sweeps import interior_minima
-from restitution.kernels.jit import njit
+from restitution.jit import njit
 from restitution.kernels.parallel import row_blocks
 
 TWO_PI = 2.0 * math.pi

@@ -102,7 +102,7 @@ def default_cache_dir() -> str:
 
 
 # The numba-compiled sources, relative to the package: every module a kernel may compile in.
-_COMPILED = ("kernels", "model", os.path.join("analysis", "special_points.py"))
+_COMPILED = ("jit.py", "kernels", "model", os.path.join("analysis", "special_points.py"))
 _key = None
 
 

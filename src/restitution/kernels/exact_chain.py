@@ -93,6 +93,7 @@ import math
 
 import numpy as np
 
+from restitution.jit import njit
 from restitution.kernels.constants import (
     ENERGY_TOL,
     EPS,
@@ -101,7 +102,6 @@ from restitution.kernels.constants import (
     V_STICK_CHAIN,
     V_STICK_RIGID2,
 )
-from restitution.kernels.jit import njit
 from restitution.kernels.lapack import eig_real
 from restitution.kernels.layout import (
     FLAG_EXTRAPOLATED,

@@ -47,8 +47,8 @@ import math
 
 import numpy as np
 
+from restitution.jit import njit
 from restitution.kernels import dop853_tableau as T
-from restitution.kernels.jit import njit
 from restitution.kernels.roots import first_root
 from restitution.model.laws import (
     C_PLASTIC,

@@ -13,7 +13,7 @@ import numpy as np
 from numba import types
 from numba.np.linalg import _LAPACK
 
-from restitution.kernels.jit import njit
+from restitution.jit import njit
 
 _rgeev = _LAPACK().numba_ez_rgeev(types.float64)
 _KIND = ord("d")  # double precision

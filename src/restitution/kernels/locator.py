@@ -23,8 +23,8 @@ import math
 
 import numpy as np
 
+from restitution.jit import njit
 from restitution.kernels.constants import EPS
-from restitution.kernels.jit import njit
 from restitution.kernels.roots import bisection, first_cubic_root, newton_polish
 
 # Touching band, in ulps of the gap's own round-off scale at that moment (_eval_gap's res[7]):

@@ -74,10 +74,10 @@ import math
 
 import numpy as np
 
+from restitution.jit import njit
 from restitution.kernels.exact_chain import BETA_RIGID, WORK_MAX, _solve_stiff
 from restitution.kernels.exact_chain import _modal_model as _chain_modal_model
 from restitution.kernels.exact_chain import _sample as _chain_sample
-from restitution.kernels.jit import njit
 from restitution.kernels.layout import N_HIST, N_OUT
 from restitution.kernels.locator import (  # noqa: F401  (re-exported for tests and tools)
     LOC_BUDGET,

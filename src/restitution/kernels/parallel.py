@@ -33,7 +33,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from restitution.kernels.jit import njit
+from restitution.jit import njit
 
 CHUNKS_PER_THREAD = 4  # chunks of the spread order per thread (the pool balances what is left)
 BLOCK = 16  # rows per block on large tables
@@ -91,7 +91,7 @@ def over_threads(kernel, n: int, *args) -> None:
     if threads <= 1:
         kernel(*args, order, 0, n)
         return
-    if not kernel.signatures:
+    if not getattr(kernel, "signatures", True):  # (a plain function under NUMBA_DISABLE_JIT)
         kernel(*args, order, 0, 0)  # compile (or load) it once, before the threads call it
     edges = np.linspace(0, n, min(n, threads * CHUNKS_PER_THREAD) + 1).astype(np.int64).tolist()
     chunks = iter(range(len(edges) - 1))

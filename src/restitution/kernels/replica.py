@@ -27,8 +27,8 @@ the thread count).
 
 import math
 
+from restitution.jit import njit
 from restitution.kernels.constants import EPS
-from restitution.kernels.jit import njit
 from restitution.kernels.layout import (
     OUT_COR,
     OUT_ERR,

@@ -60,6 +60,7 @@ import math
 import numpy as np
 from numba import prange
 
+from restitution.jit import njit
 from restitution.kernels.constants import (
     ENERGY_TOL,
     EPS,
@@ -67,7 +68,6 @@ from restitution.kernels.constants import (
     STICK_AFTER,
     V_STICK_RIGID2,
 )
-from restitution.kernels.jit import njit
 from restitution.kernels.layout import (
     FLAG_STICKING,
     H_IMPULSE,

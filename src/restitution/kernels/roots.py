@@ -26,8 +26,8 @@ import math
 
 import numpy as np
 
+from restitution.jit import njit
 from restitution.kernels.constants import EPS
-from restitution.kernels.jit import njit
 
 MAX_ITER = 200  # iterations of a Newton-type finder before it reports no convergence
 

@@ -44,6 +44,7 @@ import math
 
 import numpy as np
 
+from restitution.jit import njit
 from restitution.kernels.integrators import (
     EV_FAIL,
     EV_STOP,
@@ -69,7 +70,6 @@ from restitution.kernels.integrators import (
     sigma_phase_sampled,
     verlet_step,
 )
-from restitution.kernels.jit import njit
 from restitution.kernels.layout import (
     H_IMPULSE,
     H_TEND,

@@ -98,7 +98,7 @@ import math
 
 import numpy as np
 
-from restitution.kernels.jit import njit
+from restitution.jit import njit
 from restitution.model.ranges import MAX_MASSES, RANGES, SceneError, _real, _show
 
 # Contact law kinds (contact_params[0]).

@@ -21,7 +21,7 @@ them as kernels of their own, each of which linked and optimised the whole loop 
 from __future__ import annotations
 
 from numba import typeof, types
-from numba.core import typing
+from numba.core import config, typing
 from numba.core.registry import CPUDispatcher
 
 
@@ -51,6 +51,8 @@ def njit(function=None, *, cache=False, **options):
     docstring)."""
 
     def decorate(f):
+        if config.DISABLE_JIT:  # as numba.njit: the plain function (NUMBA_DISABLE_JIT=1)
+            return f
         dispatcher = _OneSpecialisation(f, targetoptions={"nopython": True, **options})
         if cache:
             dispatcher.enable_caching()
