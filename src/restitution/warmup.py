@@ -30,6 +30,7 @@ def _groups() -> list[list[tuple[str, Callable[[], object]]]]:
     hertz = {"law": "hertz", "k": 50.0}
     general = pd.DataFrame({"masses": [chain["masses"]] * 2, "springs": [chain["springs"]] * 2})
     paper_table = pd.DataFrame({"alpha": [1.0], "beta": [0.1], "n_masses": [3]})
+    hertz_table = general.assign(contact=['{"law": "hertz", "k": 50}'] * 2)
     exact = [
         ("paper chain, contact spring (piecewise)", lambda: r.solve(alpha=2.0, beta=0.1)),
         ("general linear chain", lambda: r.solve(**chain, k_contact=50.0)),
@@ -54,6 +55,7 @@ def _groups() -> list[list[tuple[str, Callable[[], object]]]]:
             "trajectory, Hertz contact (adaptive sampler)",
             lambda: r.trajectory(**chain, contact=hertz, times=[0.5]),
         ),
+        ("table: nonlinear chains (adaptive)", lambda: r.solve_many(hertz_table)),
         ("table: paper chains", lambda: r.solve_many(paper_table)),
     ]
     return [exact, rest]
