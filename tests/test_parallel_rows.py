@@ -80,3 +80,35 @@ def test_over_threads_visits_every_row_once(n, threads):
     finally:
         numba.set_num_threads(before)
     assert np.array_equal(out, 1.0 + np.arange(n))
+
+
+def _count_in_child(n, queue):
+    out = np.zeros(n)
+    over_threads(_count_rows, n, out)
+    queue.put(out.tolist())
+
+
+def test_over_threads_in_a_forked_child():
+    """A child forked after a batch ran (multiprocessing's default on Linux) runs its own: the
+    pool's threads do not survive a fork."""
+    import multiprocessing
+
+    if numba.config.NUMBA_NUM_THREADS < 2 or "fork" not in multiprocessing.get_all_start_methods():
+        pytest.skip("needs two threads and fork")
+    before = numba.get_num_threads()
+    try:
+        numba.set_num_threads(2)
+        over_threads(_count_rows, 50, np.zeros(50))  # the parent's pool exists
+        context = multiprocessing.get_context("fork")
+        queue = context.Queue()
+        child = context.Process(target=_count_in_child, args=(50, queue))
+        child.start()
+        try:
+            got = queue.get(timeout=60)
+        finally:
+            child.join(timeout=5)
+            if child.is_alive():  # (hung: do not leave it behind)
+                child.kill()
+    finally:
+        numba.set_num_threads(before)
+    assert got == (1.0 + np.arange(50)).tolist()

@@ -28,6 +28,7 @@ Use::
             ...  # row i
 """
 
+import os
 import threading
 from concurrent.futures import ThreadPoolExecutor
 
@@ -119,6 +120,9 @@ _pools = {}
 def _pool(threads: int) -> ThreadPoolExecutor:
     """The pool of this many threads, kept for later calls (starting one costs ~0.3 ms, five
     times a small table's kernel); its threads, idle when no batch runs, end with the process."""
-    if threads not in _pools:
-        _pools[threads] = ThreadPoolExecutor(threads - 1, thread_name_prefix="restitution-rows")
-    return _pools[threads]
+    # keyed by process too: a forked child inherits the pool without its threads (a task
+    # submitted there would wait for ever)
+    key = (os.getpid(), threads)
+    if key not in _pools:
+        _pools[key] = ThreadPoolExecutor(threads - 1, thread_name_prefix="restitution-rows")
+    return _pools[key]
