@@ -40,3 +40,31 @@ def test_jobs_out_of_range_is_refused(capsys):
     assert "--jobs" in capsys.readouterr().err
     with pytest.raises(ValueError, match="jobs must be >= 1"):
         w.warmup(jobs=0)
+
+
+def test_a_process_killed_outright_is_reported(monkeypatch):
+    """A group process that dies without its end mark (a crash) fails the warmup, no hang."""
+
+    class Killed:
+        def __init__(self, target=None, args=()):
+            self.exitcode = None
+
+        def start(self):
+            self.exitcode = -9
+
+        def is_alive(self):
+            return False
+
+        def join(self):
+            pass
+
+    class Spawn:
+        Process = Killed
+
+        @staticmethod
+        def Queue():  # noqa: N802 (multiprocessing's name)
+            return queue.Queue()
+
+    monkeypatch.setattr(w.multiprocessing, "get_context", lambda kind: Spawn)
+    with pytest.raises(RuntimeError, match="ended with an error"):
+        w.warmup(jobs=2)

@@ -19,6 +19,7 @@ from __future__ import annotations
 import multiprocessing
 import time
 from collections.abc import Callable
+from queue import Empty
 
 
 def _groups() -> list[list[tuple[str, Callable[[], object]]]]:
@@ -108,7 +109,12 @@ def warmup(
     running = len(workers)
     failure = None
     while running:
-        item = queue.get()
+        try:
+            item = queue.get(timeout=5.0)
+        except Empty:  # a process killed outright never sends its end mark: do not wait for it
+            if not any(worker.is_alive() for worker in workers):
+                break
+            continue
         if item is None:
             running -= 1
             continue
