@@ -90,6 +90,24 @@ class Modes:
         row = self.phi[0]
         return q @ row, p @ row, -(q * self.w2) @ row
 
+    def first_velocity(self, u, v, t):
+        """v_1 of the first mass at times t (array), bit for bit ``first(u, v, t)[1]``.
+
+        The scans of :func:`first_minimum` need the velocity alone, on grids of up to 1e5
+        times: no positions, no accelerations, and no sines of the rigid-body mode (its
+        velocity is constant), which halves the cost of the design study's polish."""
+        q0, p0 = self.coords(u, v)
+        w = np.sqrt(self.w2)
+        tt = np.atleast_1d(np.asarray(t, dtype=float))[:, None]
+        moving = w != 0.0
+        p = np.empty((tt.shape[0], w.size))
+        p[:, ~moving] = p0[~moving]
+        wm, q0m, p0m = w[moving], q0[moving], p0[moving]
+        # The same operations, in the same order, as _q on the moving modes.
+        sn, cs = np.sin(tt * wm), np.cos(tt * wm)
+        p[:, moving] = p0m * cs - q0m * wm * sn
+        return p @ self.phi[0]
+
 
 def stiffness(springs, k_contact: float = 0.0) -> np.ndarray:
     """Chain stiffness matrix (springs between neighbours) plus k_contact on the first mass."""
@@ -150,7 +168,7 @@ def first_minimum(modes: Modes, u, v, horizon: float, sign: float = 1.0):
     h = 2.0 * math.pi / wmax / _SCAN_PER_PERIOD
     n = max(8, int(math.ceil(horizon / h)))
     t = np.linspace(0.0, horizon, n + 1)
-    _, vel, _ = modes.first(u, v, t)
+    vel = modes.first_velocity(u, v, t)
     vel = sign * vel
     idx = np.flatnonzero((vel[:-1] < 0.0) & (vel[1:] >= 0.0))
     if idx.size == 0:
@@ -158,7 +176,7 @@ def first_minimum(modes: Modes, u, v, horizon: float, sign: float = 1.0):
     i = idx[0]
 
     def f(s):
-        return sign * float(modes.first(u, v, np.array([s]))[1][0])
+        return sign * float(modes.first_velocity(u, v, np.array([s]))[0])
 
     s = brentq(f, t[i], t[i + 1], xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
     return s, sign * float(modes.first(u, v, np.array([s]))[0][0])

@@ -273,7 +273,9 @@ def _draw_history(ax, r: Result) -> None:
 def _history(hist: np.ndarray, scene, lengths_of_v0: bool) -> pd.DataFrame:
     """The history table: HISTORY_COLUMNS as the kernel recorded them, then
     HISTORY_USER_COLUMNS in the scene's units (``restitution.model.units``)."""
-    frame = pd.DataFrame(hist, columns=list(HISTORY_COLUMNS))
+    # One DataFrame from a dict of columns: inserting the user columns one by one cost 1.7 ms
+    # per solve, most of a grazing evaluation in the design study's polish.
+    cols = {name: hist[:, i] for i, name in enumerate(HISTORY_COLUMNS)}
     if type(scene) is tuple:  # the paper's form: the kernel's units are the scene's
         omega, v0, m1 = 1.0, 1.0, 1.0
     else:
@@ -281,14 +283,13 @@ def _history(hist: np.ndarray, scene, lengths_of_v0: bool) -> pd.DataFrame:
         v0 = float(getattr(scene, "v0", 1.0))
         masses = getattr(scene, "masses", None)
         m1 = float(masses[0]) if masses is not None else 1.0
-    frame["t_start"] = user_time(frame["omega_t_start"].to_numpy(), omega)
-    frame["t_end"] = user_time(frame["omega_t_end"].to_numpy(), omega)
-    frame["velocity_in"] = user_speed(frame["v1_in"].to_numpy(), v0)
-    frame["velocity_out"] = user_speed(frame["v1_out"].to_numpy(), v0)
-    frame["compression"] = user_length(frame["x_max"].to_numpy(), omega,
-                                       v0 if lengths_of_v0 else 1.0)  # fmt: skip
-    frame["wall_impulse"] = user_impulse(frame["impulse"].to_numpy(), m1, v0)
-    return frame
+    cols["t_start"] = user_time(cols["omega_t_start"], omega)
+    cols["t_end"] = user_time(cols["omega_t_end"], omega)
+    cols["velocity_in"] = user_speed(cols["v1_in"], v0)
+    cols["velocity_out"] = user_speed(cols["v1_out"], v0)
+    cols["compression"] = user_length(cols["x_max"], omega, v0 if lengths_of_v0 else 1.0)
+    cols["wall_impulse"] = user_impulse(cols["impulse"], m1, v0)
+    return pd.DataFrame(cols)
 
 
 EXTRAPOLATED = "piecewise+extrapolated"
