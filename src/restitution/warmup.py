@@ -70,6 +70,10 @@ def _steps() -> list[tuple[str, Callable[[], object]]]:
 def _run_group(index: int, queue) -> None:
     """Child process: run group ``index``, putting (label, seconds) or (label, error) on
     ``queue`` after each step and None at the end."""
+    from restitution.kernels import compiling
+
+    # The parent says what runs; a notice from each process would print the same line twice.
+    compiling._announced = True
     try:
         for label, step in _groups()[index]:
             t0 = time.perf_counter()
