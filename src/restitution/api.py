@@ -258,9 +258,34 @@ def _status_codes(status: np.ndarray, labels: _Labels) -> np.ndarray:
     return out
 
 
+def _with_settings(frame, **settings) -> pd.DataFrame:
+    """``frame`` with a column for each setting given as a keyword of ``solve_many`` (checked
+    here, so the error names the keyword, not a row)."""
+    given = {name: value for name, value in settings.items() if value is not None}
+    if not given:
+        return frame
+    if not isinstance(frame, pd.DataFrame):
+        return frame  # scene_table refuses it with its own message
+    for name, value in given.items():
+        if name in frame.columns:
+            raise SceneError(
+                f"{name} is given twice: as solve_many's keyword and as a column of the table; "
+                f"keep one"
+            )
+        if name == "method":
+            if not isinstance(value, str) or value not in M.NAMES:
+                raise SceneError(f"method must be one of {', '.join(M.NAMES)}; got {value!r}")
+        else:
+            given[name] = check(name, value)
+    return frame.assign(**given)
+
+
 def solve_many(
     frame: pd.DataFrame,
     *,
+    method: str | None = None,
+    rtol: float | None = None,
+    step: float | None = None,
     max_events: int = 100_000,
     progress: bool = False,
     keep=(),
@@ -274,13 +299,16 @@ def solve_many(
     docs/general-chains.md), plus optional ``method`` and, for numerical methods, ``rtol`` and
     ``step`` per row. Columns are read strictly (``restitution.tables.scene_table``): any other
     column is an error unless named in ``keep`` (carried through unchanged). Every row is checked
-    before any work. Returns a copy of ``frame`` with the result columns ``cor, n_collisions,
+    before any work. ``method``, ``rtol`` and ``step`` given as keywords apply to every row, as a
+    column of that name would (a table with the column too is refused: one place for a setting).
+    Returns a copy of ``frame`` with the result columns ``cor, n_collisions,
     omega_t_col, e_translational, e_vibrational, e_dissipated, method, status, error_estimate``
     (and ``t_col`` in the user's time unit for general tables). A row whose kernel failed is NaN
     with a status naming the failure. Rows are independent: results are bit-identical for any
     thread count.
     """
     max_events = check("max_events", max_events)
+    frame = _with_settings(frame, method=method, rtol=rtol, step=step)
     table = scene_table(frame, keep)
     plan = table.plan
     n = len(frame)
