@@ -413,7 +413,9 @@ def no_contact_possible(y, m, lk, xp):
 # formula is analytic across its ends), finds on each accepted step the first theta where a link
 # reaches an end of its branch (x_i(theta) on the dense output, the same certified root finder as
 # the contact events), steps to it as to an event and goes on from there on the next branch. The
-# callers see none of it; a scene without scissor links runs the same arithmetic as before.
+# sigma stretches at a power-law contact's ends (``sigma_phase``) do the same on their dense output
+# in sigma (a point there had been stepped across). The callers see none of it; a scene without
+# scissor links runs the same arithmetic as before.
 
 
 @njit(cache=True, error_model="numpy")

@@ -71,6 +71,7 @@ class _Scissor:
         self.x_cap = 2 * self.L * (mp.sqrt(1 - s_c**2) - self.c0)
         self.f_cap = self.bars(self.x_cap)
         self.points = (self.x_lock - self.dc, self.x_lock, self.x_cap)
+        self.x_flat = 2 * self.L * (1 - self.c0)  # the bars lie flat: their formula ends
 
     def bars(self, x):
         c = self.c0 + x / (2 * self.L)
@@ -309,6 +310,11 @@ class _TimeFlow:
         """(u, v) and the time elapsed at s."""
         return list(self.sol(s)), s
 
+    def xrate(self, y, i):
+        """Rate of link i's extension in the flow's variable (time)."""
+        n = self.sc.n
+        return y[n + i + 1] - y[n + i]
+
     def rate(self, y, w):
         """Time derivative of w.(u, v) at y (the acceleration only where w needs it)."""
         n = self.sc.n
@@ -348,6 +354,11 @@ class _SigmaFlow:
         sg = self.s_a + self.sign * tau
         return [-sg * sg] + list(z[: 2 * n - 1]), z[2 * n - 1]
 
+    def xrate(self, y, i):
+        """Rate of link i's extension in tau: its rate in time times dt/dtau = 2 sigma / |x'|."""
+        n = self.sc.n
+        return (y[n + i + 1] - y[n + i]) * 2 * mp.sqrt(-y[0]) / abs(y[n])
+
     def rate(self, y, w):
         """w.(u, v)'s rate in time: the sign of its rate in tau (dt/dtau > 0); u-only rows."""
         n = self.sc.n
@@ -367,8 +378,22 @@ def _stretch(flow, evs, start_tag, tol, h, end, stop=None, left=None):
     def gd(k, s):
         return flow.rate(flow.state(s)[0], evs[k][0])
 
+    def room(y):
+        """The grid step from y: at most a quarter of the way to where a link held on the bars'
+        formula would reach its end (they lie flat) at its present rate. Beyond it the series
+        converge ever more slowly towards the formula's branch point (a step of the grid past
+        the tension cap of a short scissor took minutes before it met the complex values)."""
+        out = h
+        for i, sc in enumerate(flow.sc.sc):
+            if sc is not None and flow.branches[i] == 2:
+                r = abs(flow.xrate(y, i))
+                if r > 0:
+                    out = min(out, (sc.x_flat - (y[i + 1] - y[i])) / (4 * r))
+        return out
+
     s = mp.mpf(0)
-    step = h
+    y = flow.state(s)[0]
+    step = room(y)
     while True:
         s2 = min(s + step, end)
         if any(isinstance(q, mpmath.mpc) for q in flow.state(s2)[0]):
@@ -396,7 +421,7 @@ def _stretch(flow, evs, start_tag, tol, h, end, stop=None, left=None):
             return dt, y, "left"
         if stop is not None and stop(y):
             return dt, y, None
-        step = min(h, 2 * step)
+        step = min(room(y), 2 * step)
 
 
 def _sigma_run(sc, y, branches, cs, target, start_tag, tol, xd_ref):
@@ -533,11 +558,19 @@ def crossings(chain, dps=30, max_contacts=200, t_cap=1e4):
     return _run(chain, dps, max_contacts, t_cap)[2]
 
 
+def reference(chain, dps=30, max_contacts=200):
+    """The sequence at ``dps`` and ``dps + 10`` digits: a dict of the COR (float, the finer run's),
+    the contact count, the bound |COR(dps) - COR(dps + 10)| and ``crossed``, the branch points
+    crossed in order with where (as ``crossings``); raises when the two disagree on the events."""
+    cor, ncol, log = _run(chain, dps, max_contacts, 1e4)
+    cor2, ncol2, log2 = _run(chain, dps + 10, max_contacts, 1e4)
+    if ncol != ncol2 or log != log2:
+        raise RuntimeError(f"precise_scissor: {dps} and {dps + 10} digits disagree on the events")
+    return dict(cor=float(cor2), contacts=ncol2, bound=float(abs(cor2 - cor)), crossed=log2)
+
+
 def solve_precise_scissor(chain, dps=30, max_contacts=200):
     """COR (float), contact count, the bound |COR(dps) - COR(dps + 10)| (float) and the branch
     points reached; raises when the two precisions disagree on the events."""
-    cor, ncol, crossed = solve_cor(chain, dps, max_contacts)
-    cor2, ncol2, crossed2 = solve_cor(chain, dps + 10, max_contacts)
-    if ncol != ncol2 or crossed != crossed2:
-        raise RuntimeError(f"precise_scissor: {dps} and {dps + 10} digits disagree on the events")
-    return float(cor2), ncol2, float(abs(cor2 - cor)), crossed2
+    r = reference(chain, dps, max_contacts)
+    return r["cor"], r["contacts"], r["bound"], {p for p, _ in r["crossed"]}
