@@ -179,6 +179,12 @@ REFERENCE = {
         5.6e-17,
         ((1, "contact"), (0, "contact"), (0, "free"), (1, "free"), (2, "free")),
     ),
+    "random17": (
+        0.7569902512479363,
+        3,
+        5.6e-17,
+        ((1, "contact"), (0, "contact"), (0, "free"), (1, "free"), (2, "free")),
+    ),
     "random18": (
         0.7822334981730036,
         2,
