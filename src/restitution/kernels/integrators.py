@@ -1130,7 +1130,7 @@ def sigma_phase_sampled(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc,
             if si[0] < ts.shape[0] and ts[si[0]] <= t_hi:
                 sample_sigma(z, F, s, h, t, t_hi, not last, cp, mem, ts, si, Ys, Fs, tmp2)
         elif si[0] < ts.shape[0] and ts[si[0]] <= t_hi:
-            dense_coeffs_sigma(z, znew, K, h, s, m, lk, c, cp, mem, F, tmp2)
+            dense_coeffs_sigma(z, znew, K, h, s, m, lk, c, cp, mb, F, tmp2)
             sample_sigma(z, F, s, h, t, t_hi, not last, cp, mem, ts, si, Ys, Fs, tmp2)
         z[:] = znew
         f0[:] = K[N_ST]
