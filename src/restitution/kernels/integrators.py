@@ -413,7 +413,9 @@ def no_contact_possible(y, m, lk, xp):
 # formula is analytic across its ends), finds on each accepted step the first theta where a link
 # reaches an end of its branch (x_i(theta) on the dense output, the same certified root finder as
 # the contact events), steps to it as to an event and goes on from there on the next branch. The
-# callers see none of it; a scene without scissor links runs the same arithmetic as before.
+# sigma stretches at a power-law contact's ends (``sigma_phase``) do the same on their dense output
+# in sigma (a point there had been stepped across). The callers see none of it; a scene without
+# scissor links runs the same arithmetic as before.
 
 
 @njit(cache=True, error_model="numpy")
@@ -517,16 +519,18 @@ def branches_excluded(K, h, y, ynew, m, lk, mb):
 
 
 @njit(cache=True, error_model="numpy")
-def step_to_point(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp, i, p, work):
+def step_to_point(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp, i, p, work, sig=False,
+                  s0=0.0):  # fmt: skip
     """``rk_phase``'s step to an event, for link i reaching x_i = p: a step of its own and one
-    Newton correction of its length on that state; ynew is the state there. Returns the length."""
+    Newton correction of its length on that state; ynew is the state there. Returns the length.
+    ``sig``: a step in sigma from s0 (``sigma_phase``; dt < 0 at a contact's exit)."""
     for it in range(2):
         work[0] -= 12.0
-        dp_step(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp)
+        dp_step(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp, sig, s0)
         if it == 1:
             break
         step = -(ynew[i + 1] - ynew[i] - p) / (K[N_ST, i + 1] - K[N_ST, i])
-        if not (abs(step) < 0.01 * dt and abs(step) > 1e-15 * dt):
+        if not (abs(step) < 0.01 * abs(dt) and abs(step) > 1e-15 * abs(dt)):
             break
         dt += step
     return dt
@@ -694,7 +698,9 @@ def sigma_phase(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc):
     (``rhs_sigma``) by DOP853, the last step landing on s_b exactly: the entry into a power-law
     contact (x = 0 -> s_b**2) or its exit (-> 0, the separation itself, no event to locate).
     Stops early (SIG_LEFT) when |x'| falls below half its start value, where dt/dsigma would
-    grow without bound. y is updated in place; returns (code, t)."""
+    grow without bound. y is updated in place; returns (code, t).
+    Scissor links stop at their branch points inside the stretch as in ``rk_phase`` ("Link
+    branch points" above), located on the dense output in sigma (``sigma_to_branch_point``)."""
     nm = m.shape[0]
     ny = y.shape[0]
     nz = ny + 1
@@ -706,10 +712,17 @@ def sigma_phase(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc):
     if not (xd0 != 0.0 and s_b != s0):
         return SIG_LEFT, t
     K = np.empty((N_EXT, nz))
+    F = np.empty((N_DENSE, nz))
     znew = np.empty(nz)
     tmp = np.empty(nz)
     f0 = np.empty(nz)
-    rhs_sigma(s0, z, m, lk, c, cp, mem, f0)
+    coef = np.empty(N_DENSE + 1)
+    gb = np.empty(N_DENSE + 1)
+    bstrip = np.zeros((max(nm - 1, 0), 2), dtype=np.int64)
+    mb = branch_mem(z, m, lk, mem, bstrip)  # mem itself without scissor links
+    held = mb.shape[0] > N_MEM
+    still = 0  # branch switches in a row without a step (a guard against a link at rest on one)
+    rhs_sigma(s0, z, m, lk, c, cp, mb, f0)
     span = s_b - s0
     h = sigma_first_step(span, rtol)
     s = s0
@@ -721,11 +734,22 @@ def sigma_phase(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc):
             h = s_b - s
         if not (abs(h) >= 1e-14 * abs(span)):  # also catches NaN
             break
-        err = dp_step(z, f0, h, rtol, atol, m, lk, c, cp, mem, K, znew, tmp, True, s)
+        err = dp_step(z, f0, h, rtol, atol, m, lk, c, cp, mb, K, znew, tmp, True, s)
         if not err <= 1.0:
             h *= 0.2 if not err == err else max(0.2, 0.9 * err**-0.125)
             continue
         err_acc[0] += _momentum_error(K, h, m)
+        if held and still < 2 and not branches_excluded(K, h, z, znew, m, lk, mb):
+            work[0] -= 3.0
+            dense_coeffs_sigma(z, znew, K, h, s, m, lk, c, cp, mb, F, tmp)
+            bt, bi, bs = first_branch_root(F, K, h, z, m, lk, mb, bstrip, coef, gb)
+            if bt >= 0.0:  # a branch point on this step: step to it, go on past it
+                ds = sigma_to_branch_point(z, f0, bt * h, s, rtol, atol, m, lk, c, cp, mb, K,
+                                           znew, tmp, bi, bs, work)  # fmt: skip
+                still = 0 if ds != 0.0 else still + 1
+                s = sigma_switch_branch(z, znew, f0, s, ds, m, lk, c, cp, mb, bstrip, bi, bs)
+                h *= min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.125))
+                continue
         z[:] = znew
         f0[:] = K[N_ST]
         s = s_b if last else s + h
@@ -736,11 +760,38 @@ def sigma_phase(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc):
             code = SIG_LEFT
             break
         h *= min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.125))
+        still = 0
+        bstrip[:] = 0
     if code != SIG_FAIL:
         y[:] = z[:ny]
         y[0] = -s * s
         t += z[ny]
     return code, t
+
+
+@njit(cache=True, error_model="numpy")
+def sigma_to_branch_point(z, f0, ds, s, rtol, atol, m, lk, c, cp, mb, K, znew, tmp, i, side,
+                          work):  # fmt: skip
+    """znew = the state in sigma where link i reaches the end of its held branch (side +1 up,
+    -1 down), ds along the accepted step from s (``step_to_point`` in sigma: a step of its own
+    and a Newton correction). Returns the corrected ds (0 when the link starts on the point)."""
+    if ds == 0.0:
+        return 0.0
+    p = scissor_point(lk[i], int(mb[N_MEM + i]) + (0 if side > 0 else -1))
+    return step_to_point(z, f0, ds, rtol, atol, m, lk, c, cp, mb, K, znew, tmp, i, p, work, True,
+                         s)  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy")
+def sigma_switch_branch(z, znew, f0, s, ds, m, lk, c, cp, mb, bstrip, i, side):
+    """Go on from the branch point (znew at s + ds, or z itself when ds = 0) on link i's next
+    branch; returns the new sigma."""
+    if ds != 0.0:
+        z[:] = znew
+        s += ds
+    branch_switch(mb, bstrip, i, side)
+    rhs_sigma(s, z, m, lk, c, cp, mb, f0)
+    return s
 
 
 @njit(cache=True, error_model="numpy")
@@ -1039,7 +1090,13 @@ def sigma_phase_sampled(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc,
     tmp = np.empty(nz)
     tmp2 = np.empty(nz)
     f0 = np.empty(nz)
-    rhs_sigma(s0, z, m, lk, c, cp, mem, f0)
+    coef = np.empty(N_DENSE + 1)
+    gb = np.empty(N_DENSE + 1)
+    bstrip = np.zeros((max(nm - 1, 0), 2), dtype=np.int64)
+    mb = branch_mem(z, m, lk, mem, bstrip)
+    held = mb.shape[0] > N_MEM
+    still = 0
+    rhs_sigma(s0, z, m, lk, c, cp, mb, f0)
     span = s_b - s0
     h = sigma_first_step(span, rtol)
     s = s0
@@ -1051,14 +1108,29 @@ def sigma_phase_sampled(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc,
             h = s_b - s
         if not (abs(h) >= 1e-14 * abs(span)):  # also catches NaN
             break
-        err = dp_step(z, f0, h, rtol, atol, m, lk, c, cp, mem, K, znew, tmp, True, s)
+        err = dp_step(z, f0, h, rtol, atol, m, lk, c, cp, mb, K, znew, tmp, True, s)
         if not err <= 1.0:
             h *= 0.2 if not err == err else max(0.2, 0.9 * err**-0.125)
             continue
         err_acc[0] += _momentum_error(K, h, m)
         t_hi = t + znew[ny]
-        if si[0] < ts.shape[0] and ts[si[0]] <= t_hi:
-            dense_coeffs_sigma(z, znew, K, h, s, m, lk, c, cp, mem, F, tmp2)
+        if held and still < 2 and not branches_excluded(K, h, z, znew, m, lk, mb):
+            work[0] -= 3.0  # the work sigma_phase counts
+            dense_coeffs_sigma(z, znew, K, h, s, m, lk, c, cp, mb, F, tmp2)
+            bt, bi, bs = first_branch_root(F, K, h, z, m, lk, mb, bstrip, coef, gb)
+            if bt >= 0.0:
+                ds = sigma_to_branch_point(z, f0, bt * h, s, rtol, atol, m, lk, c, cp, mb, K,
+                                           znew, tmp, bi, bs, work)  # fmt: skip
+                if ds != 0.0:  # F is still the dense output of the whole step from z
+                    sample_sigma(z, F, s, h, t, t + znew[ny], True, cp, mem, ts, si, Ys, Fs, tmp2)
+                still = 0 if ds != 0.0 else still + 1
+                s = sigma_switch_branch(z, znew, f0, s, ds, m, lk, c, cp, mb, bstrip, bi, bs)
+                h *= min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.125))
+                continue
+            if si[0] < ts.shape[0] and ts[si[0]] <= t_hi:
+                sample_sigma(z, F, s, h, t, t_hi, not last, cp, mem, ts, si, Ys, Fs, tmp2)
+        elif si[0] < ts.shape[0] and ts[si[0]] <= t_hi:
+            dense_coeffs_sigma(z, znew, K, h, s, m, lk, c, cp, mb, F, tmp2)
             sample_sigma(z, F, s, h, t, t_hi, not last, cp, mem, ts, si, Ys, Fs, tmp2)
         z[:] = znew
         f0[:] = K[N_ST]
@@ -1070,6 +1142,8 @@ def sigma_phase_sampled(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc,
             code = SIG_LEFT
             break
         h *= min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.125))
+        still = 0
+        bstrip[:] = 0
     if code != SIG_FAIL:
         y[:] = z[:ny]
         y[0] = -s * s
