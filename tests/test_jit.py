@@ -40,7 +40,7 @@ def test_literal_and_omitted_arguments_share_one_specialisation():
 
 def test_no_c_callable_wrapper_is_built():
     """numba builds a C-callable wrapper of every kernel unless told not to; nothing here uses
-    one, and building them cost ~15 % of a cold first call (restitution.jit)."""
+    one, and building them cost ~5 % of a cold first call (restitution.jit)."""
     x = 2.0
     assert _caller(x) == _caller.py_func(x)  # compiled (the jitted callee inside)
     for kernel in (_caller, _callee):

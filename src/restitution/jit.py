@@ -55,7 +55,7 @@ def njit(function=None, *, cache=False, **options):
             return f
         # no_cfunc_wrapper: numba also builds a C-callable wrapper of every kernel (for
         # numba.cfunc users and first-class function values, neither used here); dropping it cut
-        # the paper chain's first call from ~46 s to ~35-40 s (2026-11-27).
+        # the paper chain's first call from 41 s to 39 s on a quiet machine (2026-11-27).
         target = {"nopython": True, "no_cfunc_wrapper": True, **options}
         dispatcher = _OneSpecialisation(f, targetoptions=target)
         if cache:
