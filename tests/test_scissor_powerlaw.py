@@ -196,19 +196,9 @@ REFERENCE = {
 
 RTOLS = (1e-8, 1e-10, 1e-12)
 
-# measured misses: (scene, rtol) -> why (none)
-KNOWN_MISSES: dict = {}
 
-
-def _cases():
-    for name in REFERENCE:
-        for rtol in RTOLS:
-            why = KNOWN_MISSES.get((name, rtol))
-            marks = [pytest.mark.xfail(strict=True, reason=why)] if why else []
-            yield pytest.param(name, rtol, marks=marks)
-
-
-@pytest.mark.parametrize("name, rtol", list(_cases()))
+@pytest.mark.parametrize("rtol", RTOLS)
+@pytest.mark.parametrize("name", REFERENCE)
 def test_estimate_covers_the_actual_error(name, rtol):
     cor, contacts, bound, _ = REFERENCE[name]
     r = R.solve(R.Chain(**scenes()[name]), method="adaptive", rtol=rtol)
