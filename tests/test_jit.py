@@ -1,6 +1,7 @@
 """restitution.jit: one compiled specialisation per plain argument types."""
 
 import numpy as np
+import pytest
 
 from restitution.jit import njit
 
@@ -48,3 +49,57 @@ def test_no_c_callable_wrapper_is_built():
         names = {fn.name for fn in cres.library._final_module.functions}
         assert cres.fndesc.llvm_func_name in names  # the kernel itself is there
         assert cres.fndesc.llvm_cfunc_wrapper_name not in names
+
+
+@njit(error_model="numpy")
+def _row_sum(row, scale):
+    s = 0.0
+    for k in range(row.shape[0]):
+        s += scale * row[k] / (1.0 + k)
+    return s
+
+
+def _leaf_py(M, out, scale):
+    # a row view passed to another kernel on one branch: the pattern of the step loops'
+    # right-hand side (a linear link inline, another law through its row)
+    for i in range(M.shape[0]):
+        out[i] = _row_sum(M[i], scale) if M[i, 0] > 0.0 else scale
+    return out[0]
+
+
+_leaf = njit(error_model="numpy", refcount=False)(_leaf_py)
+_counted_leaf = njit(error_model="numpy")(_leaf_py)
+
+
+def _refcount_calls(kernel):
+    cres = kernel.overloads[kernel.signatures[0]]
+    body = str(cres.library._final_module.get_function(cres.fndesc.llvm_func_name))
+    return body.count("@NRT_incref") + body.count("@NRT_decref")
+
+
+def test_refcount_false_compiles_without_reference_counts():
+    """The step loops' leaf kernels are compiled without numba's reference counts of their array
+    arguments (two atomic operations per array and call; restitution.jit.njit)."""
+    M, out = np.array([[1.0, 8.0], [-2.0, 8.0], [3.5, 8.0]]), np.zeros(3)
+    assert _leaf(M, out, 2.0) == 10.0 and list(out) == [10.0, 2.0, 15.0]
+    assert _counted_leaf(M, out, 3.0) == 15.0 and list(out) == [15.0, 3.0, 22.5]
+    assert _refcount_calls(_counted_leaf) > 0  # the same code with them: the check can fail
+    assert _refcount_calls(_leaf) == 0
+
+
+def test_refcount_false_refuses_to_return_an_array():
+    """A kernel without reference counts returning an array would hand its caller a reference
+    it never took (a freed array later): refused when compiled. (numba itself refuses a new
+    array or a view; an argument returned as it is, alone or in a tuple, is refused here.)"""
+
+    @njit(refcount=False)
+    def same(y):
+        return y
+
+    @njit(refcount=False)
+    def pair(y):
+        return 1.0, y
+
+    for kernel in (same, pair):
+        with pytest.raises(TypeError, match="refcount=False returns an array"):
+            kernel(np.ones(3))

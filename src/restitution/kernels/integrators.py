@@ -94,7 +94,7 @@ M_PHASE, M_BRANCH, M_XMAX, M_FMAX, M_XP = 0, 1, 2, 3, 4
 N_MEM = 8
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def dent(cp, mem):
     if cp[0] == C_PLASTIC and mem[M_FMAX] > 0.0:
         return mem[M_XMAX] - mem[M_FMAX] / cp[1]
@@ -109,23 +109,43 @@ STOP_NEVER = 0
 STOP_NO_CONTACT = 1
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def stage_state(y, K, h, s, out):
-    """out = y + h sum_j A[s, j] K[j]: stage s's state, summed over the (contiguous) state and
-    skipping the tableau's zeros."""
+    """out = y + h sum_j A[s, j] K[j]: stage s's state, skipping the tableau's zeros.
+
+    Component by component, the sum in a register (j ascending, as summed over rows before):
+    with the whole state updated once per stage instead, every term was a load and a store of
+    out[i], and the 11 stages of a step took 2.3 times as long (two masses, 2026-11-27)."""
     n = y.shape[0]
     for i in range(n):
-        out[i] = 0.0
-    for j in range(s):
-        a = DP_A[s, j]
-        if a != 0.0:
-            for i in range(n):
-                out[i] += a * K[j, i]
+        acc = 0.0
+        for j in range(s):
+            a = DP_A[s, j]
+            if a != 0.0:
+                acc += a * K[j, i]
+        out[i] = y[i] + h * acc
+
+
+@njit(cache=True, error_model="numpy", refcount=False)
+def dense_from_stages(y0, ynew, K, h, F):
+    """F of the dense output from a step's 16 stages K (in time or in sigma)."""
+    n = y0.shape[0]
     for i in range(n):
-        out[i] = y[i] + h * out[i]
+        dy = ynew[i] - y0[i]
+        F[0, i] = dy
+        F[1, i] = h * K[0, i] - dy
+        F[2, i] = 2.0 * dy - h * (K[N_ST, i] + K[0, i])
+    for k in range(N_DENSE - 3):
+        for i in range(n):  # component by component, as stage_state
+            acc = 0.0
+            for j in range(N_EXT):
+                d = DP_D[k, j]
+                if d != 0.0:
+                    acc += d * K[j, i]
+            F[3 + k, i] = acc * h
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def dense_coeffs(y0, ynew, K, h, m, lk, c, cp, mem, F, tmp):
     """The 7th-order dense output of an accepted step (scipy's DOP853._dense_output_impl): the
     three extra stages into K[13:16], then F (7 x len(y)) with y(theta) = y0 + sum_k F_k b_k."""
@@ -135,24 +155,10 @@ def dense_coeffs(y0, ynew, K, h, m, lk, c, cp, mem, F, tmp):
         rhs(tmp, m, lk, c, cp, mem, F[0])  # F[0] as scratch (a row view once per stage)
         for i in range(n):
             K[s, i] = F[0, i]
-    for i in range(n):
-        dy = ynew[i] - y0[i]
-        F[0, i] = dy
-        F[1, i] = h * K[0, i] - dy
-        F[2, i] = 2.0 * dy - h * (K[N_ST, i] + K[0, i])
-    for k in range(N_DENSE - 3):
-        for i in range(n):
-            F[3 + k, i] = 0.0
-        for j in range(N_EXT):
-            d = DP_D[k, j]
-            if d != 0.0:
-                for i in range(n):
-                    F[3 + k, i] += d * K[j, i]
-        for i in range(n):
-            F[3 + k, i] *= h
+    dense_from_stages(y0, ynew, K, h, F)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def event_poly(F, K, h, y0, w, b, coef):
     """Monomial coefficients (degree 7 in theta) of w.y(theta) + b along the dense output. The
     linear one is h w.f(y0) directly (not F_0 + F_1 after rounding), so an event that starts on
@@ -184,7 +190,7 @@ def event_poly(F, K, h, y0, w, b, coef):
 EXCLUDE_MARGIN = 2.0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def events_excluded(K, h, y, ynew, W, B, nev):
     """True when no event g_k = W[k].y + B[k] (k < nev) can trigger on the accepted step from y
     to ynew (stages K[0:13]): see EXCLUDE_MARGIN. False for NaN and for an event on its surface."""
@@ -208,7 +214,7 @@ def events_excluded(K, h, y, ynew, W, B, nev):
     return True
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def dense_state(y0, F, theta, out):
     """y(theta) on the dense output (scipy's Dop853DenseOutput: nested theta, 1 - theta)."""
     n = y0.shape[0]
@@ -220,7 +226,7 @@ def dense_state(y0, F, theta, out):
         out[i] = y0[i] + acc
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def link_force(sp, x, mem, i):
     """Force of the nonlinear link i: on the branch that ``rk_phase`` holds it on
     (mem[N_MEM + i], see "Link branch points" below), else on the branch x is on."""
@@ -229,7 +235,7 @@ def link_force(sp, x, mem, i):
     return structure_force(sp, x)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def rhs(y, m, lk, c, cp, mem, dy):
     """Equations of motion of the chain with the current contact branch."""
     n = m.shape[0]
@@ -256,7 +262,7 @@ def rhs(y, m, lk, c, cp, mem, dy):
     dy[2 * n + 1] = d
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def rhs_sigma(sg, z, m, lk, c, cp, mem, dz):
     """Equations of motion over sigma = sqrt(x) (x = -u1 the penetration) instead of time, for
     the ends of a power-law contact: z = [y, t], dz = dz/dsigma = f(y) dt/dsigma with
@@ -276,7 +282,7 @@ def rhs_sigma(sg, z, m, lk, c, cp, mem, dz):
     dz[ny] = dtds
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def dp_step(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp, sig=False, s0=0.0):
     """One DOP853 step from y (with f0 = f(y)); fills K[0:13] (K[12] = f(ynew)) and ynew;
     returns the error norm of Hairer's estimator (the 5th-order difference, corrected by the
@@ -296,15 +302,13 @@ def dp_step(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp, sig=False, s0
             rhs(tmp, m, lk, c, cp, mem, ynew)
         for i in range(n):
             K[s, i] = ynew[i]
-    for i in range(n):
-        ynew[i] = 0.0
-    for j in range(N_ST):
-        b = DP_B[j]
-        if b != 0.0:
-            for i in range(n):
-                ynew[i] += b * K[j, i]
-    for i in range(n):
-        ynew[i] = y[i] + h * ynew[i]
+    for i in range(n):  # component by component, as stage_state
+        acc = 0.0
+        for j in range(N_ST):
+            b = DP_B[j]
+            if b != 0.0:
+                acc += b * K[j, i]
+        ynew[i] = y[i] + h * acc
     if sig:
         rhs_sigma(s0 + h, ynew, m, lk, c, cp, mem, tmp)
     else:
@@ -335,7 +339,7 @@ def dp_step(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp, sig=False, s0
     return abs(h) * worst if finite else math.nan
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def _momentum_error(K, h, m):
     """Hairer's corrected local error estimate of the total momentum over the step."""
     nm = m.shape[0]
@@ -352,7 +356,7 @@ def _momentum_error(K, h, m):
     return abs(h) * a5 * a5 / math.sqrt(a5 * a5 + 0.01 * a3 * a3)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def internal_energy(y, m, lk):
     """Energy of the motion relative to the centre of mass: relative kinetic + link potentials."""
     n = m.shape[0]
@@ -369,7 +373,7 @@ def internal_energy(y, m, lk):
     return max(e, 0.0)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def no_contact_possible(y, m, lk, xp):
     """True when m1 provably never reaches the contact surface u1 = -xp again (free flight).
 
@@ -447,7 +451,7 @@ def branch_mem(y, m, lk, mem, bstrip):
     return mb
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def link_poly(F, K, h, y, i, coef):
     """``event_poly`` of the extension x_i = y[i + 1] - y[i] (linear coefficient h x_i')."""
     for j in range(N_DENSE + 1):
@@ -493,7 +497,7 @@ def first_branch_root(F, K, h, y, m, lk, mb, bstrip, coef, g):
     return (best if link >= 0 else -1.0), link, side
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def branches_excluded(K, h, y, ynew, m, lk, mb):
     """True when no scissor link can reach an end of the branch it is held on during the
     accepted step from y to ynew: ``events_excluded``'s rate test on each extension against
@@ -518,7 +522,7 @@ def branches_excluded(K, h, y, ynew, m, lk, mb):
     return True
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def step_to_point(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp, i, p, work, sig=False,
                   s0=0.0):  # fmt: skip
     """``rk_phase``'s step to an event, for link i reaching x_i = p: a step of its own and one
@@ -536,7 +540,7 @@ def step_to_point(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp, i, p, w
     return dt
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def branch_switch(mb, bstrip, i, side):
     """Link i goes on to the branch beyond the end it reached (side +1 up, -1 down), starting on
     that branch's lower / upper end; no other link starts on a point."""
@@ -553,7 +557,7 @@ def branch_switch(mb, bstrip, i, side):
 NEWTON_TAYLOR = 1e-6
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def event_state(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp, w, b, work):
     """ynew = the state at the event g = w.y + b = 0 located at dt on the dense output: by a
     DOP853 step of its own and one Newton correction of the time (g / g') on that state, so the
@@ -684,7 +688,7 @@ SIG_LEFT = 1  # x' fell below half its start value: the caller goes on in time
 SIG_FAIL = 2  # step underflow or work budget
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def sigma_first_step(span, rtol):
     """The first step of a sigma stretch: span * min(0.25, 0.13 (rtol/1e-12)**(1/8)). At a
     quarter of the span the first step's error norm was ~100 at rtol 1e-12 (Hertz contacts:
@@ -769,7 +773,7 @@ def sigma_phase(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc):
     return code, t
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def sigma_to_branch_point(z, f0, ds, s, rtol, atol, m, lk, c, cp, mb, K, znew, tmp, i, side,
                           work):  # fmt: skip
     """znew = the state in sigma where link i reaches the end of its held branch (side +1 up,
@@ -782,19 +786,20 @@ def sigma_to_branch_point(z, f0, ds, s, rtol, atol, m, lk, c, cp, mb, K, znew, t
                          s)  # fmt: skip
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def sigma_switch_branch(z, znew, f0, s, ds, m, lk, c, cp, mb, bstrip, i, side):
     """Go on from the branch point (znew at s + ds, or z itself when ds = 0) on link i's next
     branch; returns the new sigma."""
     if ds != 0.0:
-        z[:] = znew
+        for k in range(z.shape[0]):  # not z[:] = znew: an array assignment needs numba's NRT
+            z[k] = znew[k]
         s += ds
     branch_switch(mb, bstrip, i, side)
     rhs_sigma(s, z, m, lk, c, cp, mb, f0)
     return s
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def accel_verlet(y, m, lk, c, cp, mem, acc):
     """Accelerations (acc[:n]) for Verlet with the path-following contact law; returns
     (contact force, dashpot power)."""
@@ -861,7 +866,7 @@ def verlet_step(y, acc, h, m, lk, c, cp, mem, damped):
 STOP_SAMPLES = 2  # rk_phase_sampled: end once every sample is filled (no events)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def sample_force(cp, mem, x, xdot):
     """The contact law's force on m1 at penetration x and its rate xdot with the current branch
     (0 off contact or at a rigid wall; the smooth continuation past the surface clipped at 0)."""
@@ -870,7 +875,7 @@ def sample_force(cp, mem, x, xdot):
     return max(contact_force(cp, int(mem[M_BRANCH]), mem[M_XMAX], mem[M_FMAX], x, xdot), 0.0)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def sample_here(y, t, cp, mem, ts, si, Ys, Fs):
     """Fill the samples at times <= t with the state y (at time t)."""
     n = y.shape[0]
@@ -883,7 +888,7 @@ def sample_here(y, t, cp, mem, ts, si, Ys, Fs):
         si[0] += 1
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def sample_dense(y0, F, t0, h, t_hi, closed, cp, mem, ts, si, Ys, Fs):
     """Fill the samples in (t0, t_hi] (``closed``) or (t0, t_hi) from the dense output (y0, F)
     of a step of length h from t0."""
@@ -1002,7 +1007,7 @@ def rk_phase_sampled(
     return EV_FAIL, t, h
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def dense_coeffs_sigma(z0, znew, K, h, s0, m, lk, c, cp, mem, F, tmp):
     """``dense_coeffs`` of a step in sigma from s0 (``rhs_sigma``; z = [y, t])."""
     n = z0.shape[0]
@@ -1011,24 +1016,10 @@ def dense_coeffs_sigma(z0, znew, K, h, s0, m, lk, c, cp, mem, F, tmp):
         rhs_sigma(s0 + DP_C[s] * h, tmp, m, lk, c, cp, mem, F[0])
         for i in range(n):
             K[s, i] = F[0, i]
-    for i in range(n):
-        dy = znew[i] - z0[i]
-        F[0, i] = dy
-        F[1, i] = h * K[0, i] - dy
-        F[2, i] = 2.0 * dy - h * (K[N_ST, i] + K[0, i])
-    for k in range(N_DENSE - 3):
-        for i in range(n):
-            F[3 + k, i] = 0.0
-        for j in range(N_EXT):
-            d = DP_D[k, j]
-            if d != 0.0:
-                for i in range(n):
-                    F[3 + k, i] += d * K[j, i]
-        for i in range(n):
-            F[3 + k, i] *= h
+    dense_from_stages(z0, znew, K, h, F)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def _dense_component(z0, F, theta, i):
     acc = 0.0
     for k in range(N_DENSE - 1, -1, -1):
@@ -1037,7 +1028,7 @@ def _dense_component(z0, F, theta, i):
     return z0[i] + acc
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def sample_sigma(z0, F, s0, h, t0, t_hi, closed, cp, mem, ts, si, Ys, Fs, tmp):
     """Fill the samples in (t0 + z0[t], t_hi] (``closed``) or (.., t_hi) of a step in sigma from
     s0: the time is the state's last component, monotonic over the step (x' keeps its sign in a

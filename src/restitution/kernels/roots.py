@@ -217,13 +217,13 @@ def expansion(fdf):
 # ----------------------------------------------------------------------------------------------
 # Roots of cubics
 # ----------------------------------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def cubic(a0, a1, a2, a3, s):
     """p(s) = a0 + a1 s + a2 s^2/2 - a3 s^3/6, the locator's cubic lower bound of a gap."""
     return a0 + s * (a1 + s * (0.5 * a2 - s * a3 / 6.0))
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def first_cubic_root(a0, a1, a2, a3):
     """Largest h (to ~1e-13, from below) with p(s) = a0 + a1 s + a2 s^2/2 - a3 s^3/6 > 0 on
     [0, h); a0 > 0, a3 >= 0. Returns inf if p never vanishes."""
@@ -277,7 +277,7 @@ def first_cubic_root(a0, a1, a2, a3):
     return monotone_cubic_root(a0, a1, a2, a3, lo, hi)
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def monotone_cubic_root(a0, a1, a2, a3, lo, hi):
     """Root of the cubic, decreasing on [lo, hi] with p(lo) > 0 >= p(hi); returns a point below
     it (p > 0 there).
@@ -329,7 +329,7 @@ def monotone_cubic_root(a0, a1, a2, a3, lo, hi):
     return lo
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def hermite_cubic_root(sa, ga, gpa, sb, gb, gpb):
     """Root in (sa, sb) of the Hermite cubic through (sa, ga, gpa) and (sb, gb, gpb), found by
     Newton from sb (gb < 0 > gpb): a first guess only, or -1.0."""
@@ -357,7 +357,7 @@ _BINOM = np.array(
 )
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def poly_val(c, n, t):
     acc = 0.0
     for k in range(n, -1, -1):

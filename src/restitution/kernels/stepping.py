@@ -121,7 +121,7 @@ MAX_WORK_DEFAULT = 4_000_000
 
 
 # ------------------------------------------------- closed-form free flight of two masses --
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def _osc(s, xi, r0, w0):
     """r(s), r'(s) of r'' + 2 xi r' + r = 0 (all damping regimes, overflow-free)."""
     if xi < 1.0:
@@ -144,7 +144,7 @@ def _osc(s, xi, r0, w0):
     return r, w
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def _gap(s, x0, v, mu, xi, w, r0, w0):
     r, _ = _osc(w * s, xi, r0, w0)
     return x0 + v * s - mu * r
@@ -153,7 +153,7 @@ def _gap(s, x0, v, mu, xi, w, r0, w0):
 _bisect_gap = bisection(_gap)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def free_flight_linear(y, xp, m1, m2, k, c):
     """Advance two masses joined by a linear link (k, dashpot c; no contact) to the next contact;
     return its local time or -1 (m1 never reaches the contact surface u1 = -xp again).
@@ -224,7 +224,7 @@ MID = 3  # the branch goes on from inside (after a stretch in sigma): no event s
 SIGMA_ZONE = 0.3
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def _setup_contact_events(cp, mem, W, B, strip, how, nm=2):
     """Event rows of the current contact branch; returns their number.
 
@@ -265,7 +265,7 @@ def _setup_contact_events(cp, mem, W, B, strip, how, nm=2):
     return 2
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def _contact_switch(code, y, iv, kind, cp, mem, how, xmax_c):
     """The law's switch at an event of a contact phase, the same for two masses and for chains:
     y[0] = u1, y[iv] = v1. At the deepest point the loading branch turns (the plastic law
@@ -297,13 +297,13 @@ def _contact_switch(code, y, iv, kind, cp, mem, how, xmax_c):
     return how, xmax_c, True
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def _record(hist, n, col, value):
     if n < hist.shape[0]:
         hist[n, col] = value
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def chain_frequency_bound(m, lk, kc):
     """Gershgorin bound on the highest angular frequency (links at their largest slope, SP_K2;
     a contact slope kc on m1)."""
@@ -321,7 +321,7 @@ def chain_frequency_bound(m, lk, kc):
     return math.sqrt(lam)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def verlet_frequency(m, lk, kc):
     """The highest angular frequency that sets Verlet's step: exact for two masses (the largest
     eigenvalue of the 2 x 2 problem with the contact slope kc on m1 and the link at its largest
@@ -335,7 +335,7 @@ def verlet_frequency(m, lk, kc):
     return math.sqrt(lam)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def _momentum(y, m):
     n = m.shape[0]
     p = 0.0
@@ -344,7 +344,7 @@ def _momentum(y, m):
     return p
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def _energies(y, m, lk, v0, out, acct, y0=None):
     """The result's COR and energy fractions at the final separation ``y``. From a given
     initial state ``y0`` (solve_scene) the COR is the centre of mass's velocity over its approach
@@ -376,7 +376,7 @@ def _energies(y, m, lk, v0, out, acct, y0=None):
     acct[4] = out[OUT_ETRANS] + out[OUT_EVIB] + out[OUT_EDISS] - 1.0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def initial_energy(y0, m, lk):
     """(kinetic + link energy, momentum) of the initial state y0 = [u(n), v(n)]."""
     n = m.shape[0]
@@ -388,7 +388,7 @@ def initial_energy(y0, m, lk):
     return e, _momentum(y0, m)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def state_ok(y0, m):
     """The kernel's guard of a given initial state (named by the Python layer first): 2 n
     finite numbers, m1 on the wall (u1 = 0) and moving (v1 != 0), the centre of mass
@@ -402,7 +402,7 @@ def state_ok(y0, m):
     return _momentum(y0, m) < 0.0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def input_ok(m, lk, c, cp, v0):
     """The kernel's own guard (the Python entry checks and names every parameter first)."""
     n = m.shape[0]
@@ -529,7 +529,7 @@ def _sigma_entry(y, t, m, lk, c, cp, mem, rtol, atol, work, err_acc):
     return sigma_phase(y, t, math.sqrt(x_sw), rtol, atol, m, lk, c, cp, mem, work, err_acc)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def contact_first_step(w_cont, rtol):
     """First step of a contact phase in time: min(0.5, 0.11 (rtol/1e-12)**(1/8)) / w_cont. The
     fixed 0.05 / w_cont before was about a quarter of the step the error control then took at
@@ -722,7 +722,7 @@ def _adaptive(
                 how = ENTER
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def _fail(work):
     """Status of a failed phase: the work budget if it ran out, else a step-size underflow."""
     return STATUS_WORK_BUDGET if work[0] <= 0.0 else STATUS_NONCONVERGED
@@ -837,7 +837,7 @@ EV_END = 1
 EV_IMPACT = 2
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def _free_linear_at(y0, m1, m2, k, c, s, out):
     """The state at local time s of the closed-form free flight of ``free_flight_linear`` from
     y0 (the same formulas; D gains the dashpot's loss)."""
@@ -861,7 +861,7 @@ def _free_linear_at(y0, m1, m2, k, c, s, out):
     out[5] = y0[5] + e_before - e_after
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def _sample_free_linear(y0, t0, t_hi, m, lk, c, ts, si, Ys, Fs):
     """Fill the samples in [t0, t_hi) from the closed-form free flight from y0 at t0."""
     while si[0] < ts.shape[0] and ts[si[0]] < t_hi:
@@ -871,7 +871,7 @@ def _sample_free_linear(y0, t0, t_hi, m, lk, c, ts, si, Ys, Fs):
         si[0] += 1
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def _event(evt, evk, cnt, t, kind):
     j = cnt[0]
     if j < evt.shape[0]:

@@ -568,7 +568,7 @@ def pack_link(spec, k_link: float, where: str = "link") -> np.ndarray:
 # ----------------------------------------------------------------------------------------------
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def _scissor_angle(sp, x):
     """cos(theta), sin(theta) and sin(theta) - sin(theta0) at extension x, the last without
     cancellation: sin - sin0 = (cos0**2 - cos**2)/(sin + sin0) = -d (cos + cos0)/(sin + sin0),
@@ -582,7 +582,7 @@ def _scissor_angle(sp, x):
     return c, s, -d * (c + sp[SP_C0]) / (s + sp[SP_S0])
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def structure_force(sp, x):
     """Structural force F2(x) (> 0 in tension); the force on m1 is +F2, on m2 is -F2."""
     k2 = sp[SP_K2]
@@ -607,7 +607,7 @@ def structure_force(sp, x):
 SB_FLAT, SB_PADS, SB_BARS, SB_CAP = 0, 1, 2, 3
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def scissor_branch(sp, x):
     """The branch that holds extension x, with ``structure_force``'s own tie rule (a point
     belongs to the branch above it)."""
@@ -620,7 +620,7 @@ def scissor_branch(sp, x):
     return SB_FLAT
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def scissor_point(sp, j):
     """Extension of the point between branches j and j + 1 (j = 0, 1, 2); -inf / inf beyond."""
     if j < 0:
@@ -634,7 +634,7 @@ def scissor_point(sp, j):
     return math.inf
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def scissor_force_on(sp, x, br):
     """The scissor force by branch ``br``'s formula at any x: each formula is analytic across
     its own ends, so a step held on one branch sees a smooth law (``structure_force`` picks the
@@ -652,7 +652,7 @@ def scissor_force_on(sp, x, br):
     return sp[SP_FLOCK] - 0.5 * k2 * dc - k2 * (d - dc)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def structure_energy(sp, x):
     """Potential U2(x) = integral of F2 from 0 to x (closed form on every branch)."""
     k2 = sp[SP_K2]
@@ -675,7 +675,7 @@ def structure_energy(sp, x):
     return udc - (fdc * e - 0.5 * k2 * e * e)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def structure_slope(sp, x):
     """Tangent stiffness dF2/dx (<= k2 everywhere by construction)."""
     k2 = sp[SP_K2]
@@ -689,7 +689,7 @@ def structure_slope(sp, x):
     return min(k2, sp[SP_KC] * d)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def structure_extent(sp, energy, sign):
     """Largest |x| on side ``sign`` (+1 tension, -1 compression) with U2(x) <= energy."""
     if energy <= 0.0:
@@ -712,19 +712,19 @@ def structure_extent(sp, energy, sign):
     return hi
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def contact_elastic(cp):
     """True for a contact law without memory (ELASTIC_CONTACTS)."""
     return cp[0] == C_LINEAR or cp[0] == C_HERTZ
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def contact_viscous(cp):
     """True for a contact law whose force depends on m1's velocity (VISCOUS_CONTACTS)."""
     return cp[0] == C_KELVIN_VOIGT or cp[0] == C_HUNT_CROSSLEY
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def contact_params_ok(cp):
     """The kernels' own guard of a packed contact law (finite, positive where it must be)."""
     kind = cp[0]
@@ -744,7 +744,7 @@ def contact_params_ok(cp):
     return kind == C_LINEAR
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def contact_force(cp, branch, xmax, fmax, x, xd):
     """Contact force on m1 (>= 0 pushes away from the wall) as a smooth function of x (and of
     the penetration rate xd = x' = -v1 for a viscous law).
@@ -767,7 +767,7 @@ def contact_force(cp, branch, xmax, fmax, x, xd):
     return fmax - cp[1] * (xmax - x)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def contact_energy(cp, x):
     """Potential energy stored in an elastic contact law at penetration x (0 for plastic)."""
     if x <= 0.0:
@@ -783,7 +783,7 @@ def contact_energy(cp, x):
     return 0.0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def contact_slope(cp, branch, xmax, x):
     if cp[0] == C_HERTZ:
         return 1.5 * cp[2] * math.sqrt(x) if x > 0.0 else 0.0
@@ -798,7 +798,7 @@ def contact_slope(cp, branch, xmax, x):
     return min(cp[2] * cp[3] * x ** (cp[3] - 1.0), 1e3 * cp[1])
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def contact_hysteretic(cp, xmax, fmax, x, xd):
     """Path-following force for explicit schemes (Verlet), clipped at 0, at penetration x and
     its rate xd = x'; returns (F, xmax, fmax)."""
