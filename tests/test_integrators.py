@@ -19,6 +19,9 @@ X1 = brentq(lambda x: math.tan(x) - x, 4.4, 4.5)  # 4.4934...
 ALPHA1 = 1.0 / (1.0 - 2.0 * math.cos(X1))  # alpha*_1 = 0.6971...
 
 
+SCRATCH = np.empty(8)  # first_root's
+
+
 def _poly(*roots_and_scale):
     return np.array(roots_and_scale, dtype=float)
 
@@ -27,19 +30,87 @@ def test_first_root_finds_a_dip_between_positive_samples():
     # (t - 0.3)(t - 0.3 + 1e-7): positive at 0, 1 and at any coarse sample, negative in a 1e-7 gap
     a, b = 0.3, 0.3 - 1e-7
     c = np.array([a * b, -(a + b), 1.0, 0.0, 0.0])
-    th = first_root(c, 4, 0)
+    th = first_root(c, 4, 0, SCRATCH)
     assert th == pytest.approx(b, abs=1e-9)  # the root itself is ill-conditioned (1e-7 gap)
     # a dip that stays positive is not an event
     c2 = np.array([a * a + 1e-12, -2 * a, 1.0, 0.0, 0.0])
-    assert first_root(c2, 4, 0) == -1.0
+    assert first_root(c2, 4, 0, SCRATCH) == -1.0
 
 
 def test_first_root_strips_a_start_on_the_surface():
     c = np.array([0.0, 0.7, -1.0, 0.0, 0.0])  # theta*(0.7 - theta): leaves, returns at 0.7
-    assert first_root(c, 4, 1) == pytest.approx(0.7, abs=1e-15)
+    assert first_root(c, 4, 1, SCRATCH) == pytest.approx(0.7, abs=1e-15)
     c = np.array([0.0, 0.0, 1.0, -1.25, 0.0])  # double zero at 0, root at 0.8
-    assert first_root(c, 4, 2) == pytest.approx(0.8, abs=1e-15)
-    assert first_root(c, 4, 0) == 0.0  # without the strip it would fire at once
+    assert first_root(c, 4, 2, SCRATCH) == pytest.approx(0.8, abs=1e-15)
+    assert first_root(c, 4, 0, SCRATCH) == 0.0  # without the strip it would fire at once
+
+
+def _first_root_slow(c, n, strip):
+    """first_root written plainly: the Bernstein subdivision with a stack of intervals, in
+    Python (the kernel walks the same pieces as (depth, index) without a stack)."""
+    q = [float(v) for v in c[strip : n + 1]]
+    m = n - strip
+    if q[0] <= 0.0:
+        return 0.0
+    if m == 0 or q[0] > sum(abs(v) for v in q[1:]):
+        return -1.0
+
+    def val(t):
+        acc = 0.0
+        for v in reversed(q):
+            acc = acc * t + v
+        return acc
+
+    def bernstein_min(a, b):
+        d = list(q)
+        for i in range(m):
+            for k in range(m - 1, i - 1, -1):
+                d[k] += a * d[k + 1]
+        d = [v * (b - a) ** k for k, v in enumerate(d)]
+        return min(
+            sum(math.comb(i, j) / math.comb(m, j) * d[j] for j in range(i + 1))
+            for i in range(m + 1)
+        )
+
+    stack = [(0.0, 1.0)]
+    while stack:
+        a, b = stack.pop()
+        if val(b) <= 0.0:
+            while True:
+                mid = 0.5 * (a + b)
+                if mid <= a or mid >= b:
+                    return b
+                a, b = (mid, b) if val(mid) > 0.0 else (a, mid)
+        if bernstein_min(a, b) > 0.0 or b - a < 1e-13:
+            continue
+        mid = 0.5 * (a + b)
+        stack += [(mid, b), (a, mid)]
+    return -1.0
+
+
+def test_first_root_walks_the_pieces_of_a_plain_subdivision():
+    """On polynomials of degree 7 with dips near the axis (roots, near misses, tangencies, a
+    strip), the kernel returns what a plain stack subdivision returns, bit for bit."""
+    rng = np.random.default_rng(7)
+    hits = 0
+    for trial in range(400):
+        # (theta - r1)(theta - r2) * cubic + small offset: dips that may or may not cross
+        r1, r2 = np.sort(rng.uniform(0.0, 1.0, 2))
+        if trial % 4 == 0:
+            r2 = r1 + 10.0 ** rng.uniform(-12, -3)  # a narrow dip
+        p = np.polynomial.polynomial.polyfromroots([r1, r2])
+        p = np.polynomial.polynomial.polymul(p, rng.uniform(0.5, 2.0, 4) * [1, 0.1, 0.1, 0.1])
+        p = np.pad(p, (0, 8 - p.size))
+        p[0] += rng.choice([0.0, 1e-14, -1e-14, 1e-6]) * (trial % 3 != 0)
+        strip = 0
+        if trial % 10 == 0:
+            p = np.concatenate([[0.0], p[:-1]])  # theta * p: starts on its surface
+            strip = 1
+        got = first_root(p, 7, strip, SCRATCH)
+        want = _first_root_slow(p, 7, strip)
+        assert got == want, (trial, got, want)
+        hits += got > 0.0
+    assert 100 < hits < 400  # both outcomes well represented
 
 
 def _exact(alpha, beta, xi=0.0):

@@ -465,7 +465,7 @@ def link_poly(F, K, h, y, i, coef):
 
 
 @njit(cache=True, error_model="numpy")
-def first_branch_root(F, K, h, y, m, lk, mb, bstrip, coef, g):
+def first_branch_root(F, K, h, y, m, lk, mb, bstrip, coef, g, rs):
     """First theta in [0, 1] of the step where a scissor link reaches an end of the branch it is
     held on: (theta, link, +1 up / -1 down); theta = -1 when none."""
     nm = m.shape[0]
@@ -491,7 +491,7 @@ def first_branch_root(F, K, h, y, m, lk, mb, bstrip, coef, g):
                 s = 1
                 while s < N_DENSE and g[s] == 0.0:
                     s += 1
-            th = first_root(g, N_DENSE, s)
+            th = first_root(g, N_DENSE, s, rs)
             if th >= 0.0 and th < best:
                 best, link, side = th, i, 2 * e - 1
     return (best if link >= 0 else -1.0), link, side
@@ -607,6 +607,7 @@ def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, sto
     f0 = np.empty(n)
     coef = np.empty(N_DENSE + 1)
     gb = np.empty(N_DENSE + 1)
+    rs = np.empty(N_DENSE + 1)  # first_root's scratch
     bstrip = np.zeros((max(m.shape[0] - 1, 0), 2), dtype=np.int64)
     mb = branch_mem(y, m, lk, mem, bstrip)  # mem itself without scissor links
     held = mb.shape[0] > N_MEM
@@ -639,13 +640,13 @@ def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, sto
                     s = strip[k]
                     while s < N_DENSE and coef[s] == 0.0:
                         s += 1
-                th = first_root(coef, N_DENSE, s)
+                th = first_root(coef, N_DENSE, s, rs)
                 if th >= 0.0 and th < best:
                     best, which = th, k
         err_acc[0] += _momentum_error(K, h, m)
         hn = h * min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.125))
         if held and still < 2 and search:
-            bt, bi, bs = first_branch_root(F, K, h, y, m, lk, mb, bstrip, coef, gb)
+            bt, bi, bs = first_branch_root(F, K, h, y, m, lk, mb, bstrip, coef, gb, rs)
             if bt >= 0.0 and bt < best:  # a branch point first: step to it, go on past it
                 dt = bt * h
                 p = scissor_point(lk[bi], int(mb[N_MEM + bi]) + (0 if bs > 0 else -1))
@@ -722,6 +723,7 @@ def sigma_phase(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc):
     f0 = np.empty(nz)
     coef = np.empty(N_DENSE + 1)
     gb = np.empty(N_DENSE + 1)
+    rs = np.empty(N_DENSE + 1)  # first_root's scratch
     bstrip = np.zeros((max(nm - 1, 0), 2), dtype=np.int64)
     mb = branch_mem(z, m, lk, mem, bstrip)  # mem itself without scissor links
     held = mb.shape[0] > N_MEM
@@ -746,7 +748,7 @@ def sigma_phase(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc):
         if held and still < 2 and not branches_excluded(K, h, z, znew, m, lk, mb):
             work[0] -= 3.0
             dense_coeffs_sigma(z, znew, K, h, s, m, lk, c, cp, mb, F, tmp)
-            bt, bi, bs = first_branch_root(F, K, h, z, m, lk, mb, bstrip, coef, gb)
+            bt, bi, bs = first_branch_root(F, K, h, z, m, lk, mb, bstrip, coef, gb, rs)
             if bt >= 0.0:  # a branch point on this step: step to it, go on past it
                 ds = sigma_to_branch_point(z, f0, bt * h, s, rtol, atol, m, lk, c, cp, mb, K,
                                            znew, tmp, bi, bs, work)  # fmt: skip
@@ -920,6 +922,7 @@ def rk_phase_sampled(
     f0 = np.empty(n)
     coef = np.empty(N_DENSE + 1)
     gb = np.empty(N_DENSE + 1)
+    rs = np.empty(N_DENSE + 1)  # first_root's scratch
     sample_here(y, t, cp, mem, ts, si, Ys, Fs)
     if stop == STOP_SAMPLES and si[0] >= ts.shape[0]:
         return EV_STOP, t, h
@@ -955,13 +958,13 @@ def rk_phase_sampled(
                 s = strip[k]
                 while s < N_DENSE and coef[s] == 0.0:
                     s += 1
-            th = first_root(coef, N_DENSE, s)
+            th = first_root(coef, N_DENSE, s, rs)
             if th >= 0.0 and th < best:
                 best, which = th, k
         err_acc[0] += _momentum_error(K, h, m)
         hn = h * min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.125))
         if held and still < 2 and search:
-            bt, bi, bs = first_branch_root(F, K, h, y, m, lk, mb, bstrip, coef, gb)
+            bt, bi, bs = first_branch_root(F, K, h, y, m, lk, mb, bstrip, coef, gb, rs)
             if bt >= 0.0 and bt < best:
                 dt = bt * h
                 p = scissor_point(lk[bi], int(mb[N_MEM + bi]) + (0 if bs > 0 else -1))
@@ -1083,6 +1086,7 @@ def sigma_phase_sampled(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc,
     f0 = np.empty(nz)
     coef = np.empty(N_DENSE + 1)
     gb = np.empty(N_DENSE + 1)
+    rs = np.empty(N_DENSE + 1)  # first_root's scratch
     bstrip = np.zeros((max(nm - 1, 0), 2), dtype=np.int64)
     mb = branch_mem(z, m, lk, mem, bstrip)
     held = mb.shape[0] > N_MEM
@@ -1108,7 +1112,7 @@ def sigma_phase_sampled(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc,
         if held and still < 2 and not branches_excluded(K, h, z, znew, m, lk, mb):
             work[0] -= 3.0  # the work sigma_phase counts
             dense_coeffs_sigma(z, znew, K, h, s, m, lk, c, cp, mb, F, tmp2)
-            bt, bi, bs = first_branch_root(F, K, h, z, m, lk, mb, bstrip, coef, gb)
+            bt, bi, bs = first_branch_root(F, K, h, z, m, lk, mb, bstrip, coef, gb, rs)
             if bt >= 0.0:
                 ds = sigma_to_branch_point(z, f0, bt * h, s, rtol, atol, m, lk, c, cp, mb, K,
                                            znew, tmp, bi, bs, work)  # fmt: skip

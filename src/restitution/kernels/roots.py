@@ -358,43 +358,49 @@ _BINOM = np.array(
 
 
 @njit(cache=True, error_model="numpy", refcount=False)
-def poly_val(c, n, t):
+def _poly_at(c, s, m, t):
+    """The degree-m polynomial with coefficients c[s], ..., c[s + m] at t (Horner)."""
     acc = 0.0
-    for k in range(n, -1, -1):
-        acc = acc * t + c[k]
+    for k in range(m, -1, -1):
+        acc = acc * t + c[k + s]
     return acc
 
 
-@njit(cache=True, error_model="numpy")
-def _bernstein_min(c, n, a, b):
-    """Smallest Bernstein coefficient of the degree-n polynomial c restricted to [a, b]."""
+@njit(cache=True, error_model="numpy", refcount=False)
+def _bernstein_min(c, s, m, a, b, d):
+    """Smallest Bernstein coefficient on [a, b] of the degree-m polynomial c[s:s + m + 1]
+    (d: scratch of m + 1 entries)."""
     # Taylor shift to a, then scale by (b - a)**k: monomials in s in [0, 1].
-    d = np.empty(n + 1)
-    for k in range(n + 1):
-        d[k] = c[k]
-    for i in range(n):
-        for k in range(n - 1, i - 1, -1):
+    for k in range(m + 1):
+        d[k] = c[k + s]
+    for i in range(m):
+        for k in range(m - 1, i - 1, -1):
             d[k] += a * d[k + 1]
     sc = 1.0
-    for k in range(n + 1):
+    for k in range(m + 1):
         d[k] *= sc
         sc *= b - a
-    # monomial -> Bernstein: b_i = sum_j C(i,j)/C(n,j) d_j
-    m = math.inf
-    for i in range(n + 1):
+    # monomial -> Bernstein: b_i = sum_j C(i,j)/C(m,j) d_j
+    low = math.inf
+    for i in range(m + 1):
         acc = 0.0
         for j in range(i + 1):
-            acc += _BINOM[i, j] / _BINOM[n, j] * d[j]
-        m = min(m, acc)
-    return m
+            acc += _BINOM[i, j] / _BINOM[m, j] * d[j]
+        low = min(low, acc)
+    return low
 
 
-@njit(cache=True, error_model="numpy")
-def first_root(c, n, strip):
+@njit(cache=True, error_model="numpy", refcount=False)
+def first_root(c, n, strip, d):
     """First theta in (0, 1] where the polynomial goes from > 0 to <= 0; -1.0 if none.
 
     ``strip`` leading coefficients are known to be exactly zero (the event starts on its surface);
     they are divided out. Returns 0.0 if the function moves to the negative side at once.
+    ``d``: scratch of n + 1 entries (no allocation: this runs on most steps near an event).
+
+    The search halves [0, 1] depth first, left half first, and drops a piece whose Bernstein
+    bound proves it root-free (or narrower than 1e-13: a tangency below round-off); the piece at
+    depth L is [i, i + 1] / 2**L, held as (L, i) instead of on a stack of intervals.
     """
     m = n - strip
     if c[strip] <= 0.0:
@@ -407,33 +413,31 @@ def first_root(c, n, strip):
         spread += abs(c[k + strip])
     if c[strip] > spread:
         return -1.0
-    q = np.zeros(n + 1)
-    for k in range(m + 1):
-        q[k] = c[k + strip]
-    stack_a = np.empty(128)
-    stack_b = np.empty(128)
-    top = 0
-    stack_a[0], stack_b[0] = 0.0, 1.0
-    top = 1
-    while top > 0:
-        top -= 1
-        a, b = stack_a[top], stack_b[top]
-        if poly_val(q, m, b) <= 0.0:
+    level = 0
+    i = 0
+    while True:
+        w = math.ldexp(1.0, -level)
+        a = i * w  # exact: dyadic
+        b = a + w
+        if _poly_at(c, strip, m, b) <= 0.0:
             # bracketed: p(a) > 0 >= p(b); Illinois-safeguarded bisection to round-off
             for _ in range(200):
                 mid = 0.5 * (a + b)
                 if mid <= a or mid >= b:
                     break
-                fm = poly_val(q, m, mid)
+                fm = _poly_at(c, strip, m, mid)
                 if fm > 0.0:
                     a = mid
                 else:
                     b = mid
             return b
-        if _bernstein_min(q, m, a, b) > 0.0 or b - a < 1e-13 or top > 120:
-            continue  # provably no root here (or a tangency below round-off)
-        mid = 0.5 * (a + b)
-        stack_a[top], stack_b[top] = mid, b
-        stack_a[top + 1], stack_b[top + 1] = a, mid
-        top += 2
-    return -1.0
+        if not (_bernstein_min(c, strip, m, a, b, d) > 0.0 or w < 1e-13):
+            level += 1  # its left half next
+            i *= 2
+            continue
+        while i % 2 == 1:  # root-free: on to the next piece to the right, up the tree
+            i //= 2
+            level -= 1
+        if level == 0:
+            return -1.0
+        i += 1
