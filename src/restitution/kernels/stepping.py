@@ -748,6 +748,7 @@ def _verlet(y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist, v0, f
     for i in range(n - 1):
         damped = damped or c[i] != 0.0
     acc = np.zeros(n + 2)
+    ext = np.full((max(n - 1, 0), 2), -1.0)  # no_contact_possible's
     fc, pw = accel_verlet(y, m, lk, c, cp, mem, acc)
     acc[n], acc[n + 1] = fc, pw
     t = 0.0
@@ -790,7 +791,7 @@ def _verlet(y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist, v0, f
         in_contact = now
         if not now:
             mem[M_XP] = dent(cp, mem)
-            if (it & 7) == 0 and no_contact_possible(y, m, lk, mem[M_XP]):
+            if (it & 7) == 0 and no_contact_possible(y, m, lk, mem[M_XP], ext):
                 return STATUS_OK, ncol, tcol
     return STATUS_WORK_BUDGET, ncol, tcol
 
