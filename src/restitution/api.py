@@ -12,7 +12,6 @@ turns them into a Chain).
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 import numpy as np
 import pandas as pd
@@ -197,8 +196,8 @@ def _solve_paper(alpha, beta, xi, n_masses, method, history, max_events):
 
 def _run(ch: Chain, chosen: M.Method, opts: M.Options) -> Result:
     out, hist = chosen.run(ch, opts)
-    if isinstance(out, Result):  # numerical runners return a Result of their own
-        return replace(out, t_col=user_time(out.omega_t_col, ch.omega)).with_scene(ch)
+    if isinstance(out, Result):  # numerical runners return a Result of ch, t_col in its units
+        return out
     return Result.from_row(ch, out, chosen.name, hist, passive=True)  # exact: linear laws
 
 

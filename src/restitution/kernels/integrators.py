@@ -49,6 +49,7 @@ import numpy as np
 
 from restitution.jit import njit
 from restitution.kernels import dop853_tableau as T
+from restitution.kernels.dop853_sums import dense_rows, solution, stage_state
 from restitution.kernels.roots import first_root
 from restitution.model.laws import (
     C_PLASTIC,
@@ -68,13 +69,10 @@ from restitution.model.laws import (
 )
 
 # DOP853 (kernels/dop853_tableau.py): 12 stages, the 13th is f at the new point (FSAL), 3 more
-# for the dense output.
-DP_A = T.A
-DP_B = T.B
+# for the dense output; its weighted stage sums written out in kernels/dop853_sums.py.
 DP_C = T.C
 DP_E3 = T.E3
 DP_E5 = T.E5
-DP_D = T.D
 N_ST = T.N_STAGES  # 12
 N_EXT = T.N_STAGES_EXTENDED  # 16
 N_DENSE = T.INTERPOLATOR_POWER  # 7 = the dense output's degree in theta
@@ -110,23 +108,6 @@ STOP_NO_CONTACT = 1
 
 
 @njit(cache=True, error_model="numpy", refcount=False)
-def stage_state(y, K, h, s, out):
-    """out = y + h sum_j A[s, j] K[j]: stage s's state, skipping the tableau's zeros.
-
-    Component by component, the sum in a register (j ascending, as summed over rows before):
-    with the whole state updated once per stage instead, every term was a load and a store of
-    out[i], and the 11 stages of a step took 2.3 times as long (two masses, 2026-11-27)."""
-    n = y.shape[0]
-    for i in range(n):
-        acc = 0.0
-        for j in range(s):
-            a = DP_A[s, j]
-            if a != 0.0:
-                acc += a * K[j, i]
-        out[i] = y[i] + h * acc
-
-
-@njit(cache=True, error_model="numpy", refcount=False)
 def dense_from_stages(y0, ynew, K, h, F):
     """F of the dense output from a step's 16 stages K (in time or in sigma)."""
     n = y0.shape[0]
@@ -135,14 +116,7 @@ def dense_from_stages(y0, ynew, K, h, F):
         F[0, i] = dy
         F[1, i] = h * K[0, i] - dy
         F[2, i] = 2.0 * dy - h * (K[N_ST, i] + K[0, i])
-    for k in range(N_DENSE - 3):
-        for i in range(n):  # component by component, as stage_state
-            acc = 0.0
-            for j in range(N_EXT):
-                d = DP_D[k, j]
-                if d != 0.0:
-                    acc += d * K[j, i]
-            F[3 + k, i] = acc * h
+    dense_rows(K, h, F)
 
 
 @njit(cache=True, error_model="numpy", refcount=False)
@@ -302,13 +276,7 @@ def dp_step(y, f0, h, rtol, atol, m, lk, c, cp, mem, K, ynew, tmp, sig=False, s0
             rhs(tmp, m, lk, c, cp, mem, ynew)
         for i in range(n):
             K[s, i] = ynew[i]
-    for i in range(n):  # component by component, as stage_state
-        acc = 0.0
-        for j in range(N_ST):
-            b = DP_B[j]
-            if b != 0.0:
-                acc += b * K[j, i]
-        ynew[i] = y[i] + h * acc
+    solution(y, K, h, ynew)
     if sig:
         rhs_sigma(s0 + h, ynew, m, lk, c, cp, mem, tmp)
     else:
