@@ -226,9 +226,10 @@ SIGMA_ZONE = 0.3
 # highest free frequency): a sixth of its shortest period. The error control sizes the steps; the
 # cap keeps the 7th-order dense output on which events and scissor branch points are located as
 # accurate as the steps. At 0.5 (DP5's cap, kept with DOP853) a slow free flight took 12 steps a
-# period. At 1 no error moved by more than 2x on the benchmark's scissor scene and the three-mass
-# Hertz chain at rtol 1e-4..1e-12, and the scissor scene ran 1.5-1.65x faster; at 2 the scissor
-# scene's error at rtol 1e-12 grew from 3e-16 to 5e-14 (2026-11-27).
+# period. At 1 the benchmark's scissor scene kept its errors at rtol 1e-4..1e-12 and ran
+# 1.5-1.65x faster; the three-mass Hertz chain's errors grew up to 4x at rtol 1e-9..1e-7 (still
+# 36x or more below their estimates), none from 3e-10 on. At 2 the scissor scene's error at rtol
+# 1e-12 grew from 3e-16 to 5e-14 (2026-11-27).
 HMAX_FREE = 1.0
 
 
