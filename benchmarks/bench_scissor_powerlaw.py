@@ -20,7 +20,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import statistics
 import sys
 import time
 from pathlib import Path
@@ -28,7 +27,7 @@ from pathlib import Path
 import restitution as R
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from bench_scissor_precision import work  # noqa: E402
+import bench_scissor_precision as SP  # noqa: E402
 
 from test_scissor_powerlaw import scenes  # noqa: E402
 
@@ -54,49 +53,6 @@ def reference(path, only=None):
         json.dump(out, f, indent=1)
 
 
-def run(path, reps):
-    out = {}
-    for name, spec in scenes().items():
-        ch = R.Chain(**spec)
-        rows = {}
-        for rtol in RTOLS:
-            r = R.solve(ch, method="adaptive", rtol=rtol)
-            times = []
-            for _ in range(reps):
-                t = time.perf_counter()
-                R.solve(ch, method="adaptive", rtol=rtol)
-                times.append(time.perf_counter() - t)
-            rows[repr(rtol)] = dict(
-                cor=r.cor, est=r.error_estimate, status=r.status, contacts=r.n_collisions,
-                time=statistics.median(times), work=work(ch, rtol),
-            )  # fmt: skip
-            print(name, rtol, rows[repr(rtol)], flush=True)
-        out[name] = rows
-    with open(path, "w") as f:
-        json.dump(out, f, indent=1)
-
-
-def compare(ref_path, paths):
-    ref = json.load(open(ref_path))
-    runs = [json.load(open(p)) for p in paths]
-    print(
-        "| scene | rtol | " + " | ".join(f"{p}: error / estimate / ms / work" for p in paths) + " |"
-    )
-    for name, r in ref.items():
-        for rtol in RTOLS:
-            cells = []
-            for run_ in runs:
-                row = run_[name][repr(rtol)]
-                err = abs(row["cor"] - r["cor"]) if row["status"] == "ok" else math.nan
-                flag = "" if err <= row["est"] - r["bound"] else " OUTSIDE"
-                cells.append(
-                    f"{err:.1e} / {row['est']:.1e} / {1e3 * row['time']:.2f} / {row['work']}{flag}"
-                )
-            print(f"| {name} | {rtol:.0e} | " + " | ".join(cells) + " |")
-        print(f"  (reference {r['cor']!r}, {r['contacts']} contacts, bound {r['bound']:.1e}, "
-              f"crossed {r['crossed']})")  # fmt: skip
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--reference")
@@ -108,9 +64,9 @@ def main():
     if a.reference:
         reference(a.reference, a.only)
     if a.out:
-        run(a.out, a.reps)
+        SP.run(a.out, a.reps, {k: R.Chain(**v) for k, v in scenes().items()}, RTOLS)
     if a.compare:
-        compare(a.compare[0], a.compare[1:])
+        SP.compare(a.compare[0], a.compare[1:], RTOLS, outside=True)
 
 
 if __name__ == "__main__":

@@ -113,11 +113,13 @@ def work(ch, rtol):
     return hi
 
 
-def run(path, reps):
+def run(path, reps, chains=None, rtols=RTOLS):
+    """Time and score ``restitution.solve`` on every scene (name -> Chain; default this
+    module's ``scenes()``) at every rtol; writes the rows to ``path`` (JSON)."""
     out = {}
-    for name, ch in scenes().items():
+    for name, ch in (scenes() if chains is None else chains).items():
         rows = {}
-        for rtol in RTOLS:
+        for rtol in rtols:
             r = R.solve(ch, method="adaptive", rtol=rtol)
             times = []
             for _ in range(reps):
@@ -134,23 +136,27 @@ def run(path, reps):
         json.dump(out, f, indent=1)
 
 
-def compare(ref_path, paths):
+def compare(ref_path, paths, rtols=RTOLS, outside=False):
+    """The markdown table of runs against the reference; ``outside``: mark a row whose error is
+    not within its estimate less the reference's bound, and leave out the reference lines."""
     ref = json.load(open(ref_path))
     runs = [json.load(open(p)) for p in paths]
     print(
         "| scene | rtol | " + " | ".join(f"{p}: error / estimate / ms / work" for p in paths) + " |"
     )
     for name, r in ref.items():
-        for rtol in RTOLS:
+        for rtol in rtols:
             cells = []
             for run_ in runs:
                 row = run_[name][repr(rtol)]
                 err = abs(row["cor"] - r["cor"]) if row["status"] == "ok" else math.nan
+                flag = " OUTSIDE" if outside and not err <= row["est"] - r["bound"] else ""
                 cells.append(
-                    f"{err:.1e} / {row['est']:.1e} / {1e3 * row['time']:.2f} / {row['work']}"
+                    f"{err:.1e} / {row['est']:.1e} / {1e3 * row['time']:.2f} / {row['work']}{flag}"
                 )
             print(f"| {name} | {rtol:.0e} | " + " | ".join(cells) + " |")
-        print(f"  (reference {r['cor']!r}, bound {r['bound']:.1e}, points {r['points']})")
+        if not outside:
+            print(f"  (reference {r['cor']!r}, bound {r['bound']:.1e}, points {r['points']})")
 
 
 def main():
