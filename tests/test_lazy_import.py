@@ -87,3 +87,26 @@ def test_trajectory_stays_the_function_when_its_submodule_is_imported():
     p = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True)
     assert p.returncode == 0, p.stderr
     assert p.stdout.split()[0] == "True" and "module" in p.stdout
+
+
+def test_one_solve_and_the_cor_command_load_no_table_library():
+    """pandas and pyarrow (0.3 s of imports) come only with tables or a history: a single
+    solve, and the command line's ``cor``, do without them."""
+    assert _loaded_after("import restitution\nrestitution.solve(alpha=0.5)") == [
+        "numpy",
+        "scipy",
+        "numba",
+    ]
+    code = "from restitution.cli import main\nmain(['cor', '--alpha', '0.5', '--json'])"
+    assert "pandas" not in _loaded_after(code) and "pyarrow" not in _loaded_after(code)
+    with_history = "import restitution\nrestitution.solve(alpha=0.5, history=True)"
+    assert "pandas" in _loaded_after(with_history)  # the probe sees it where it is needed
+
+
+def test_a_missing_cell_is_still_pandas_na_once_pandas_is_loaded():
+    import pandas as pd
+
+    from restitution.model.ranges import missing_cell
+
+    assert missing_cell(pd.NA) and missing_cell(None) and missing_cell(float("nan"))
+    assert not missing_cell(0.0) and not missing_cell("")

@@ -7,14 +7,20 @@ record
 it in every result. Nonlinear laws in the paper's form (two masses) are the keywords contact,
 eta, dr, structure, L, ks_ratio, theta0, corner, v0 (``restitution.model.chain.paper_with_laws``
 turns them into a Chain).
+
+pandas and the table modules are imported inside the table functions: a single ``solve`` (the
+command line's ``cor``) does without them (0.3 s of imports).
 """
 
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
+
+if TYPE_CHECKING:  # imported where used (a single solve needs no pandas)
+    import pandas as pd
 
 from restitution.kernels import layout as L
 from restitution.model.chain import (
@@ -38,7 +44,6 @@ from restitution.solvers.result import (
     Result,
     status_name,
 )
-from restitution.tables.scene_table import scene_table
 
 _BLOCK = 2048  # rows per parallel batch call; the progress bar advances per block
 
@@ -208,6 +213,10 @@ def validate_frame(frame: pd.DataFrame, keep=()) -> pd.DataFrame:
     """The scene table checked strictly (``restitution.tables.scene_table``), with the method of
     every row
     in column ``method``; raises SceneError naming the first bad row and column."""
+    import pandas as pd
+
+    from restitution.tables.scene_table import scene_table
+
     return pd.DataFrame(scene_table(frame, keep).plan, index=frame.index)
 
 
@@ -233,6 +242,8 @@ class _Labels:
         """The pandas string column (from an object array on small tables, where building
         the Arrow array costs more than the strings; one repeated Arrow scalar where every row
         has the same label, 2.5 x faster than a take on 20,000 rows)."""
+        import pandas as pd
+
         names = np.asarray(self.names, dtype=object)
         if len(self.codes) == 0:  # (pandas infers str from strings: none here)
             return pd.array([], dtype="str")
@@ -260,6 +271,8 @@ def _status_codes(status: np.ndarray, labels: _Labels) -> np.ndarray:
 def _with_settings(frame, **settings) -> pd.DataFrame:
     """``frame`` with a column for each setting given as a keyword of ``solve_many`` (checked
     here, so the error names the keyword, not a row)."""
+    import pandas as pd
+
     given = {name: value for name, value in settings.items() if value is not None}
     if not given:
         return frame
@@ -306,6 +319,10 @@ def solve_many(
     with a status naming the failure. Rows are independent: results are bit-identical for any
     thread count.
     """
+    import pandas as pd
+
+    from restitution.tables.scene_table import scene_table
+
     max_events = check("max_events", max_events)
     frame = _with_settings(frame, method=method, rtol=rtol, step=step)
     table = scene_table(frame, keep)

@@ -347,14 +347,18 @@ def _on_sigterm(signum, frame):
 def main(argv=None) -> int:
     args = _parser().parse_args(argv)
     from restitution.model.chain import SceneError
-    from restitution.tables.io import TableError
 
+    errors = (SceneError,)
+    if args.command == "batch":  # tables (pandas, pyarrow: 0.3 s of imports) only where read
+        from restitution.tables.io import TableError
+
+        errors = (SceneError, TableError)
     previous = signal.signal(signal.SIGTERM, _on_sigterm)
     try:
         if args.command == "warmup":
             return _warmup(args)
         return _cor(args) if args.command == "cor" else _batch(args)
-    except (SceneError, TableError) as e:
+    except errors as e:
         print(f"restitution: error: {e}", file=sys.stderr)
         return EXIT_INPUT
     except OSError as e:  # reading the input: one line, not a traceback

@@ -5,11 +5,11 @@ import each other, share these without an import cycle."""
 
 import math
 import numbers
+import sys
 from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
-from pandas import NA
 
 
 class SceneError(ValueError):
@@ -25,7 +25,11 @@ MAX_MASSES = 512
 def missing_cell(v) -> bool:
     """A missing table cell: None, NaN or pandas' NA (what a parquet null becomes with
     ``dtype_backend="pyarrow"``); a law or setting cell then takes its default."""
-    return v is None or v is NA or (isinstance(v, float) and math.isnan(v))
+    if v is None or (isinstance(v, float) and math.isnan(v)):
+        return True
+    # Only a loaded pandas can have made its NA: no import of pandas (0.2 s) for a CLI call.
+    pandas = sys.modules.get("pandas")
+    return pandas is not None and v is pandas.NA
 
 
 def missing_list(v) -> bool:

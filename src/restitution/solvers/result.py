@@ -5,9 +5,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, fields
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
+
+if TYPE_CHECKING:  # imported where used (a single solve needs no pandas)
+    import pandas as pd
 
 from restitution.kernels import layout as L
 from restitution.model.units import user_impulse, user_length, user_speed, user_time
@@ -273,6 +276,8 @@ def _draw_history(ax, r: Result) -> None:
 def _history(hist: np.ndarray, scene, lengths_of_v0: bool) -> pd.DataFrame:
     """The history table: HISTORY_COLUMNS as the kernel recorded them, then
     HISTORY_USER_COLUMNS in the scene's units (``restitution.model.units``)."""
+    import pandas as pd  # only with history=True: a plain solve imports no pandas
+
     if type(scene) is tuple:  # the paper's form: the kernel's units are the scene's
         omega, v0, m1 = 1.0, 1.0, 1.0
     else:
