@@ -10,8 +10,8 @@ from restitution.cli import main
 
 def test_groups_cover_every_step_once():
     labels = [label for label, _ in w._steps()]
-    assert len(labels) == len(set(labels)) == 14
-    assert [len(g) for g in w._groups()] == [6, 8]
+    assert len(labels) == len(set(labels)) == 15
+    assert [len(g) for g in w._groups()] == [6, 9]
 
 
 def test_two_processes_run_every_step():

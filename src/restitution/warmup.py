@@ -58,8 +58,15 @@ def _groups() -> list[list[tuple[str, Callable[[], object]]]]:
         ),
         ("table: nonlinear chains (adaptive)", lambda: r.solve_many(hertz_table)),
         ("table: paper chains", lambda: r.solve_many(paper_table)),
+        ("grazing scan (design study, Fig. 8)", _grazing_scan),
     ]
     return [exact, rest]
+
+
+def _grazing_scan() -> None:
+    from restitution.analysis import cormap
+
+    cormap.grazing([1.0, 2.0], [2.0 / 3.0], float("inf"), 1, "new")
 
 
 def _steps() -> list[tuple[str, Callable[[], object]]]:
