@@ -56,6 +56,23 @@ def _event(fun):
     return fun
 
 
+def _off_start(fun, t0, order, limit):
+    """``fun`` without its root at the phase start t0: fun / (t - t0)**order, ``limit`` at t0.
+
+    A phase that starts on an event's own surface (a free flight from the separation, gap 0; a
+    branch from a turn, v1 = 0) has that event at 0 there. solve_ivp brackets a sign change
+    between step ends, so a first step that already crosses the surface again (m1 back on the
+    wall within the step) had its root at t0: the phase ended where it began (a contact at the
+    separation instant, with v1 > 0). Divided by (t - t0)**order (``order`` = the zeros at t0:
+    2 at a turn of the plastic reload, x at its maximum with x' = 0) the event has the sign of
+    ``fun`` after t0 and its own derivative's sign at t0, as the kernels' ``strip`` does."""
+
+    def event(t, y):
+        return fun(t, y) / (t - t0) ** order if t > t0 else limit
+
+    return event
+
+
 def _minimum(fun):
     """Non-terminal event at the minima of a coordinate whose velocity is ``fun``."""
     fun.terminal = False
@@ -156,15 +173,22 @@ def solve_reference(
             status = LY.STATUS_NONCONVERGED
             break
         if mem["phase"] == 1:
+            a1 = rhs(t, y)[2]  # m1's acceleration at the phase start
             if mem["branch"] == 1:
-                events = [_event(lambda t, y: -y[2])]
+                turn = lambda t, y: -y[2]  # noqa: E731
+                if y[2] == 0.0:  # from a rise (v1 = 0): off its root there
+                    turn = _off_start(turn, t, 1, -a1)
+                events = [_event(turn)]
             else:
                 xp, xm = mem["xp"], mem["xmax"]
-                second = (
-                    (lambda t, y, xm=xm: xm + y[0])
-                    if kind == laws.C_PLASTIC
-                    else (lambda t, y: y[2])
-                )
+                if kind == laws.C_PLASTIC:
+                    second = lambda t, y, xm=xm: xm + y[0]  # noqa: E731
+                    if xm + y[0] == 0.0 and y[2] == 0.0:  # from a turn at xmax: a double zero
+                        second = _off_start(second, t, 2, 0.5 * a1)
+                else:
+                    second = lambda t, y: y[2]  # noqa: E731
+                    if y[2] == 0.0:  # from a turn
+                        second = _off_start(second, t, 1, a1)
                 events = [_event(lambda t, y, xp=xp: -y[0] - xp), _event(second)]
             sol = solve_ivp(
                 rhs,
@@ -220,6 +244,9 @@ def solve_reference(
             # sign-change detection alone steps over it (measured: the 5e-6 deep contact just
             # past alpha*_2 was missed at max_step = period/50). A minimum below the wall is such
             # a contact; it starts at the first root after the previous minimum.
+            gap = lambda t, y, xp=xp: y[0] + xp  # noqa: E731
+            if y[0] + xp == 0.0 and y[2] > 0.0:  # from the separation: off its root there
+                gap = _off_start(gap, t, 1, y[2])
             sol = solve_ivp(
                 rhs,
                 (t, t + 2 * math.pi),
@@ -227,9 +254,7 @@ def solve_reference(
                 method=method,
                 rtol=rtol,
                 atol=atol,
-                events=[_event(lambda t, y, xp=xp: y[0] + xp), _minimum(lambda t, y: y[2])]
-                if minima
-                else [_event(lambda t, y, xp=xp: y[0] + xp)],
+                events=[_event(gap), _minimum(lambda t, y: y[2])] if minima else [_event(gap)],
                 max_step=dt_free,
                 dense_output=True,
             )
