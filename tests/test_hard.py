@@ -237,3 +237,15 @@ def test_reference_estimate_covers_its_error_on_damped_chatter(alpha, beta, xi, 
     assert exact.status == r.status == "ok"
     assert r.n_collisions == exact.n_collisions
     assert abs(r.cor - exact.cor) <= r.error_estimate + exact.error_estimate, r
+
+
+def test_verlet_estimate_covers_a_plateau_of_its_error():
+    """Verlet on a stiff contact (beta 2e-4): its runs at steps h, h/2 and h/4 (0.002 here)
+    share an error of 1e-6 that shrinks only at h/8, so their changes are 10 times smaller than
+    it; the estimate with the old factor 4 was 2.67 times below the error."""
+    alpha, beta = 2.7233322727708535, 0.00019995266925001832
+    exact = restitution.solve(alpha=alpha, beta=beta)
+    r = restitution.solve(alpha=alpha, beta=beta, method="verlet", step=0.002)
+    assert exact.status == r.status == "ok" and r.n_collisions == exact.n_collisions
+    assert abs(r.cor - exact.cor) > 5e-7  # the plateau is there
+    assert abs(r.cor - exact.cor) <= r.error_estimate + exact.error_estimate, r
