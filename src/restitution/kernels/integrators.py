@@ -37,8 +37,9 @@ Non-smooth points. A contact on the power law F = kappa x**eta from x = 0 (Hertz
 both ends of every contact; the plastic law's first loading) makes y(t) a series in powers
 t**(eta + 2), ... that no step across t = 0 resolves at its order. Those stretches are integrated
 in sigma = sqrt(x) instead (``rhs_sigma``, ``sigma_phase``), where x = sigma**2 exactly and the
-motion is smooth (for half-integer eta; smoother for any eta): the exit ends exactly at sigma = 0,
-so the separation needs no event location at all.
+motion is smooth for half-integer eta (for other eta the force sigma**(2 eta) is smoother than in
+t but not smooth: ``sigma_first_step``): the exit ends exactly at sigma = 0, so the separation
+needs no event location at all.
 """
 
 from __future__ import annotations
