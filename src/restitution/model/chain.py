@@ -213,23 +213,17 @@ def check_column(name: str, values: np.ndarray, index=None) -> np.ndarray:
 
 def _as_array(name: str, values, length: int | None = None) -> np.ndarray:
     """A list parameter as float64; SceneError for empty, ragged, non-numeric or out-of-range."""
-    try:  # (a ragged nested list makes numpy raise)
-        flat = not isinstance(values, (str, bytes, Mapping)) and np.ndim(values) == 1
-    except (TypeError, ValueError):
-        flat = False
-    if not flat:
-        raise SceneError(f"{name} must be a list of numbers; got {_show(values)}")
-    seq = list(values)
-    if len(seq) == 0:
+    # the common cases at once (a solve of one scene costs tens of microseconds)
+    if type(values) is np.ndarray and values.dtype == np.float64 and values.ndim == 1:
+        seq = values
+        x = values.copy()  # (the Chain's own copy: it is made read-only)
+    elif type(values) is list and all(type(v) is float for v in values):
+        seq = values
+        x = np.array(values, dtype=np.float64)
+    else:
+        seq, x = _parsed(name, values)
+    if x.size == 0:
         raise SceneError(f"{name} must not be empty")
-    x = np.empty(len(seq))
-    for i, v in enumerate(seq):
-        xi = _real(v)
-        if xi is None:
-            raise SceneError(
-                f"{name} must be a list of numbers; got {_show(values)} ({name}[{i}] is {_show(v)})"
-            )
-        x[i] = xi
     r = RANGES[name]
     bad = ~(r.accepts(x) & np.isfinite(x))
     if bad.any():
@@ -240,6 +234,26 @@ def _as_array(name: str, values, length: int | None = None) -> np.ndarray:
             f"{name} must have {length} entries (one per link, len(masses) - 1); got {len(x)}"
         )
     return x
+
+
+def _parsed(name: str, values) -> tuple[list, np.ndarray]:
+    """Any other sequence of real numbers: its elements, and each as float64 by ``_real``."""
+    try:  # (a ragged nested list makes numpy raise)
+        flat = not isinstance(values, (str, bytes, Mapping)) and np.ndim(values) == 1
+    except (TypeError, ValueError):
+        flat = False
+    if not flat:
+        raise SceneError(f"{name} must be a list of numbers; got {_show(values)}")
+    seq = list(values)
+    x = np.empty(len(seq))
+    for i, v in enumerate(seq):
+        xi = _real(v)
+        if xi is None:
+            raise SceneError(
+                f"{name} must be a list of numbers; got {_show(values)} ({name}[{i}] is {_show(v)})"
+            )
+        x[i] = xi
+    return seq, x
 
 
 def _law(kind: str, spec, where: str) -> dict:
@@ -379,10 +393,10 @@ class Chain:
         _check_ratios(m, k, c, kc if stiff else math.inf)
         if contact is not None or links is not None:
             # The laws' own parameter checks (restitution.model.laws), before any work.
-            from restitution.model.laws import pack_chain
+            from restitution.model.laws import pack_checked
 
             speed = self.law_speed
-            packed = pack_chain(m, k, c, self.contact_law, self.link_laws, speed)
+            packed = pack_checked(m, k, c, self.contact_law, self.link_laws, speed)
             object.__setattr__(self, "_packed", (speed, packed))  # kept for the numerical runners
 
     # ------------------------------------------------------------------------------------------

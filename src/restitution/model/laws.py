@@ -875,6 +875,13 @@ def pack_chain(masses, springs, dashpots=None, contact="rigid", links=None, v0=1
         raise SceneError(f"masses must have 2 to {MAX_MASSES} entries; got {n}")
     k = _vector("springs", springs, n - 1)
     c = np.zeros(n - 1) if dashpots is None else _vector("dashpots", dashpots, n - 1, 0.0, False)
+    return pack_checked(m, k, c, contact, links, v0)
+
+
+def pack_checked(m, k, c, contact, links, v0: float):
+    """``pack_chain`` of float64 vectors already checked (``Chain`` checks its own: finite, >
+    0, dashpots >= 0, their lengths); v0, the laws and the units are checked here."""
+    n = m.size
     v0 = check_v0(v0)
     m1 = m[0]
     w2 = k[0] / m[0] + k[0] / m[1]
@@ -882,7 +889,7 @@ def pack_chain(masses, springs, dashpots=None, contact="rigid", links=None, v0=1
     ku = m1 * w2  # stiffness unit
     ms, ks, cs = m / m1, k / ku, c / (m1 * w)
     scaled = np.concatenate([ms, ks])
-    if not (np.all(np.isfinite(scaled)) and np.all(scaled > 0)):
+    if not (np.isfinite(scaled) & (scaled > 0)).all():
         raise SceneError(
             "masses and springs span too many decades: their ratios to m1 and m1*omega**2 "
             "under- or overflow in float64"
@@ -890,7 +897,9 @@ def pack_chain(masses, springs, dashpots=None, contact="rigid", links=None, v0=1
     cspec = to_kernel_units(
         contact if contact is not None else "rigid", CONTACT_LAWS, m1, w, "contact"
     )
-    ratio = ms[1:].max() / ms.min(), ms.max() / ms[1:].min()
+    rest = ms[1:]
+    lo, hi = rest.min(), rest.max()  # (ms[0] = 1)
+    ratio = hi / min(lo, 1.0), max(hi, 1.0) / lo
     if not max(ratio) <= ALPHA_NL_MAX:
         raise SceneError(
             f"masses: the ratio of the largest to the smallest mass must be at most "
