@@ -72,7 +72,7 @@ CANCEL_MAX = 1e3
 # ----------------------------------------------------------------------------------------------
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _cs(xi, t):
     """(e^{-xi t} C(t), e^{-xi t} S(t)) with C = cos(wt)|cosh(gt)|1, S = sin(wt)/w|sinh(gt)/g|t."""
     d = 1.0 - xi * xi
@@ -100,7 +100,7 @@ def _cs(xi, t):
     return 0.5 * (slow + fast), 0.5 * (slow - fast) / g
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _osc(xi, r0, rd0, t):
     ce, se = _cs(xi, t)
     return r0 * ce + (rd0 + xi * r0) * se, rd0 * ce - (r0 + xi * rd0) * se
@@ -111,7 +111,7 @@ def _osc(xi, r0, rd0, t):
 # ----------------------------------------------------------------------------------------------
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _eval_gap(t, c0, c1, b, lam, res, split=math.inf):
     """res = f, f', f'', f''', B0, B2, B3, scale, X at phase time t: B_m bounds |f^(m)| on
     [t, inf) (m = 0: the oscillating part f - X only). ``scale`` is the round-off scale of f at
@@ -180,7 +180,7 @@ def _eval_gap(t, c0, c1, b, lam, res, split=math.inf):
     res[8] = c0 - w0 + c1 * t
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _eval_f(t, c0, c1, b, lam, res):
     """res[0], res[1] = f, f' at phase time t: _eval_gap's first two entries by the same
     arithmetic (bit for bit), without the derivative bounds the root polish does not use."""
@@ -197,7 +197,7 @@ def _eval_f(t, c0, c1, b, lam, res):
     res[1] = f1
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _f_df(t, c0, c1, b, lam, res):
     """(f, f') at phase time t (``_eval_f``, which leaves them in res[0], res[1])."""
     _eval_f(t, c0, c1, b, lam, res)
@@ -207,7 +207,7 @@ def _f_df(t, c0, c1, b, lam, res):
 _polish_gap = newton_polish(_f_df)
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _refine(lo, hi, c0, c1, b, lam, res, at_lo=False):
     """Root of the gap on [lo, hi], f(lo) > 0 > f(hi) (f strictly decreasing on [lo, hi], or at
     least past its last crossing): safeguarded Newton to machine precision (roots.newton_polish).
@@ -218,7 +218,7 @@ def _refine(lo, hi, c0, c1, b, lam, res, at_lo=False):
     return _polish_gap(lo, hi, res[0], res[1], (c0, c1, b, lam, res))
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _dominant_real(b, lam):
     """Index of the slowest-decaying term if it is real and decays slower than all others (the
     only case in which a damped contact can last for ever), else -1."""
@@ -236,7 +236,7 @@ def _dominant_real(b, lam):
     return kmax
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _never_ends(t, b, lam, tol, kmax):
     """Proof that a damped contact never ends: the slowest real term (kmax, from
     _dominant_real) outweighs all others now, hence forever (all others decay faster)."""
@@ -248,7 +248,7 @@ def _never_ends(t, b, lam, tol, kmax):
     return dom - rest > tol
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _split(b, lam):
     """|lambda| above which _locate bounds a mode by its amplitude alone (inf: no split): the
     geometric mean of the slowest and fastest rates present, where they differ by more than
@@ -265,7 +265,7 @@ def _split(b, lam):
     return math.sqrt(lo * hi)
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _closest_pass(info, low, t, f2, unit):
     """Keep (low / unit, t, v) in info[4:7] if it is the lowest pass so far; v is the approach
     speed of a dip PASS_DEPTH bands deep at the curvature f2 there."""
@@ -387,7 +387,7 @@ def _locate(c0, c1, b, lam, check_permanent, info, max_steps=MAX_STEPS, res=None
     return LOC_BUDGET
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _slope(t, c0, c1, b, lam, res):
     """f'(t) (``_eval_gap``, which leaves it in res[1])."""
     _eval_gap(t, c0, c1, b, lam, res)
@@ -436,7 +436,7 @@ def _xmax(t0, tend, c0, c1, b, lam):
 # ----------------------------------------------------------------------------------------------
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _modal_state(t, z, lam, U, X0, V, u, v):
     """u, v at phase time t from modal coefficients z (plus centre-of-mass motion X0 + V t)."""
     n = U.shape[0]
@@ -454,7 +454,7 @@ def _modal_state(t, z, lam, U, X0, V, u, v):
         v[i] = V + v[i]
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _scalar_state(t, xi, r0, rd0, mu, u10, V, u, v):
     r, rd = _osc(xi, r0, rd0, t)
     u[0] = u10 + V * t - mu * (r - r0)
@@ -463,7 +463,7 @@ def _scalar_state(t, xi, r0, rd0, mu, u10, V, u, v):
     v[1] = V + (1.0 - mu) * rd
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _scalar_advance(t, xi, r0, rd0, mu, u, v):
     """Advance a two-mass free flight from (u, v) at its start to phase time t in place, the
     velocities by increments (v1 - mu dr', v2 + (1 - mu) dr', momentum-conserving): m1's small
@@ -479,7 +479,7 @@ def _scalar_advance(t, xi, r0, rd0, mu, u, v):
 _RECIP = 1.0 / np.arange(1.0, 22.0)  # 1 / (j + 1): the series multiplies, never divides
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _phi1_series(x):
     """(e^x - 1) / x for complex |x| < 1/2 by its Taylor series sum x^j / (j + 1)!, Horner
     form, with as many terms as |x| needs (the first omitted term, x^(n+1) / (n+2)!, is below
@@ -492,7 +492,7 @@ def _phi1_series(x):
     return acc
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _j_term(x, ex, T):
     """T (e^x - 1) / x given ex = e^x (x = s T, Re x <= 0): the integral of e^{s t} over [0, T].
     Below |x| = 1/2 the series (no cancellation in e^x - 1); above it e^x - 1 has an absolute
@@ -548,7 +548,7 @@ def _pair_integrals(T, lam):
     return J1, J2
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _pair_sum(g, J1, J2):
     """(sum over pairs of Re[g_p g_q J1_pq + g_p conj(g_q) J2_pq], a bound on the sum of the
     terms' magnitudes); see _diss_modal."""
@@ -629,7 +629,7 @@ def _diss_modal_gl(T, g, lam, c):
     return c * 0.5 * h * acc
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _diss_modal_inf(g, lam, c):
     """Integral of c (Re sum g_k e^{lam_k t})^2 over [0, inf), in closed form.
 
@@ -706,7 +706,7 @@ def _diss_scalar(T, xi, r0, rd0, c):
     return 0.5 * c * acc
 
 
-@njit(cache=True)
+@njit(cache=True, refcount=False)
 def _diss_scalar_gl(T, xi, r0, rd0, c):
     """Integral of c r'^2 over [0, T] by Gauss-Legendre (round-off exact): the fallback of
     _diss_scalar."""
