@@ -230,6 +230,16 @@ SIGMA_ZONE = 0.3
 # 1.5-1.65x faster; the three-mass Hertz chain's errors grew up to 4x at rtol 1e-9..1e-7 (still
 # 36x or more below their estimates), none from 3e-10 on. At 2 the scissor scene's error at rtol
 # 1e-12 grew from 3e-16 to 5e-14 (2026-11-27).
+# w_free takes every link at its stiffest slope, the scissor's cap k2, though that scene's flight
+# runs on its soft bars. A local cap was tried (each step capped at HMAX_FREE over the Gershgorin
+# bound with each scissor link's slope bounded over the extensions its potential allows at the
+# state's internal energy, which a free flight never raises: w 0.21 there instead of 1): the
+# flight took 240-573 right-hand sides instead of 669-684 at rtol 1e-4..1e-12, but its steps were
+# then the error control's, and the COR errors grew 16-150x at rtol 1e-8..1e-12 (7.4e-12 ->
+# 1.2e-10, 6.5e-14 -> 9.9e-12, 3.3e-16 -> 4.7e-14; still 12x or more below the estimates). The
+# cap's smaller errors there are the flight's own truncation error, not the dense output's (the
+# old cap kept only around the two lock crossings restored none of them), so the cap stays
+# global (docs/accuracy.md, "The scissor spring").
 HMAX_FREE = 1.0
 
 
