@@ -218,6 +218,20 @@ AFTER_TURN = 1  # the branch starts at a turn: v1 = 0 projected, x at a local ma
 AFTER_RISE = 2  # the branch starts at a reload (plastic, x = xmax) or a rise (linear, v1 = 0)
 MID = 3  # the branch goes on from inside (after a stretch in sigma): no event starts on its surface
 
+# Zeno guard of the non-plastic contacts. m1 at rest in a contact (a slow creep out of a linear
+# contact after a long press) has v1 = 0 to within the integration error: at a loose rtol each
+# turn (v1 rising through 0) was followed at once by a rise (v1 falling through 0) and so on,
+# every event a millionth of a step after the last, until the work budget ran out (a 4-mass
+# scissor chain, 7 contacts: rtol 1e-4..1e-6 exhausted its budget in 1.5 s, 1e-8 finished in
+# 7 ms). After ZENO_FLIPS turns and rises in a row, each within ZENO_QUICK of the next step after
+# the last event, the contact goes on unloading and a rise needs v1 <= -ZENO_BAND * atol (until
+# it separates). The branches of these laws exert the same force (only the events and the
+# recorded maximum depth differ), so the band moves no force; a scene without such a run of
+# events computes exactly as before.
+ZENO_QUICK = 1e-3
+ZENO_FLIPS = 8
+ZENO_BAND = 100.0
+
 # The ends of a power-law contact are integrated in sigma = sqrt(x) (integrators.sigma_phase) over
 # x <= SIGMA_ZONE * (the contact's depth scale), where the force has done little work and x'
 # stays near its value at the surface.
@@ -244,13 +258,14 @@ HMAX_FREE = 1.0
 
 
 @njit(cache=True, error_model="numpy", refcount=False)
-def _setup_contact_events(cp, mem, W, B, strip, how, nm=2):
+def _setup_contact_events(cp, mem, W, B, strip, how, nm=2, band=0.0):
     """Event rows of the current contact branch; returns their number.
 
     ``strip`` counts the leading zeros of an event that starts on its own surface (exactly, since
     the state is projected there): the separation when entering, the reload (double zero: x at
     its maximum with v1 = 0) or the rise (v1 = 0) after a turn, the turn after a linear rise.
     ``nm`` is the number of masses (v1 is y[nm]); W has as many columns as the state.
+    ``band`` > 0 (the Zeno guard, ``_contact_event``): an elastic rise needs v1 <= -band.
     """
     for k in range(2):
         for i in range(W.shape[1]):
@@ -278,9 +293,10 @@ def _setup_contact_events(cp, mem, W, B, strip, how, nm=2):
         B[1] = mem[M_XMAX]
         strip[1] = 2 if how == AFTER_TURN else 0
     else:
-        # elastic contact, x rising again: v1 falls to 0
+        # elastic contact, x rising again: v1 falls to 0 (to -band)
         W[1, nm] = 1.0
-        strip[1] = 1 if how == AFTER_TURN else 0
+        B[1] = band
+        strip[1] = 1 if (how == AFTER_TURN and band == 0.0) else 0
     return 2
 
 
@@ -314,6 +330,31 @@ def _contact_switch(code, y, iv, kind, cp, mem, how, xmax_c):
         y[0] = -mem[M_XP]  # separation
     mem[M_PHASE] = 0.0
     return how, xmax_c, True
+
+
+@njit(cache=True, error_model="numpy", refcount=False)
+def _contact_event(code, y, iv, kind, cp, mem, how, xmax_c, dt, h, atol, guard):
+    """``_contact_switch`` with the Zeno guard (ZENO_FLIPS above): ``dt`` the time since the
+    last event, ``h`` the next step, ``guard`` = [quick turns and rises in a row, band] (zeroed
+    at a separation). Returns (how, xmax_c, separated)."""
+    flip = kind != C_PLASTIC and not (mem[M_BRANCH] == 0.0 and code == 0)  # a turn or a rise
+    v1 = y[iv]
+    how, xmax_c, separated = _contact_switch(code, y, iv, kind, cp, mem, how, xmax_c)
+    if separated:
+        guard[0] = 0.0
+        guard[1] = 0.0
+        return how, xmax_c, True
+    if not flip:
+        return how, xmax_c, False
+    if guard[1] > 0.0:  # the band is on: the event is at v1 = 0 or -band, kept (no projection)
+        y[iv] = v1
+        return MID, xmax_c, False
+    guard[0] = guard[0] + 1.0 if dt <= ZENO_QUICK * h else 0.0
+    if guard[0] >= ZENO_FLIPS:
+        guard[1] = ZENO_BAND * atol
+        mem[M_BRANCH] = 0.0
+        return MID, xmax_c, False
+    return how, xmax_c, False
 
 
 @njit(cache=True, error_model="numpy", refcount=False)
@@ -571,6 +612,8 @@ def _adaptive(
     B = np.zeros(2)
     strip = np.zeros(2, dtype=np.int64)
     err_acc = np.zeros(1)
+    guard = np.zeros(2)  # the Zeno guard's state (_contact_event)
+    t_event = 0.0
     t = 0.0
     tcol = 0.0
     ncol = 1
@@ -619,7 +662,7 @@ def _adaptive(
                 if scode == SIG_FAIL:
                     return _fail(work), ncol, tcol, err_acc[0]
                 how = MID
-            nev = _setup_contact_events(cp, mem, W, B, strip, how, n)
+            nev = _setup_contact_events(cp, mem, W, B, strip, how, n, guard[1])
             x_sw = 0.0
             power_exit = kind == C_HERTZ or kind == C_HUNT_CROSSLEY
             if power_exit and mem[M_BRANCH] == 0.0 and sigma_exit:
@@ -650,7 +693,10 @@ def _adaptive(
                     how = MID
                     continue
             sigma_exit = True
-            how, xmax_c, separated = _contact_switch(code, y, n, kind, cp, mem, how, xmax_c)
+            how, xmax_c, separated = _contact_event(
+                code, y, n, kind, cp, mem, how, xmax_c, t - t_event, h, atol, guard
+            )
+            t_event = t
             if separated:
                 tcol = t
                 ysep[:] = y
@@ -932,6 +978,8 @@ def _adaptive_sampled(
     B = np.zeros(2)
     strip = np.zeros(2, dtype=np.int64)
     err_acc = np.zeros(1)
+    guard = np.zeros(2)  # the Zeno guard's state (_contact_event)
+    t_event = 0.0
     y0 = np.empty(ny)
     t = 0.0
     tcol = 0.0
@@ -983,7 +1031,7 @@ def _adaptive_sampled(
                 if scode == SIG_FAIL:
                     return _fail(work), ncol, tcol, err_acc[0]
                 how = MID
-            nev = _setup_contact_events(cp, mem, W, B, strip, how, n)
+            nev = _setup_contact_events(cp, mem, W, B, strip, how, n, guard[1])
             x_sw = 0.0
             power_exit = kind == C_HERTZ or kind == C_HUNT_CROSSLEY
             if power_exit and mem[M_BRANCH] == 0.0 and sigma_exit:
@@ -1012,7 +1060,10 @@ def _adaptive_sampled(
                     how = MID
                     continue
             sigma_exit = True
-            how, xmax_c, separated = _contact_switch(code, y, n, kind, cp, mem, how, xmax_c)
+            how, xmax_c, separated = _contact_event(
+                code, y, n, kind, cp, mem, how, xmax_c, t - t_event, h, atol, guard
+            )
+            t_event = t
             if separated:
                 tcol = t
                 ysep[:] = y
