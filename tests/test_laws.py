@@ -176,3 +176,31 @@ def test_paper_form_laws_pack_to_their_kinds():
     solve_paper_law(2.0, 0.1, contact="plastic", eta=0.5, dr=0.5, account=acct)
     k1 = (2.0 / 3.0) / 0.1
     assert acct["kappa"] == pytest.approx(laws.plastic_kappa(0.5, 0.5, k1), rel=1e-12)
+
+
+def test_plastic_law_creating_energy_is_reported_not_ok():
+    """kappa is fitted at m1's nominal depth; a turn deeper (eta > 1) where
+    k < (eta + 1)/2 kappa x**(eta - 1) returns more than the loading stored (docs/physics.md):
+    the run is not ok, its contact work is negative, and the message names the law."""
+    from restitution.solvers.numerical import solve_chain
+
+    m = [0.6225762273992984, 4.279763926605098, 2.2463755298407593, 0.5865758164220565]
+    k, eta, dr = 3.787205085445174, 1.46625211472598, 0.10048680966001751
+    ch = restitution.Chain(
+        m,
+        [6.419755253457218, 3.617247211821949, 6.728286088931025],
+        [0.251506504999416, 0.15163236153980847, 1.447660592429925],
+        contact={"law": "plastic", "k": k, "eta": eta, "dr": dr},
+    )
+    r = restitution.solve(ch, history=True)
+    assert r.status == "energy_account_open"
+    assert "plastic contact" in r.message
+    # the law's kappa in closed form (m1 alone at v0 = 1: stores m1/2, returns (1 - DR) m1/2)
+    fmax = math.sqrt((1.0 - dr) * k * m[0])
+    kappa = fmax / ((eta + 1.0) * m[0] / (2.0 * fmax)) ** eta
+    x = r.history["compression"].max()
+    assert k < (eta + 1.0) / 2.0 * kappa * x ** (eta - 1.0)
+    account = {}
+    solve_chain(ch, "adaptive", 1e-9, account=account)
+    assert account["dissipated_contact"] < -0.05
+    assert abs(account["residual"]) < 1e-9

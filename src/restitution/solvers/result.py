@@ -55,6 +55,21 @@ MESSAGES = {
     "kernel_error": "The kernel raised an error on this row (its message is logged); no result.",
 }
 
+# A cause of an open account with the plastic contact (docs/physics.md): its kappa is
+# fitted at the nominal depth, and a turn elsewhere can return more than the loading stored.
+PLASTIC_ENERGY = (
+    "With the plastic contact it can be the law itself creating energy: kappa is fitted at the "
+    "depth of m1 alone at v0, and a turn at a depth x where k < (eta + 1)/2 kappa x**(eta - 1) "
+    "returns more along the linear unloading than the loading stored (docs/physics.md; "
+    "history=True gives each contact's depth)."
+)
+
+
+def _contact_law(scene) -> str | None:
+    contact = getattr(scene, "contact", None)
+    return contact.get("law") if contact is not None else None
+
+
 RESULT_COLUMNS = (
     "cor",
     "n_collisions",
@@ -140,7 +155,10 @@ class Result:
 
     @property
     def message(self) -> str:
-        return MESSAGES.get(self.status, self.status)
+        text = MESSAGES.get(self.status, self.status)
+        if self.status == "energy_account_open" and _contact_law(self.scene) == "plastic":
+            text += " " + PLASTIC_ENERGY
+        return text
 
     def plot(self, ax=None):
         """Draw the contact history: m_1's velocity at the start (open circle) and at the end
