@@ -48,7 +48,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import brentq, differential_evolution, minimize, root_scalar
 
-from restitution.analysis.scaled import solve_scaled, solve_scaled_many
+from restitution.analysis.scaled import solve_scaled, solve_scaled_arrays
 from restitution.model.chain import RATIOS, check
 from restitution.model.ranges import SceneError, _real, _show
 
@@ -72,6 +72,15 @@ def scaled_chain(mass_ratios, spring_ratios, beta: float):
     k12 = 1.0 / (1.0 / m[0] + 1.0 / m[1])  # omega = 1 with m_1 = 1
     k = kr * k12
     return m, k, (math.inf if beta == 0.0 else k[0] / beta)
+
+
+def _scaled_chains(masses, spring_ratios, beta: float):
+    """``scaled_chain`` of every row of masses (S, N) and spring ratios (S, N - 1), as arrays
+    (the same operations, bit for bit): (masses, springs, k_contact) for solve_scaled_arrays."""
+    m = masses / masses[:, :1]
+    k12 = 1.0 / (1.0 / m[:, 0] + 1.0 / m[:, 1])
+    k = spring_ratios * k12[:, None]
+    return m, k, (np.full(m.shape[0], math.inf) if beta == 0.0 else k[:, 0] / beta)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -184,14 +193,23 @@ class Family:
         return x
 
     def chain(self, x):
-        n = self.n_masses
-        x = np.asarray(x, dtype=float)
+        """(mass ratios, spring ratios) of the log-parameters x."""
+        m, k = self.chains(np.asarray(x, dtype=float)[:, None])
+        return m[0], k[0]
+
+    def chains(self, X):
+        """``chain`` of every column of X (dim, S), as arrays (S, N) and (S, N - 1)."""
+        n, s = self.n_masses, X.shape[1]
+        m = np.ones((s, n))
+        k = np.ones((s, n - 1))
         if self.name == "uniform":
-            return np.r_[1.0, np.full(n - 1, math.exp(x[0]))], np.ones(n - 1)
-        if self.name == "tapered":
-            return np.exp(x[0] * np.arange(n)), np.ones(n - 1)
-        m = np.r_[1.0, np.exp(x[: n - 1])]
-        k = np.r_[1.0, np.exp(x[n - 1 :])] if self.name == "masses+springs" else np.ones(n - 1)
+            m[:, 1:] = np.array([math.exp(v) for v in X[0]])[:, None]  # (libm's, as before)
+        elif self.name == "tapered":
+            m = np.exp(X[0][:, None] * np.arange(n))
+        else:
+            m[:, 1:] = np.exp(X[: n - 1].T)
+            if self.name == "masses+springs":
+                k[:, 1:] = np.exp(X[n - 1 :].T)
         return m, k
 
 
@@ -283,21 +301,16 @@ class _Objective:
         worst case is then searched properly by :meth:`worst`).
         """
         X = np.atleast_2d(X)
-        chains, owner = [], []
-        for s in range(X.shape[1]):
-            m, k = self.fam.chain(X[:, s])
-            errs = self._box(m.size) if self.tol > 0.0 else np.zeros((1, m.size))
-            for d in errs:
-                mm = m * (1.0 + d)
-                chains.append(scaled_chain(mm / mm[0], k, self.beta))
-                owner.append(s)
-        self.calls += len(chains)
+        n = self.fam.n_masses
+        errs = self._box(n) if self.tol > 0.0 else np.zeros((1, n))
+        m, k = self.fam.chains(X)  # every (member, error vector) pair, member by member:
+        masses = (m[:, None, :] * (1.0 + errs)).reshape(-1, n)
+        springs = np.repeat(k, errs.shape[0], axis=0)
+        chains = _scaled_chains(masses, springs, self.beta)
+        self.calls += chains[0].shape[0]
         self.tick()
-        cor, ok = solve_scaled_many(chains, self.max_events)
-        cor = np.where(ok, cor, _BAD)
-        out = np.full(X.shape[1], -np.inf)
-        np.maximum.at(out, np.asarray(owner), cor)
-        return out
+        cor, ok = solve_scaled_arrays(*chains, self.max_events)
+        return np.where(ok, cor, _BAD).reshape(X.shape[1], errs.shape[0]).max(axis=1)
 
     def worst(self, x) -> float:
         """Worst COR over independent mass errors |d_i| <= tol (inner search, see module doc)."""
@@ -311,7 +324,10 @@ class _Objective:
         # bounded local climb from the worst: near a cusp the worst case may be interior.
         pts = self._box(n)
         self.calls += pts.shape[0]
-        cor, ok = solve_scaled_many([chain(d) for d in pts], self.max_events)
+        cor, ok = solve_scaled_arrays(
+            *_scaled_chains(m * (1.0 + pts), np.broadcast_to(k, (pts.shape[0], n - 1)), self.beta),
+            self.max_events,
+        )
         cor = np.where(ok, cor, _BAD)
         i = int(np.argmax(cor))
 

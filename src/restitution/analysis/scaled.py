@@ -5,13 +5,16 @@ the one place where they call the solver.
 
 Paper scenes (every two-mass chain, the uniform chain of Fig. 6) go through the paper form
 ``restitution.solve(alpha=..., ...)`` (its fast path, bit for bit the paper's results), all others
-through the general form ``restitution.solve(masses=..., springs=..., k_contact=...)``.
+through the general form ``restitution.solve(masses=..., springs=..., k_contact=...)``. Batches of
+one chain length given as arrays (``solve_scaled_arrays``, the design searches' populations) skip
+the table and its Chains where they can, with the same results bit for bit.
 """
 
 from __future__ import annotations
 
 import math
 
+import numpy as np
 import pandas as pd
 
 from restitution.api import solve, solve_many
@@ -57,4 +60,57 @@ def solve_scaled_many(chains, max_events=100_000):
     return res["cor"].to_numpy(), (res["status"] == "ok").to_numpy()
 
 
-__all__ = ["paper_form", "solve_scaled", "solve_scaled_many"]
+def solve_scaled_arrays(masses, springs, k_contact, max_events=100_000):
+    """``solve_scaled_many`` of chains of one length given as arrays: masses (S, N), springs
+    (S, N - 1), k_contact (S,). The same (cor, ok), bit for bit, without DataFrames or Chains
+    where that is possible (``_general_arrays``); else through ``solve_scaled_many``."""
+    m = np.asarray(masses, dtype=np.float64)
+    k = np.asarray(springs, dtype=np.float64)
+    kc = np.asarray(k_contact, dtype=np.float64)
+    done = _general_arrays(m, k, kc, max_events)
+    if done is not None:
+        return done
+    return solve_scaled_many(list(zip(m, k, kc, strict=True)), max_events)
+
+
+def _general_arrays(m, k, kc, max_events):
+    """(cor, ok) as ``solve_many`` gives them for a general table of these undamped chains, or
+    None where its reading would do more than the general exact kernel on every row: a row not
+    plainly valid (the table's reading words its error), a row of the paper's form (its own
+    kernel) or a chain whose method is not an exact one. The plan and the kernel units are
+    those of ``tables.linear_rows.read`` and ``SceneTable.scaled``, operation for operation.
+    (The design searches solve ~10^6 chains: the table's per-row reading cost a third of their
+    kernel time.)"""
+    from restitution.kernels import layout as L
+    from restitution.model.chain import RANGES, Chain
+    from restitution.model.units import kernel_params
+    from restitution.solvers import methods as M
+    from restitution.solvers.exact import general_block
+    from restitution.tables.linear_rows import plainly_valid
+
+    s, n = m.shape
+    c = np.zeros((s, n - 1))
+    if s == 0 or n < 2 or k.shape != (s, n - 1) or kc.shape != (s,):
+        return None
+    if not (RANGES["k_contact"].accepts(kc).all() and plainly_valid(m, k, c, kc)):
+        return None
+    if ((m[:, 1:] == m[:, 1:2]).all(axis=1) & (k == k[:, :1]).all(axis=1)).any():
+        return None  # the paper's form (no dashpots here): the paper kernel's rows
+    rigid = kc == math.inf
+    for kind in (rigid, ~rigid):
+        if kind.any():
+            i = int(np.argmax(kind))
+            if not M.choose(Chain(masses=m[i], springs=k[i], k_contact=float(kc[i]))).exact:
+                return None
+    omega = np.sqrt(k[:, 0] / m[:, 0] + k[:, 0] / m[:, 1])
+    ms, ks, cs, kcs = kernel_params(m, k, c, kc[:, None], m[:, :1], omega[:, None])
+    out, errors = general_block(ms, ks, cs, np.full(s, n, dtype=np.int64), kcs[:, 0], max_events)
+    ok = out[:, L.OUT_STATUS] == L.STATUS_OK
+    if errors:
+        ok[list(errors)] = False
+    if not ok.all():
+        out = L.void_unfinished(out, passive=True)
+    return out[:, L.OUT_COR], ok
+
+
+__all__ = ["paper_form", "solve_scaled", "solve_scaled_arrays", "solve_scaled_many"]

@@ -189,26 +189,30 @@ def _paper_rows(table, idx: np.ndarray, max_events: int, bar, block: int):
 
 def _general_rows(table, idx: np.ndarray, max_events: int, bar, block: int):
     """Kernel rows of general linear chains (padded batch of restitution.kernels.exact_chain)."""
-    from restitution.kernels.exact_chain import solve_chain, solve_chain_batch
-
     out = np.full((len(idx), L.N_OUT), np.nan)
     errors = {}
     for start in range(0, len(idx), block):
         sel = np.arange(start, min(start + block, len(idx)))
-        m, k, c, n, kc = table.scaled(idx[sel])
-
-        def single(j, m=m, k=k, c=c, n=n, kc=kc):
-            a, b = np.ascontiguousarray, n[j]
-            return solve_chain(
-                a(m[j, :b]), a(k[j, : b - 1]), a(c[j, : b - 1]), kc[j], max_events, NO_HIST
-            )
-
-        done, err = guarded(solve_chain_batch, (m, k, c, n, kc, max_events), sel, single)
+        done, err = general_block(*table.scaled(idx[sel]), max_events)
         out[sel, : done.shape[1]] = done
         if err:
             errors.update({int(sel[j]): msg for j, msg in err.items()})
         bar.update(len(sel))
     return out, errors
+
+
+def general_block(m, k, c, n, kc, max_events: int):
+    """Kernel rows (and {row: error message}) of one block of general linear chains in the
+    kernels' units, padded (``SceneTable.scaled``): one parallel batch call (``guarded``)."""
+    from restitution.kernels.exact_chain import solve_chain, solve_chain_batch
+
+    def single(j):
+        a, b = np.ascontiguousarray, n[j]
+        return solve_chain(
+            a(m[j, :b]), a(k[j, : b - 1]), a(c[j, : b - 1]), kc[j], max_events, NO_HIST
+        )
+
+    return guarded(solve_chain_batch, (m, k, c, n, kc, max_events), np.arange(len(n)), single)
 
 
 def _initial_rows(table, idx: np.ndarray, max_events: int, bar, block: int):

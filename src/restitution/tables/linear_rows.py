@@ -153,9 +153,15 @@ def _group(rows, size, masses, springs, dashpots, kc):
     for j, i in enumerate(rows):
         if dashpots[i] is not None:
             c[j] = dashpots[i]
+    return (m, k, c) if plainly_valid(m, k, c, kc) else None
+
+
+def plainly_valid(m: np.ndarray, k: np.ndarray, c: np.ndarray, kc: np.ndarray) -> bool:
+    """Whether every row of the arrays (one chain length) is plainly in range: the checks of
+    Chain.__post_init__ and chain._check_ratios, column-wise, with the _MARGIN."""
     for name, x in (("masses", m), ("springs", k), ("dashpots", c)):
         if not (RANGES[name].accepts(x) & np.isfinite(x)).all():
-            return None
+            return False
     with np.errstate(divide="ignore"):
         lm, lk, lc = np.log10(m), np.log10(k), np.log10(c)
     lw = 0.5 * (
@@ -172,7 +178,7 @@ def _group(rows, size, masses, springs, dashpots, kc):
     ):
         low, high = RATIOS[name]
         if (logs > math.log10(high) - _MARGIN).any():
-            return None
+            return False
         if low > 0.0 and (logs < math.log10(low) + _MARGIN).any():
-            return None
-    return m, k, c
+            return False
+    return True

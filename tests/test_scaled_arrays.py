@@ -1,0 +1,108 @@
+"""The design searches' array path (restitution.analysis.scaled.solve_scaled_arrays) against the
+table path it stands in for (solve_scaled_many: a DataFrame through solve_many): the same COR and
+status, bit for bit, on every kind of row, and the fallback wherever its reading would differ."""
+
+import math
+
+import numpy as np
+import pytest
+
+from restitution.analysis import design, scaled
+
+
+def _chains(rng, s, n, beta):
+    """s random scaled chains of n masses (mass ratios over 4 decades, springs over 2)."""
+    m = 10.0 ** rng.uniform(-2, 2, (s, n))
+    k = 10.0 ** rng.uniform(-1, 1, (s, n - 1))
+    return design._scaled_chains(m, k, beta)
+
+
+def _both(m, k, kc, max_events=100_000):
+    many = scaled.solve_scaled_many(list(zip(m, k, kc, strict=True)), max_events)
+    arrays = scaled.solve_scaled_arrays(m, k, kc, max_events)
+    return many, arrays
+
+
+def _same(a, b):
+    np.testing.assert_array_equal(a[1], b[1])  # status ok
+    assert a[0].tobytes() == b[0].tobytes()  # COR bit for bit, NaN where voided
+
+
+@pytest.mark.parametrize("beta", [0.0, 0.05])
+@pytest.mark.parametrize("n", [3, 6])
+def test_same_cor_and_status_as_the_table_path(n, beta):
+    m, k, kc = _chains(np.random.default_rng(n), 60, n, beta)
+    many, arrays = _both(m, k, kc)
+    # most finish (the COR columns are compared, not NaNs); a few long sequences of 6 masses
+    # end ill-conditioned, and those are compared too
+    assert many[1].mean() > 0.9
+    _same(many, arrays)
+
+
+def test_the_array_path_runs_without_a_table(monkeypatch):
+    """Plain chains never reach solve_many (the point of the path): fail if they do."""
+    m, k, kc = _chains(np.random.default_rng(1), 20, 4, 0.0)
+    expected = scaled.solve_scaled_many(list(zip(m, k, kc, strict=True)))
+    monkeypatch.setattr(scaled, "solve_many", lambda *a, **kw: pytest.fail("table path taken"))
+    _same(expected, scaled.solve_scaled_arrays(m, k, kc))
+
+
+def test_unfinished_rows_are_not_ok_on_both_paths():
+    m, k, kc = _chains(np.random.default_rng(2), 40, 5, 0.0)
+    many, arrays = _both(m, k, kc, max_events=2)  # most need more than 2 contacts
+    assert (~many[1]).any() and many[1].any()
+    _same(many, arrays)
+    assert np.isnan(arrays[0][~arrays[1]]).all()
+
+
+@pytest.mark.parametrize(
+    "edit",
+    [
+        "paper",  # a row of the paper's form: its own kernel on the table path
+        "ratio",  # a mass ratio past RATIOS: the table's row-by-row reading words the error
+        "edge",  # a ratio within the reading's margin of its bound: row by row too
+    ],
+)
+def test_rows_the_table_reads_otherwise_take_the_table_path(edit, monkeypatch):
+    m, k, kc = _chains(np.random.default_rng(3), 10, 4, 0.0)
+    if edit == "paper":
+        a = 2.2
+        m[4] = [1.0, a, a, a]
+        k[4] = a / (1.0 + a)
+    elif edit == "ratio":
+        m[4, 2] = 1e12
+    else:
+        low = design.RATIOS["masses[i]/masses[0]"][0]
+        m[4, 3] = low * (1.0 + 1e-12)
+    taken = []
+    real = scaled.solve_scaled_many
+    monkeypatch.setattr(
+        scaled, "solve_scaled_many", lambda *a, **kw: taken.append(1) or real(*a, **kw)
+    )
+    if edit == "ratio":
+        with pytest.raises(design.SceneError, match="masses"):
+            scaled.solve_scaled_arrays(m, k, kc)
+        assert taken
+        return
+    arrays = scaled.solve_scaled_arrays(m, k, kc)
+    assert taken
+    _same(real(list(zip(m, k, kc, strict=True))), arrays)
+
+
+def test_design_objective_unchanged_by_the_array_path():
+    """The robust objective of a population, through arrays and through the old per-chain
+    loop (scaled_chain per member and error vector, solve_scaled_many)."""
+    fam = design.family("masses", 5)
+    obj = design._Objective(fam, 0.0, 0.01, 100_000)
+    X = np.random.default_rng(4).uniform(-2.0, 2.0, (fam.dim, 6))
+    chains, owner = [], []
+    for s in range(X.shape[1]):
+        m, k = fam.chain(X[:, s])
+        for d in obj._box(fam.n_masses):
+            mm = m * (1.0 + d)
+            chains.append(design.scaled_chain(mm / mm[0], k, 0.0))
+            owner.append(s)
+    cor, ok = scaled.solve_scaled_many(chains)
+    old = np.full(X.shape[1], -math.inf)
+    np.maximum.at(old, np.asarray(owner), np.where(ok, cor, design._BAD))
+    assert obj.batch(X).tobytes() == old.tobytes()
