@@ -113,7 +113,7 @@ def ivp_runner(ch, method, rtol):
     def run():
         out, _ = solve_reference(
             alpha, v0, xi, cp, sp, rtol, 10_000, np.zeros(5), math.inf,
-            method=method, atol=rtol * v0, steps_per_period=None, minima=False,
+            method=method, atol=rtol * v0, steps_per_period=None, minima=False, branches=False,
         )  # fmt: skip
         return out
 

@@ -33,6 +33,12 @@ class DeadlineExceeded(RuntimeError):
 
 def _rhs_factory(cp, sp, mem, deadline=None):
     alpha, c = mem["alpha"], mem["c"]
+    # A scissor link by the formula of its branch mem["link"] (held for a whole solve_ivp call,
+    # which ends at the branch's ends: _link_events): analytic, not C1-only across the points.
+    # mem["link"] < 0: the law's own pick by x (linear links; ``branches=False``).
+
+    def force(sp, x, br):
+        return laws.scissor_force_on(sp, x, br) if br >= 0 else laws.structure_force(sp, x)
 
     def rhs(t, y):
         # Checked at every evaluation: one solve_ivp call can otherwise run for minutes.
@@ -42,7 +48,7 @@ def _rhs_factory(cp, sp, mem, deadline=None):
         fc = 0.0
         if mem["phase"] == 1:
             fc = laws.contact_force(cp, mem["branch"], mem["xmax"], mem["fmax"], x, -y[2])
-        f2 = laws.structure_force(sp, y[1] - y[0])
+        f2 = force(sp, y[1] - y[0], mem["link"])
         dv = y[3] - y[2]
         fd = c * dv
         return [y[2], y[3], fc + f2 + fd, -(f2 + fd) / alpha, -fc * y[2], c * dv * dv]
@@ -71,6 +77,47 @@ def _off_start(fun, t0, order, limit):
         return fun(t, y) / (t - t0) ** order if t > t0 else limit
 
     return event
+
+
+def _link_events(sp, mem, t0, y):
+    """Terminal events where a scissor link's extension leaves its branch ``mem["link"]``
+    (falling through the point below it, rising through the one above; none for a linear link).
+
+    The scissor law is C1 but not C2 at its branch points: a DOP853 step across one took an error
+    its error estimate does not see (the two orders share it), up to 40 rtol and erratic in rtol
+    (docs/solvers.md). Each solve_ivp call holds one branch's formula (``_rhs_factory``) and
+    stops where the extension leaves it, as the adaptive kernel does. A point the phase starts on
+    (the branch just entered) is taken off its root there (``_off_start``)."""
+    if mem["link"] < 0:
+        return []
+    x0, rate = y[1] - y[0], y[3] - y[2]
+    out = []
+    for j, direction in ((mem["link"] - 1, -1), (mem["link"], 1)):
+        point = laws.scissor_point(sp, j)
+        if math.isinf(point):
+            continue
+        fun = lambda t, y, p=point: y[1] - y[0] - p  # noqa: E731
+        if x0 == point or (x0 - point) * direction > 0.0:  # on it (or past it by round-off)
+            fun = _off_start(fun, t0, 1, rate)
+        fun.terminal, fun.direction = True, direction
+        out.append(fun)
+    return out
+
+
+def _crossed(sol, first: int) -> int | None:
+    """Index (from ``first``) of the link event that ended ``sol``, if one did."""
+    for i in range(first, len(sol.t_events)):
+        if len(sol.t_events[i]) and sol.status == 1 and sol.t_events[i][0] == sol.t[-1]:
+            return i
+    return None
+
+
+def _ivp(*args, **kwargs):
+    """``solve_ivp`` without numpy's warnings on inf or NaN stages: a trial step far past the end
+    of the scissor branch held (``_rhs_factory``) can overflow there; solve_ivp rejects it (its
+    error norm is not < 1) and retries a fifth as long."""
+    with np.errstate(invalid="ignore", over="ignore"):
+        return solve_ivp(*args, **kwargs)
 
 
 def _minimum(fun):
@@ -120,6 +167,7 @@ def solve_reference(
     deadline=None,
     minima=True,
     y0=None,
+    branches=True,
 ):
     """Reference solution of one two-mass scene; returns (out, hist) in the kernel layout.
 
@@ -134,11 +182,14 @@ def solve_reference(
     ``minima`` (default) also stops at every minimum of the gap in free flight and of the
     compression while unloading, so that a contact or separation shallower than one step is not
     stepped over; ``False`` keeps scipy's plain sign-change detection (the benchmark's view of
-    how solve_ivp is usually used).
+    how solve_ivp is usually used). ``branches`` (default) holds a scissor link on one branch's
+    formula per solve_ivp call and stops at its branch points (``_link_events``); ``False`` lets
+    the law pick its branch by the extension at every evaluation (steps cross the points).
     """
     kind = int(cp[0])
     k1, k2 = cp[1], sp[laws.SP_K2]
     mem = dict(phase=1, branch=1, xmax=0.0, fmax=0.0, xp=0.0, c=2.0 * xi * k2, alpha=alpha)
+    mem["link"] = -1  # the scissor link's branch (_link_events), set from y below
     rhs = _rhs_factory(cp, sp, mem, deadline)
     atol = rtol * v0 if atol is None else atol
     tr = k1 + k2 + k2 / alpha
@@ -161,6 +212,8 @@ def solve_reference(
     p_in = y[2] + alpha * y[3]
     ysep = y.copy()
     status = LY.STATUS_OK
+    if branches and sp[laws.SP_KIND] == laws.S_SCISSOR:
+        mem["link"] = int(laws.scissor_branch(sp, y[1] - y[0]))
     if kind == laws.C_RIGID and not free0:
         y[2] = -y[2]
         hist[0][LY.H_VOUT] = y[2] / v0
@@ -190,7 +243,9 @@ def solve_reference(
                     if y[2] == 0.0:  # from a turn
                         second = _off_start(second, t, 1, a1)
                 events = [_event(lambda t, y, xp=xp: -y[0] - xp), _event(second)]
-            sol = solve_ivp(
+            n_phase = len(events)
+            events += _link_events(sp, mem, t, y)
+            sol = _ivp(
                 rhs,
                 (t, t + 1e4),
                 y,
@@ -201,7 +256,12 @@ def solve_reference(
                 max_step=dt_contact,
                 dense_output=True,
             )
-            hit = [i for i, te in enumerate(sol.t_events) if len(te)]
+            j = _crossed(sol, n_phase)
+            if j is not None:  # the scissor link leaves its branch: on with the next one
+                t, y = sol.t_events[j][0], sol.y_events[j][0].copy()
+                mem["link"] += events[j].direction
+                continue
+            hit = [i for i in range(n_phase) if len(sol.t_events[i])]
             if not hit:
                 status = LY.STATUS_NONCONVERGED
                 break
@@ -247,18 +307,22 @@ def solve_reference(
             gap = lambda t, y, xp=xp: y[0] + xp  # noqa: E731
             if y[0] + xp == 0.0 and y[2] > 0.0:  # from the separation: off its root there
                 gap = _off_start(gap, t, 1, y[2])
-            sol = solve_ivp(
+            events = [_event(gap), _minimum(lambda t, y: y[2])] if minima else [_event(gap)]
+            n_phase = len(events)
+            events += _link_events(sp, mem, t, y)
+            sol = _ivp(
                 rhs,
                 (t, t + 2 * math.pi),
                 y,
                 method=method,
                 rtol=rtol,
                 atol=atol,
-                events=[_event(gap), _minimum(lambda t, y: y[2])] if minima else [_event(gap)],
+                events=events,
                 max_step=dt_free,
                 dense_output=True,
             )
-            hit, lows = sol.t_events if minima else (sol.t_events[0], [])
+            hit, lows = sol.t_events[:2] if minima else (sol.t_events[0], [])
+            j = _crossed(sol, n_phase)
             end = hit[0] if len(hit) else sol.t[-1]
             below = [
                 k for k in range(len(lows)) if lows[k] < end and sol.y_events[1][k][0] + xp < 0
@@ -269,6 +333,12 @@ def solve_reference(
                 t_hit = _first_root(lambda s, f=sol.sol, xp=xp: f(s)[0] + xp, start, lows[k])
                 sol.t_events[0] = np.array([t_hit])
                 sol.y_events[0] = np.array([sol.sol(t_hit)])
+            elif not len(hit) and j is not None:  # the scissor link leaves its branch
+                t, y = sol.t_events[j][0], sol.y_events[j][0].copy()
+                mem["link"] += events[j].direction
+                if _no_contact_possible(y, sp, mem):  # (a link may switch every half period)
+                    break
+                continue
             elif not len(hit):
                 t, y = sol.t[-1], sol.y[:, -1].copy()
                 if _no_contact_possible(y, sp, mem):

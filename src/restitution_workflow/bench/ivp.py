@@ -119,6 +119,7 @@ def _two_masses(scene, method, rtol, atol, steps_per_period, deadline, max_event
         steps_per_period=steps_per_period,
         deadline=deadline,
         minima=False,  # plain sign-change events, as solve_ivp is usually used
+        branches=False,  # and the law's branch picked by x at every evaluation
     )
     return out
 
