@@ -282,3 +282,21 @@ def test_adaptive_estimate_covers_a_power_law_rough_in_sigma(kw, rtol):
     r = restitution.solve(**kw, contact="plastic", method="adaptive", rtol=rtol)
     assert ref.status == r.status == "ok" and r.n_collisions == ref.n_collisions
     assert abs(r.cor - ref.cor) <= r.error_estimate + ref.error_estimate, r
+
+
+# A plastic scene where the reference's max_step (1/50 of a period), not rtol, sized its steps:
+# 2.47e-8 off at rtol 1e-6, 1e-7 and 1e-8 alike, so its old check at 10 rtol shared the error.
+MAX_STEP_BOUND = dict(alpha=6.332143252821115, beta=0.002482261020012551, xi=0.0)
+MAX_STEP_BOUND.update(contact="plastic", eta=1.3985966171369189, dr=0.8697214941297388)
+
+
+@pytest.mark.parametrize("rtol", [1e-7, 1e-8, 1e-9])
+def test_reference_estimate_covers_a_max_step_sized_error(rtol):
+    """method="reference" checks against rtol/10 (it checked against 10 rtol: at rtol 1e-8 the
+    estimate was 1e-8 for an error of 2.47e-8). Referee: adaptive at rtol 1e-13 (its own
+    kernel, a Taylor start of the contact in sigma; 14 contacts, estimate 1.6e-12)."""
+    ref = restitution.solve(**MAX_STEP_BOUND, method="adaptive", rtol=1e-13)
+    r = restitution.solve(**MAX_STEP_BOUND, method="reference", rtol=rtol)
+    assert r.status == ref.status == "ok"
+    assert r.n_collisions == ref.n_collisions == 14
+    assert abs(r.cor - ref.cor) <= r.error_estimate + ref.error_estimate, (r.cor - ref.cor, r)
