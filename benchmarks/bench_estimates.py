@@ -13,7 +13,7 @@ Sweeps (two-mass scenes, log-uniform parameters; seeds fixed, so a rerun gives t
   ``adaptive`` at rtol 1e-13 (Hunt-Crossley, which the reference does not take).
 - ``reference-scissor``: the reference on scissor links against ``adaptive`` at rtol 1e-13 (23 of
   300 rows outside, the worst 39 times, until the reference held the link's branch: 0, worst
-  0.34; docs/solvers.md).
+  0.034 with its check at rtol/10; docs/solvers.md).
 
 Per sweep: rows, rows outside (|error| > own estimate + the referee's, or another contact count)
 and the worst |error| / estimate. A row whose solve is not ``ok`` is counted apart.

@@ -300,3 +300,22 @@ def test_reference_estimate_covers_a_max_step_sized_error(rtol):
     assert r.status == ref.status == "ok"
     assert r.n_collisions == ref.n_collisions == 14
     assert abs(r.cor - ref.cor) <= r.error_estimate + ref.error_estimate, (r.cor - ref.cor, r)
+
+
+# A plastic scene whose 13th contact reloads past the largest penetration by 1.1e-5 (1e-4 of
+# it) and comes back below within one solve_ivp step: 26 contacts.
+SHALLOW_RELOAD = dict(alpha=18.323851820177627, beta=0.0030516658721057187, xi=0.0)
+SHALLOW_RELOAD.update(contact="plastic", eta=0.33471305511217003, dr=0.7079440938822257)
+
+
+def test_reference_sees_a_reload_shallower_than_a_step():
+    """method="reference" watches the compression's maxima on the plastic unloading line: its
+    terminal event at x = xmax saw no sign change across the 13th contact's shallow reload, so it
+    stayed on the line (a dent 1e-5 off, the COR 1.19e-3 off at every rtol, 0.9300108 against
+    0.9311987). Referee: adaptive at rtol 1e-13, whose history has the reload."""
+    ref = restitution.solve(**SHALLOW_RELOAD, method="adaptive", rtol=1e-13, history=True)
+    assert ref.history["x_max"].iloc[12] > ref.history["x_max"].iloc[11]  # the reload
+    for rtol in (1e-9, 1e-12):
+        r = restitution.solve(**SHALLOW_RELOAD, method="reference", rtol=rtol)
+        assert r.status == "ok" and r.n_collisions == ref.n_collisions == 26
+        assert abs(r.cor - ref.cor) <= r.error_estimate + ref.error_estimate, (r.cor - ref.cor, r)

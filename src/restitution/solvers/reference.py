@@ -120,6 +120,19 @@ def _ivp(*args, **kwargs):
         return solve_ivp(*args, **kwargs)
 
 
+def _stepped_over_reload(sol, k, xm):
+    """Time of a reload past the plastic law's largest penetration ``xm`` that solve_ivp stepped
+    over on the unloading line (x above xm and back below between two step ends, so its
+    terminal event saw no sign change), or None: the first maximum of the compression (event
+    ``k``) above xm before the run's end, the crossing at the first root before it."""
+    peaks, states = sol.t_events[k], sol.y_events[k]
+    for n in range(len(peaks)):
+        if peaks[n] < sol.t[-1] and -states[n][0] > xm:
+            start = peaks[n - 1] if n > 0 else sol.t[0]
+            return _first_root(lambda s: xm + sol.sol(s)[0], start, peaks[n])
+    return None
+
+
 def _minimum(fun):
     """Non-terminal event at the minima of a coordinate whose velocity is ``fun``."""
     fun.terminal = False
@@ -244,6 +257,14 @@ def solve_reference(
                         second = _off_start(second, t, 1, a1)
                 events = [_event(lambda t, y, xp=xp: -y[0] - xp), _event(second)]
             n_phase = len(events)
+            peaks = minima and mem["branch"] == 0 and kind == laws.C_PLASTIC
+            if peaks:
+                # The compression's maxima on the plastic unloading line (v1 rising through 0):
+                # one past xmax is a reload shallower than one step, stepped over (below).
+                peak = lambda t, y: y[2]  # noqa: E731
+                if y[2] == 0.0:  # from a turn
+                    peak = _off_start(peak, t, 1, a1)
+                events.append(_minimum(peak))
             events += _link_events(sp, mem, t, y)
             sol = _ivp(
                 rhs,
@@ -256,17 +277,21 @@ def solve_reference(
                 max_step=dt_contact,
                 dense_output=True,
             )
-            j = _crossed(sol, n_phase)
-            if j is not None:  # the scissor link leaves its branch: on with the next one
+            reload = _stepped_over_reload(sol, n_phase, mem["xmax"]) if peaks else None
+            j = _crossed(sol, n_phase + int(peaks))
+            if reload is not None:  # a reload between step ends: there, on the power law
+                i, t, y = 1, reload, sol.sol(reload).copy()
+            elif j is not None:  # the scissor link leaves its branch: on with the next one
                 t, y = sol.t_events[j][0], sol.y_events[j][0].copy()
                 mem["link"] += events[j].direction
                 continue
-            hit = [i for i in range(n_phase) if len(sol.t_events[i])]
-            if not hit:
-                status = LY.STATUS_NONCONVERGED
-                break
-            i = min(hit, key=lambda j: sol.t_events[j][0])
-            t, y = sol.t_events[i][0], sol.y_events[i][0].copy()
+            else:
+                hit = [i for i in range(n_phase) if len(sol.t_events[i])]
+                if not hit:
+                    status = LY.STATUS_NONCONVERGED
+                    break
+                i = min(hit, key=lambda j: sol.t_events[j][0])
+                t, y = sol.t_events[i][0], sol.y_events[i][0].copy()
             xp = mem["xp"]
             if minima and mem["branch"] == 0 and i == 1 and kind != laws.C_PLASTIC and -y[0] < xp:
                 # The compression's minimum is past the wall: a separation shorter than one step
