@@ -63,8 +63,6 @@ def _coarser(rtol: float) -> float:
     return min(10.0 * rtol, 1e-2)
 
 
-# solve_ivp's smallest rtol (it raises smaller ones to this, with a warning).
-SCIPY_RTOL_FLOOR = 100.0 * np.finfo(float).eps
 # The reference's max_step: 1/REFERENCE_STEPS of the shortest local period (solve_reference's
 # steps_per_period). Its check run is coarser in both settings, rtol (against rtol/10) and
 # half these steps: where the max_step, not rtol, sizes the steps (plastic contacts at rtol >=
@@ -307,7 +305,7 @@ def solve_reference_chain(
     setting's run, as ``adaptive``, the check also at half the steps per period
     (``REFERENCE_STEPS``); where rtol/10 is below scipy's floor 100 eps: the rtol run, checked
     against 10 rtol."""
-    from restitution.solvers.reference import solve_reference
+    from restitution.solvers.reference import SCIPY_RTOL_FLOOR, solve_reference
 
     ms, lk, cs, cp, _, kappa = packed(ch)
     if ms.size != 2:
