@@ -319,3 +319,22 @@ def test_reference_sees_a_reload_shallower_than_a_step():
         r = restitution.solve(**SHALLOW_RELOAD, method="reference", rtol=rtol)
         assert r.status == "ok" and r.n_collisions == ref.n_collisions == 26
         assert abs(r.cor - ref.cor) <= r.error_estimate + ref.error_estimate, (r.cor - ref.cor, r)
+
+
+# Just past the plastic scene's first count step in alpha (bisected to 1e-16): m1 comes back to
+# the dent at 4e-9 of v0 at t = 4.945, a touch on the plastic unloading line.
+TOUCH_ON_DENT = dict(alpha=0.4582303612099118, beta=0.02, contact="plastic", eta=1.5, dr=0.5)
+
+
+def test_reference_touch_on_the_dent_is_no_loop():
+    """method="reference" takes a contact that starts on the dent (x = xp, the plastic unloading
+    line) off its separation root there: its first step ended below xp, so the separation was
+    located at the start, and the flight from there (m1 still moving in) touched at once: a
+    contact and a separation at one instant until 100,000 events (event_budget_exhausted, NaN).
+    The COR is continuous across the touch: it must agree with adaptive within the estimates."""
+    ref = restitution.solve(**TOUCH_ON_DENT, method="adaptive", rtol=1e-12)
+    for rtol in (1e-8, 1e-10, 1e-12):
+        r = restitution.solve(**TOUCH_ON_DENT, method="reference", rtol=rtol)
+        assert r.status == "ok", r
+        assert r.n_collisions <= 3
+        assert abs(r.cor - ref.cor) <= r.error_estimate + ref.error_estimate, (r.cor - ref.cor, r)

@@ -268,7 +268,10 @@ def solve_reference(
                     second = lambda t, y: y[2]  # noqa: E731
                     if y[2] == 0.0:  # from a turn
                         second = _off_start(second, t, 1, a1)
-                events = [_event(lambda t, y, xp=xp: -y[0] - xp), _event(second)]
+                apart = lambda t, y, xp=xp: -y[0] - xp  # noqa: E731
+                if -y[0] - xp == 0.0 and y[2] < 0.0:  # from a touch on the dent: off its root
+                    apart = _off_start(apart, t, 1, -y[2])
+                events = [_event(apart), _event(second)]
             n_phase = len(events)
             peaks = minima and mem["branch"] == 0 and kind == laws.C_PLASTIC
             if peaks:
