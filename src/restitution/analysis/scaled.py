@@ -86,7 +86,7 @@ def _general_arrays(m, k, kc, max_events):
     from restitution.model.units import kernel_params
     from restitution.solvers import methods as M
     from restitution.solvers.exact import general_block
-    from restitution.tables.linear_rows import plainly_valid
+    from restitution.tables.linear_rows import omega_column, paper_rows, plainly_valid
 
     s, n = m.shape
     c = np.zeros((s, n - 1))
@@ -94,15 +94,15 @@ def _general_arrays(m, k, kc, max_events):
         return None
     if not (RANGES["k_contact"].accepts(kc).all() and plainly_valid(m, k, c, kc)):
         return None
-    if ((m[:, 1:] == m[:, 1:2]).all(axis=1) & (k == k[:, :1]).all(axis=1)).any():
-        return None  # the paper's form (no dashpots here): the paper kernel's rows
+    if paper_rows(m, k, c).any():
+        return None  # the paper kernel's rows
     rigid = kc == math.inf
     for kind in (rigid, ~rigid):
         if kind.any():
             i = int(np.argmax(kind))
             if not M.choose(Chain(masses=m[i], springs=k[i], k_contact=float(kc[i]))).exact:
                 return None
-    omega = np.sqrt(k[:, 0] / m[:, 0] + k[:, 0] / m[:, 1])
+    omega = omega_column(m, k)
     ms, ks, cs, kcs = kernel_params(m, k, c, kc[:, None], m[:, :1], omega[:, None])
     out, errors = general_block(ms, ks, cs, np.full(s, n, dtype=np.int64), kcs[:, 0], max_events)
     ok = out[:, L.OUT_STATUS] == L.STATUS_OK

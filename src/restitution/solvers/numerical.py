@@ -63,12 +63,11 @@ def _coarser(rtol: float) -> float:
     return min(10.0 * rtol, 1e-2)
 
 
-# The reference's max_step: 1/REFERENCE_STEPS of the shortest local period (solve_reference's
-# steps_per_period). Its check run is coarser in both settings, rtol (against rtol/10) and
-# half these steps: where the max_step, not rtol, sizes the steps (plastic contacts at rtol >=
-# 1e-8) two runs with one max_step share the error (one scene 2.47e-8 off at rtol 1e-6, 1e-7
-# and 1e-8 alike, another 1.12e-7 at both 1e-7 and 1e-8 under an estimate of 1e-7).
-REFERENCE_STEPS = 50
+# The reference's check run is coarser in both settings, rtol (against rtol/10) and half the
+# steps per period of its max_step (reference.STEPS_PER_PERIOD): where the max_step, not rtol,
+# sizes the steps (plastic contacts at rtol >= 1e-8) two runs with one max_step share the error
+# (one scene 2.47e-8 off at rtol 1e-6, 1e-7 and 1e-8 alike, another 1.12e-7 at both 1e-7 and
+# 1e-8 under an estimate of 1e-7).
 
 
 def _finer(rtol: float) -> float:
@@ -303,9 +302,9 @@ def solve_reference_chain(
     """Kernel row and history of a two-mass chain by the scipy reference (DOP853 with events):
     the rtol/10 run, with the error estimate max(rtol, |cor(rtol) - cor(rtol/10)|) sized for the
     setting's run, as ``adaptive``, the check also at half the steps per period
-    (``REFERENCE_STEPS``); where rtol/10 is below scipy's floor 100 eps: the rtol run, checked
-    against 10 rtol."""
-    from restitution.solvers.reference import SCIPY_RTOL_FLOOR, solve_reference
+    (``reference.STEPS_PER_PERIOD``); where rtol/10 is below scipy's floor 100 eps: the rtol
+    run, checked against 10 rtol."""
+    from restitution.solvers.reference import SCIPY_RTOL_FLOOR, STEPS_PER_PERIOD, solve_reference
 
     ms, lk, cs, cp, _, kappa = packed(ch)
     if ms.size != 2:
@@ -316,7 +315,7 @@ def solve_reference_chain(
     acct = np.zeros(5)
     y0 = ch.initial_state(1.0 / ch.omega, 1.0)  # (kernel units of the stepping kernels)
 
-    def run(tol, account_of_run, steps=REFERENCE_STEPS):
+    def run(tol, account_of_run, steps=STEPS_PER_PERIOD):
         return solve_reference(
             alpha, v0, xi, cp, sp, tol, max_events, account_of_run, etol, y0=y0,
             steps_per_period=steps,
@@ -324,7 +323,7 @@ def solve_reference_chain(
 
     finer = max(_finer(rtol), SCIPY_RTOL_FLOOR)
     if finer < rtol:
-        check, _ = run(rtol, np.zeros(5), REFERENCE_STEPS / 2)
+        check, _ = run(rtol, np.zeros(5), STEPS_PER_PERIOD / 2)
         out, hist = run(finer, acct)
         if _fall_back(out, check):  # the finer run failed: the setting's own, no estimate
             out, hist = run(rtol, acct)
@@ -333,7 +332,7 @@ def solve_reference_chain(
             _two_setting_estimate(out, check, both_floors=True)
     else:
         out, hist = run(rtol, acct)
-        _two_setting_estimate(out, run(_coarser(rtol), np.zeros(5), REFERENCE_STEPS / 2)[0])
+        _two_setting_estimate(out, run(_coarser(rtol), np.zeros(5), STEPS_PER_PERIOD / 2)[0])
     if account is not None:
         account.update(_account(acct, kappa))
     return out, (hist if history else None)

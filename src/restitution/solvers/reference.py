@@ -29,6 +29,8 @@ from restitution.model import laws
 # solve_ivp's smallest rtol: it raises a smaller one to this itself, with a warning at every call
 # (every phase). solve_reference takes it so at the start (the row's rtol says so).
 SCIPY_RTOL_FLOOR = 100.0 * np.finfo(float).eps
+# max_step: the shortest local period / STEPS_PER_PERIOD (solve_reference's default).
+STEPS_PER_PERIOD = 50
 
 
 # The error floor of a run, below which rtol means nothing: at rtol 1e-14..1e-13 the runs' COR
@@ -188,7 +190,7 @@ def solve_reference(
     *,
     method="DOP853",
     atol=None,
-    steps_per_period=50,
+    steps_per_period=STEPS_PER_PERIOD,
     deadline=None,
     minima=True,
     y0=None,

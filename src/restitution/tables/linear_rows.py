@@ -81,16 +81,12 @@ def read(frame, columns, kc: np.ndarray, v0: np.ndarray, method: np.ndarray):
         m_all[rows, :size], k_all[rows, : size - 1], c_all[rows, : size - 1] = m, k, c
         rigid = kc[rows] == math.inf
         # the properties of Chain (alpha, omega, beta, xi, paper_form), column-wise, same ops
-        omega = np.sqrt(k[:, 0] / m[:, 0] + k[:, 0] / m[:, 1])
+        omega = omega_column(m, k)
         plan["alpha"][rows] = m[:, 1] / m[:, 0]
         plan["omega"][rows] = omega
         plan["beta"][rows] = np.where(rigid, 0.0, k[:, 0] / kc[rows])
         plan["xi"][rows] = c[:, 0] * omega / (2.0 * k[:, 0])
-        plan["paper"][rows] = (
-            (m[:, 1:] == m[:, 1:2]).all(axis=1)
-            & (k == k[:, :1]).all(axis=1)
-            & ~c[:, 1:].any(axis=1)
-        )
+        plan["paper"][rows] = paper_rows(m, k, c)
         for i in rows:
             m_i, k_i, c_i = m_all[i, :size], k_all[i, : size - 1], c_all[i, : size - 1]
             chains[i] = Chain._checked(m_i, k_i, c_i, float(kc[i]), float(v0[i]))
@@ -105,6 +101,17 @@ def read(frame, columns, kc: np.ndarray, v0: np.ndarray, method: np.ndarray):
         except SceneError:
             return None  # a forced method that does not fit: worded row by row
     return chains, plan, chosen, (m_all, k_all, c_all)
+
+
+def omega_column(m: np.ndarray, k: np.ndarray) -> np.ndarray:
+    """Chain.omega of every row (one chain length): sqrt(k_12/m_1 + k_12/m_2)."""
+    return np.sqrt(k[:, 0] / m[:, 0] + k[:, 0] / m[:, 1])
+
+
+def paper_rows(m: np.ndarray, k: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """Rows of the paper's form (Chain.paper_form): equal masses m_2..m_N, equal springs, a
+    dashpot on the first link only."""
+    return (m[:, 1:] == m[:, 1:2]).all(axis=1) & (k == k[:, :1]).all(axis=1) & ~c[:, 1:].any(axis=1)
 
 
 def _no_laws(frame, columns) -> bool:
