@@ -134,26 +134,51 @@ def dense_coeffs(y0, ynew, K, h, m, lk, c, cp, mem, F, tmp):
 
 
 @njit(cache=True, error_model="numpy", refcount=False)
-def event_poly(F, K, h, y0, w, b, coef):
-    """Monomial coefficients (degree 7 in theta) of w.y(theta) + b along the dense output. The
+def copy_into(dst, src):
+    """dst[:] = src for the step loops: an array assignment there makes a view, and each view
+    costs two atomic reference counts (about 7 % of a plastic scene's run, 2026-11-27)."""
+    for i in range(dst.shape[0]):
+        dst[i] = src[i]
+
+
+@njit(cache=True, error_model="numpy", refcount=False)
+def copy_row(dst, A, r):
+    """dst[:] = A[r] (``copy_into``)."""
+    for i in range(dst.shape[0]):
+        dst[i] = A[r, i]
+
+
+@njit(cache=True, error_model="numpy", refcount=False)
+def zero_strip(bstrip):
+    """bstrip[:] = 0 (``copy_into``)."""
+    for i in range(bstrip.shape[0]):
+        for j in range(bstrip.shape[1]):
+            bstrip[i, j] = 0
+
+
+@njit(cache=True, error_model="numpy", refcount=False)
+def event_poly(F, K, h, y0, W, e, b, coef):
+    """Monomial coefficients (degree 7 in theta) of w.y(theta) + b along the dense output, w the
+    event's row e of W (an index, not a row view: a view costs the loops' caller two atomic
+    reference counts). The
     linear one is h w.f(y0) directly (not F_0 + F_1 after rounding), so an event that starts on
     its own surface with zero slope has an exactly zero coefficient there."""
     n = y0.shape[0]
     g0 = b
     for i in range(n):
-        g0 += w[i] * y0[i]
+        g0 += W[e, i] * y0[i]
     for j in range(N_DENSE + 1):
         coef[j] = 0.0
     coef[0] = g0
     for k in range(N_DENSE):
         gk = 0.0
         for i in range(n):
-            gk += w[i] * F[k, i]
+            gk += W[e, i] * F[k, i]
         for j in range(2, N_DENSE + 1):
             coef[j] += DENSE_MONO[k, j] * gk
     slope = 0.0
     for i in range(n):
-        slope += w[i] * K[0, i]
+        slope += W[e, i] * K[0, i]
     coef[1] = h * slope
 
 
@@ -543,8 +568,9 @@ NEWTON_TAYLOR = 1e-6
 
 
 @njit(cache=True, error_model="numpy", refcount=False)
-def event_state(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp, w, b, work):
-    """ynew = the state at the event g = w.y + b = 0 located at dt on the dense output: by a
+def event_state(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp, W, e, b, work):
+    """ynew = the state at the event g = w.y + b = 0 (w: row e of W) located at dt on the dense
+    output: by a
     DOP853 step of its own and one Newton correction of the time (g / g') on that state, so the
     state carries the step's 8th order, not the dense output's 7th (the interpolant of a long
     step put event times off by ~1e-10 relative). Returns the corrected dt."""
@@ -554,8 +580,8 @@ def event_state(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp, w, b, wor
     g = b
     gd = 0.0
     for i in range(n):
-        g += w[i] * ynew[i]
-        gd += w[i] * K[N_ST, i]
+        g += W[e, i] * ynew[i]
+        gd += W[e, i] * K[N_ST, i]
     step = -g / gd
     if not (abs(step) < 0.01 * dt and abs(step) > 1e-15 * dt):
         return dt
@@ -619,7 +645,7 @@ def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, sto
             work[0] -= 3.0
             dense_coeffs(y, ynew, K, h, m, lk, c, cp, mb, F, tmp)
             for k in range(nev):
-                event_poly(F, K, h, y, W[k], B[k], coef)
+                event_poly(F, K, h, y, W, k, B[k], coef)
                 s = 0
                 if first and strip[k] > 0:
                     coef[0] = 0.0
@@ -640,7 +666,7 @@ def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, sto
                     dt = step_to_point(
                         y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp, bi, p, work
                     )  # fmt: skip
-                    y[:] = ynew
+                    copy_into(y, ynew)
                     t += dt
                     first = False
                     still = 0
@@ -654,16 +680,16 @@ def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, sto
             dt = best * h
             if dt > 0.0:
                 dt = event_state(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp,
-                                 W[which], B[which], work)  # fmt: skip
-                y[:] = ynew
+                                 W, which, B[which], work)  # fmt: skip
+                copy_into(y, ynew)
             return which, t + dt, hn
-        y[:] = ynew
-        f0[:] = K[N_ST]
+        copy_into(y, ynew)
+        copy_row(f0, K, N_ST)
         t += h
         h = hn
         first = False
         still = 0
-        bstrip[:] = 0
+        zero_strip(bstrip)
         if stop == STOP_NO_CONTACT and no_contact_possible(y, m, lk, mem[M_XP], ext):
             return EV_STOP, t, h
     return EV_FAIL, t, h
@@ -750,8 +776,8 @@ def sigma_phase(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc):
                 s = sigma_switch_branch(z, znew, f0, s, ds, m, lk, c, cp, mb, bstrip, bi, bs)
                 h *= min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.125))
                 continue
-        z[:] = znew
-        f0[:] = K[N_ST]
+        copy_into(z, znew)
+        copy_row(f0, K, N_ST)
         s = s_b if last else s + h
         if last:
             code = SIG_DONE
@@ -761,7 +787,7 @@ def sigma_phase(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc):
             break
         h *= min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.125))
         still = 0
-        bstrip[:] = 0
+        zero_strip(bstrip)
     if code != SIG_FAIL:
         y[:] = z[:ny]
         y[0] = -s * s
@@ -946,7 +972,7 @@ def rk_phase_sampled(
             work[0] -= 3.0
         dense_coeffs(y, ynew, K, h, m, lk, c, cp, mb, F, tmp)
         for k in range(nev if search else 0):
-            event_poly(F, K, h, y, W[k], B[k], coef)
+            event_poly(F, K, h, y, W, k, B[k], coef)
             s = 0
             if first and strip[k] > 0:
                 coef[0] = 0.0
@@ -969,7 +995,7 @@ def rk_phase_sampled(
                     )  # fmt: skip
                     # F is still the dense output of the whole step from y
                     sample_dense(y, F, t, h, t + dt, True, cp, mem, ts, si, Ys, Fs)
-                    y[:] = ynew
+                    copy_into(y, ynew)
                     t += dt
                     first = False
                     still = 0
@@ -985,19 +1011,19 @@ def rk_phase_sampled(
             dt = best * h
             if dt > 0.0:
                 dt = event_state(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp,
-                                 W[which], B[which], work)  # fmt: skip
+                                 W, which, B[which], work)  # fmt: skip
                 # F is still the dense output of the whole step from y (dp_step leaves it)
                 sample_dense(y, F, t, h, t + dt, False, cp, mem, ts, si, Ys, Fs)
-                y[:] = ynew
+                copy_into(y, ynew)
             return which, t + dt, hn
         sample_dense(y, F, t, h, t + h, True, cp, mem, ts, si, Ys, Fs)
-        y[:] = ynew
-        f0[:] = K[N_ST]
+        copy_into(y, ynew)
+        copy_row(f0, K, N_ST)
         t += h
         h = hn
         first = False
         still = 0
-        bstrip[:] = 0
+        zero_strip(bstrip)
         if stop == STOP_NO_CONTACT and no_contact_possible(y, m, lk, mem[M_XP], ext):
             return EV_STOP, t, h
         if stop == STOP_SAMPLES and si[0] >= ts.shape[0]:
@@ -1122,8 +1148,8 @@ def sigma_phase_sampled(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc,
         elif si[0] < ts.shape[0] and ts[si[0]] <= t_hi:
             dense_coeffs_sigma(z, znew, K, h, s, m, lk, c, cp, mb, F, tmp2)
             sample_sigma(z, F, s, h, t, t_hi, not last, cp, mem, ts, si, Ys, Fs, tmp2)
-        z[:] = znew
-        f0[:] = K[N_ST]
+        copy_into(z, znew)
+        copy_row(f0, K, N_ST)
         s = s_b if last else s + h
         if last:
             code = SIG_DONE
@@ -1133,7 +1159,7 @@ def sigma_phase_sampled(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc,
             break
         h *= min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.125))
         still = 0
-        bstrip[:] = 0
+        zero_strip(bstrip)
     if code != SIG_FAIL:
         y[:] = z[:ny]
         y[0] = -s * s

@@ -54,6 +54,45 @@ def bisection(f):
     return find
 
 
+def newton_bisection(fdf, refcount=True):
+    """``find(lo, hi, args) -> (lo, hi)``: ``bisection``'s result (f(lo) > 0 >= f(hi), the
+    bracket shrunk until its midpoint is one of its ends) in a handful of evaluations of
+    ``fdf`` instead of ~55: Newton steps inside the bracket, a bisection wherever a step would
+    leave it or would not halve the one before (rtsafe's rule); a Newton step below a few ulps
+    converges from one side only, so it is stepped across the root instead and the bracket
+    closes there. ``refcount=False`` for callers compiled without reference counts."""
+
+    @njit(error_model="numpy", refcount=refcount)
+    def find(lo, hi, args):
+        wide = hi - lo  # the step before last
+        x = 0.5 * (lo + hi)
+        for _ in range(200):
+            f, df = fdf(x, *args)
+            if f > 0.0:
+                lo = x
+            else:
+                hi = x
+            mid = 0.5 * (lo + hi)
+            if mid <= lo or mid >= hi:
+                break
+            dx = f / df if df != 0.0 else math.inf
+            xn = x - dx
+            if lo < xn < hi and abs(dx) < 0.5 * wide:
+                wide = abs(dx)
+                tiny = 4.0 * EPS * max(abs(x), abs(xn))
+                if abs(dx) < tiny:  # converged on one side: a probe just across the root
+                    xn = x + tiny if f > 0.0 else x - tiny
+                    if not lo < xn < hi:
+                        xn = mid
+            else:
+                wide = hi - lo
+                xn = mid
+            x = xn
+        return lo, hi
+
+    return find
+
+
 def threshold_bisection(above):
     """``find(lo, hi, args) -> x``: the point where the predicate ``above(x, *args)`` turns
     True, between lo (False) and hi (True), to a few ulps: the midpoint of the final bracket.
@@ -367,6 +406,20 @@ def _poly_at(c, s, m, t):
 
 
 @njit(cache=True, error_model="numpy", refcount=False)
+def _poly_fdf(t, c, s, m):
+    """The polynomial of ``_poly_at`` and its derivative at t (Horner)."""
+    acc = 0.0
+    der = 0.0
+    for k in range(m, -1, -1):
+        der = der * t + acc
+        acc = acc * t + c[k + s]
+    return acc, der
+
+
+_polish_poly = newton_bisection(_poly_fdf, refcount=False)
+
+
+@njit(cache=True, error_model="numpy", refcount=False)
 def _bernstein_min(c, s, m, a, b, d):
     """Smallest Bernstein coefficient on [a, b] of the degree-m polynomial c[s:s + m + 1]
     (d: scratch of m + 1 entries)."""
@@ -419,18 +472,8 @@ def first_root(c, n, strip, d):
         w = math.ldexp(1.0, -level)
         a = i * w  # exact: dyadic
         b = a + w
-        if _poly_at(c, strip, m, b) <= 0.0:
-            # bracketed: p(a) > 0 >= p(b); Illinois-safeguarded bisection to round-off
-            for _ in range(200):
-                mid = 0.5 * (a + b)
-                if mid <= a or mid >= b:
-                    break
-                fm = _poly_at(c, strip, m, mid)
-                if fm > 0.0:
-                    a = mid
-                else:
-                    b = mid
-            return b
+        if _poly_at(c, strip, m, b) <= 0.0:  # bracketed: p(a) > 0 >= p(b)
+            return _polish_poly(a, b, (c, strip, m))[1]
         if not (_bernstein_min(c, strip, m, a, b, d) > 0.0 or w < 1e-13):
             level += 1  # its left half next
             i *= 2

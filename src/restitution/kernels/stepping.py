@@ -96,7 +96,7 @@ from restitution.kernels.layout import (
     STATUS_WORK_BUDGET,
 )
 from restitution.kernels.parallel import over_threads
-from restitution.kernels.roots import bisection
+from restitution.kernels.roots import newton_bisection
 from restitution.model.laws import (
     C_HERTZ,
     C_HUNT_CROSSLEY,
@@ -150,7 +150,14 @@ def _gap(s, x0, v, mu, xi, w, r0, w0):
     return x0 + v * s - mu * r
 
 
-_bisect_gap = bisection(_gap)
+@njit(cache=True, error_model="numpy", refcount=False)
+def _gap_slope(s, x0, v, mu, xi, w, r0, w0):
+    """``_gap`` and its derivative in s."""
+    r, dr = _osc(w * s, xi, r0, w0)
+    return x0 + v * s - mu * r, v - mu * w * dr
+
+
+_polish_gap = newton_bisection(_gap_slope, refcount=False)
 
 
 @njit(cache=True, error_model="numpy", refcount=False)
@@ -191,7 +198,7 @@ def free_flight_linear(y, xp, m1, m2, k, c):
             break
         gb = _gap(s + h, x0, v, mu, xi, w, r0, w0)
         if gb <= 0.0:
-            hit = _bisect_gap(s, s + h, (x0, v, mu, xi, w, r0, w0))[1]
+            hit = _polish_gap(s, s + h, (x0, v, mu, xi, w, r0, w0))[1]
             break
         if min(gs, gb) - gbound * h * h / 8.0 > 0.0 or w * h < 1e-12 * max(1.0, w * s):
             s += h
