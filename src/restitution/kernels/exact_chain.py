@@ -102,6 +102,7 @@ from restitution.kernels.constants import (
     V_STICK_CHAIN,
     V_STICK_RIGID2,
 )
+from restitution.kernels.copies import put_row, put_rows
 from restitution.kernels.lapack import eig_real
 from restitution.kernels.layout import (
     FLAG_EXTRAPOLATED,
@@ -422,8 +423,12 @@ def _modal_model(m, k, c, kg, cg, drop_rigid):
         for i in range(n):
             PhiTM[q, i] = phi[i, q] * m[i]
     P = np.empty((lamk.size, 2 * n), np.complex128)
-    P[:, :n] = np.ascontiguousarray(Wk[:, :nm]) @ PhiTM
-    P[:, n:] = np.ascontiguousarray(Wk[:, nm:]) @ PhiTM
+    Pu = np.ascontiguousarray(Wk[:, :nm]) @ PhiTM
+    Pv = np.ascontiguousarray(Wk[:, nm:]) @ PhiTM
+    for q in range(lamk.size):  # (a loop: kernels/copies.py)
+        for i in range(n):
+            P[q, i] = Pu[q, i]
+            P[q, n + i] = Pv[q, i]
     return lamk, U, P, cond
 
 
@@ -755,6 +760,16 @@ def _fail(out, status):
     return out
 
 
+@njit(cache=True, error_model="numpy", refcount=False)
+def _put_row(rec, r, u, v, first):
+    """rec[r, 3 + i] = u[i], rec[r, 3 + n + i] = v[i] for i >= first: a record's state (a loop,
+    as kernels/copies.py)."""
+    n = u.shape[0]
+    for i in range(first, n):
+        rec[r, 3 + i] = u[i]
+        rec[r, 3 + n + i] = v[i]
+
+
 @njit(cache=True)
 def _run(
     m,
@@ -827,9 +842,8 @@ def _run(
     offC = 1 if kv else 0
     if kv:
         cC[0] = cc
-        cC[1:] = c
-    else:
-        cC[:] = c
+    for i in range(n - 1):  # (a loop: kernels/copies.py)
+        cC[offC + i] = c[i]
     if not rigid:
         lamC, UC, PC, condC = _safe_model(m, k, c, kc, cc if kv else 0.0, False)
         cond = max(cond, condC)
@@ -915,8 +929,7 @@ def _run(
             rec[nrec, 0] = t
             rec[nrec, 1] = PH_CONTACT if in_contact else PH_FREE
             rec[nrec, 2] = math.inf
-            rec[nrec, 3 : 3 + n] = u
-            rec[nrec, 3 + n :] = v
+            _put_row(rec, nrec, u, v, 0)
         nrec += 1
         if in_contact:
             p_in = 0.0
@@ -1200,8 +1213,7 @@ def _run(
                 rec[nrec, 2] = math.inf
                 rec[nrec, 3] = 0.0
                 rec[nrec, 3 + n] = 0.0
-                rec[nrec, 4 : 3 + n] = u[1:]
-                rec[nrec, 4 + n :] = v[1:]
+                _put_row(rec, nrec, u, v, 1)
             nrec += 1
             for i in range(n - 1):
                 ys[i] = u[i + 1]
@@ -1246,8 +1258,9 @@ def _run(
             _modal_state(te, zs, lamS, US, 0.0, 0.0, u1, v1)
             u[0] = 0.0
             v[0] = 0.0
-            u[1:] = u1
-            v[1:] = v1
+            for i in range(n - 1):
+                u[1 + i] = u1[i]
+                v[1 + i] = v1[i]
             t += te
             t_last = t
             if nrec - 1 < rec.shape[0]:
@@ -1517,7 +1530,7 @@ def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=N
             )
         mr, kr, cr, kcr = _normalise(mr0, kr0, cr0, kcr0)
         band = BAND_LOW if r == 0 else BAND_HIGH
-        reps[r], rnear = _solve_units(
+        row, rnear = _solve_units(
             mr,
             kr,
             cr,
@@ -1532,13 +1545,14 @@ def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=N
             y0=y0,
             ccs=ccr,
         )
+        put_row(reps, r, row)
         if finished(reps[r, OUT_STATUS]) and near[0] < math.inf:
             dev = max(dev, abs(rnear[0] - near[0]))
     reach = REPLICA_SAFETY * dev  # how far the exact closest pass may be from the computed one
     extra = 1 if near[0] - reach < PASS_NEAR else 0
     if extra:
         depth = max(reach - near[0], 0.0) + PASS_DEPTH  # bands below gap 0, at most
-        reps[REPLICAS] = _solve_units(
+        row = _solve_units(
             ms,
             ks,
             cs,
@@ -1556,6 +1570,7 @@ def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=N
             y0=y0,
             ccs=ccs,
         )[0]
+        put_row(reps, REPLICAS, row)
     out = combine(out, reps[: REPLICAS + extra])
     if int(out[OUT_FLAGS]) & FLAG_STICKING:  # the cut-off, measured (replica.stick_check)
         budget = min(max_events, int(STICK_BUDGET * out[OUT_NCOL]) + 100)
@@ -1651,13 +1666,13 @@ def _solve_stiff(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=Non
         if ext[OUT_ERR] < lim[OUT_ERR]:
             lim = ext
         if not limit and not lim[OUT_ERR] < out[OUT_ERR]:
-            hist[:] = kept  # the finite run's own estimate is the better one: it stands
+            put_rows(hist, kept)  # the finite run's own estimate is the better one: it stands
             return out
         if compare and not (
             lim[OUT_NCOL] == out[OUT_NCOL]
             and abs(lim[OUT_COR] - out[OUT_COR]) <= out[OUT_ERR] + lim[OUT_ERR]
         ):
-            hist[:] = kept  # the limit disagrees: the finite run stands, with its own status
+            put_rows(hist, kept)  # the limit disagrees: the finite run stands, with its own status
             return out
         return lim
     return out
@@ -1817,9 +1832,9 @@ def _chain_rows(m, k, c, n, kc, max_events, out, order, start, stop):
         i = order[j]
         ni = n[i]
         if ni < 2 or ni > m.shape[1]:
-            out[i, :] = _fail(np.empty(N_OUT), STATUS_INVALID)
+            put_row(out, i, _fail(np.empty(N_OUT), STATUS_INVALID))
             continue
-        out[i, :] = _solve(
+        row = _solve(
             np.ascontiguousarray(m[i, :ni]),
             np.ascontiguousarray(k[i, : ni - 1]),
             np.ascontiguousarray(c[i, : ni - 1]),
@@ -1828,6 +1843,7 @@ def _chain_rows(m, k, c, n, kc, max_events, out, order, start, stop):
             hist,
             WORK_MAX,
         )
+        put_row(out, i, row)
 
 
 def solve_chain_batch(m, k, c, n, kc, max_events):
@@ -1907,8 +1923,9 @@ def _sample(m, k, c, kc, times, max_events, y0=None):
             _modal_state(tau, zs, lamS, US, 0.0, 0.0, us, vs)
             u[0] = 0.0
             v[0] = 0.0
-            u[1:] = us
-            v[1:] = vs
+            for i in range(n - 1):
+                u[1 + i] = us[i]
+                v[1 + i] = vs[i]
             F[j] = max(-(k[0] * us[0] + c[0] * vs[0]), 0.0)
         else:
             X0 = 0.0
@@ -1926,8 +1943,8 @@ def _sample(m, k, c, kc, times, max_events, y0=None):
                     y[n + i] = v0[i] - V
                 z = _project(PF, y, zbuf)
                 _modal_state(tau, z, lamF, UF, X0, V, u, v)
-        U[j, :] = u
-        Vv[j, :] = v
+        put_row(U, j, u)
+        put_row(Vv, j, v)
     nimp = 0
     if rigid:
         nh = min(int(out[OUT_NEVENTS]), max_events)

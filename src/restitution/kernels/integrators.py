@@ -50,6 +50,7 @@ import numpy as np
 
 from restitution.jit import njit
 from restitution.kernels import dop853_tableau as T
+from restitution.kernels.copies import copy_into, copy_row, fill_2d
 from restitution.kernels.dop853_sums import dense_rows, solution, stage_state
 from restitution.kernels.roots import first_root
 from restitution.model.laws import (
@@ -131,29 +132,6 @@ def dense_coeffs(y0, ynew, K, h, m, lk, c, cp, mem, F, tmp):
         for i in range(n):
             K[s, i] = F[0, i]
     dense_from_stages(y0, ynew, K, h, F)
-
-
-@njit(cache=True, error_model="numpy", refcount=False)
-def copy_into(dst, src):
-    """dst[:] = src for the step loops: an array assignment there makes a view, and each view
-    costs two atomic reference counts (about 7 % of a plastic scene's run, 2026-11-27)."""
-    for i in range(dst.shape[0]):
-        dst[i] = src[i]
-
-
-@njit(cache=True, error_model="numpy", refcount=False)
-def copy_row(dst, A, r):
-    """dst[:] = A[r] (``copy_into``)."""
-    for i in range(dst.shape[0]):
-        dst[i] = A[r, i]
-
-
-@njit(cache=True, error_model="numpy", refcount=False)
-def zero_strip(bstrip):
-    """bstrip[:] = 0 (``copy_into``)."""
-    for i in range(bstrip.shape[0]):
-        for j in range(bstrip.shape[1]):
-            bstrip[i, j] = 0
 
 
 @njit(cache=True, error_model="numpy", refcount=False)
@@ -445,7 +423,7 @@ def branch_mem(y, m, lk, mem, bstrip):
     if not held:
         return mem
     mb = np.full(N_MEM + nm - 1, -1.0)
-    mb[:N_MEM] = mem
+    copy_into(mb, mem)  # (mem has N_MEM entries)
     for i in range(nm - 1):
         bstrip[i, 0] = 0
         bstrip[i, 1] = 0
@@ -567,7 +545,7 @@ def branch_switch(mb, bstrip, i, side):
 NEWTON_TAYLOR = 1e-6
 
 
-@njit(cache=True, error_model="numpy", refcount=False)
+@njit(cache=True, error_model="numpy", inline="always")
 def event_state(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp, W, e, b, work):
     """ynew = the state at the event g = w.y + b = 0 (w: row e of W) located at dt on the dense
     output: by a
@@ -689,7 +667,7 @@ def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, sto
         h = hn
         first = False
         still = 0
-        zero_strip(bstrip)
+        fill_2d(bstrip, 0)
         if stop == STOP_NO_CONTACT and no_contact_possible(y, m, lk, mem[M_XP], ext):
             return EV_STOP, t, h
     return EV_FAIL, t, h
@@ -730,7 +708,7 @@ def sigma_phase(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc):
     ny = y.shape[0]
     nz = ny + 1
     z = np.empty(nz)
-    z[:ny] = y
+    copy_into(z, y)
     z[ny] = 0.0
     s0 = math.sqrt(max(-y[0], 0.0))
     xd0 = -y[nm]
@@ -787,15 +765,15 @@ def sigma_phase(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc):
             break
         h *= min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.125))
         still = 0
-        zero_strip(bstrip)
+        fill_2d(bstrip, 0)
     if code != SIG_FAIL:
-        y[:] = z[:ny]
+        copy_into(y, z)
         y[0] = -s * s
         t += z[ny]
     return code, t
 
 
-@njit(cache=True, error_model="numpy", refcount=False)
+@njit(cache=True, error_model="numpy", inline="always")
 def sigma_to_branch_point(z, f0, ds, s, rtol, atol, m, lk, c, cp, mb, K, znew, tmp, i, side,
                           work):  # fmt: skip
     """znew = the state in sigma where link i reaches the end of its held branch (side +1 up,
@@ -808,7 +786,7 @@ def sigma_to_branch_point(z, f0, ds, s, rtol, atol, m, lk, c, cp, mb, K, znew, t
                          s)  # fmt: skip
 
 
-@njit(cache=True, error_model="numpy", refcount=False)
+@njit(cache=True, error_model="numpy", inline="always")
 def sigma_switch_branch(z, znew, f0, s, ds, m, lk, c, cp, mb, bstrip, i, side):
     """Go on from the branch point (znew at s + ds, or z itself when ds = 0) on link i's next
     branch; returns the new sigma."""
@@ -1023,7 +1001,7 @@ def rk_phase_sampled(
         h = hn
         first = False
         still = 0
-        zero_strip(bstrip)
+        fill_2d(bstrip, 0)
         if stop == STOP_NO_CONTACT and no_contact_possible(y, m, lk, mem[M_XP], ext):
             return EV_STOP, t, h
         if stop == STOP_SAMPLES and si[0] >= ts.shape[0]:
@@ -1093,7 +1071,7 @@ def sigma_phase_sampled(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc,
     nz = ny + 1
     sample_here(y, t, cp, mem, ts, si, Ys, Fs)
     z = np.empty(nz)
-    z[:ny] = y
+    copy_into(z, y)
     z[ny] = 0.0
     s0 = math.sqrt(max(-y[0], 0.0))
     xd0 = -y[nm]
@@ -1159,9 +1137,9 @@ def sigma_phase_sampled(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc,
             break
         h *= min(10.0, max(0.2, 0.9 * max(err, 1e-10) ** -0.125))
         still = 0
-        zero_strip(bstrip)
+        fill_2d(bstrip, 0)
     if code != SIG_FAIL:
-        y[:] = z[:ny]
+        copy_into(y, z)
         y[0] = -s * s
         t += z[ny]
     return code, t

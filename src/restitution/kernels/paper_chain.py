@@ -75,6 +75,7 @@ import math
 import numpy as np
 
 from restitution.jit import njit
+from restitution.kernels.copies import put_row
 from restitution.kernels.exact_chain import BETA_RIGID, WORK_MAX, _solve_stiff
 from restitution.kernels.exact_chain import _modal_model as _chain_modal_model
 from restitution.kernels.exact_chain import _sample as _chain_sample
@@ -150,7 +151,7 @@ def _linear_rows(alpha, beta, xi, n_masses, max_events, out, order, start, stop)
     hist = np.zeros((0, N_HIST))
     for j in range(start, stop):
         i = order[j]
-        out[i, :] = solve_linear(alpha[i], beta[i], xi[i], int(n_masses[i]), max_events, hist)
+        put_row(out, i, solve_linear(alpha[i], beta[i], xi[i], int(n_masses[i]), max_events, hist))
 
 
 def solve_linear_batch(alpha, beta, xi, n_masses, max_events):

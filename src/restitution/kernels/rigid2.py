@@ -68,6 +68,7 @@ from restitution.kernels.constants import (
     STICK_AFTER,
     V_STICK_RIGID2,
 )
+from restitution.kernels.copies import put_row
 from restitution.kernels.layout import (
     FLAG_STICKING,
     H_IMPULSE,
@@ -710,5 +711,5 @@ def rigid2_batch(alpha, xi, max_events):
     for j in prange(nb):
         b = (j * p) % nb
         for i in range(b * size, min(n, b * size + size)):
-            out[i, :] = rigid2(alpha[i], xi[i], max_events, np.zeros((0, N_HIST)))
+            put_row(out, i, rigid2(alpha[i], xi[i], max_events, np.zeros((0, N_HIST))))
     return out

@@ -45,6 +45,7 @@ import math
 import numpy as np
 
 from restitution.jit import njit
+from restitution.kernels.copies import copy_into
 from restitution.kernels.integrators import (
     EV_FAIL,
     EV_STOP,
@@ -310,7 +311,7 @@ def _setup_contact_events(cp, mem, W, B, strip, how, nm=2, band=0.0):
     return 2
 
 
-@njit(cache=True, error_model="numpy", refcount=False)
+@njit(cache=True, error_model="numpy", inline="always")
 def _contact_switch(code, y, iv, kind, cp, mem, how, xmax_c):
     """The law's switch at an event of a contact phase, the same for two masses and for chains:
     y[0] = u1, y[iv] = v1. At the deepest point the loading branch turns (the plastic law
@@ -342,7 +343,7 @@ def _contact_switch(code, y, iv, kind, cp, mem, how, xmax_c):
     return how, xmax_c, True
 
 
-@njit(cache=True, error_model="numpy", refcount=False)
+@njit(cache=True, error_model="numpy", inline="always")
 def _contact_event(code, y, iv, kind, cp, mem, how, xmax_c, dt, h, atol, guard):
     """``_contact_switch`` with the Zeno guard (ZENO_FLIPS above): ``dt`` the time since the
     last event, ``h`` the next step, ``guard`` = [quick turns and rises in a row, band] (zeroed
@@ -367,7 +368,7 @@ def _contact_event(code, y, iv, kind, cp, mem, how, xmax_c, dt, h, atol, guard):
     return how, xmax_c, False
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _leave_at_rest(code, y, m, lk, c, cp, mem, guard):
     """The Zeno guard at a separation (``code`` 0 on the unloading branch) while its band is on:
     m1 at rest in the contact reaches the surface with v1 in (-band, 0), moving into the wall
@@ -607,7 +608,7 @@ def _sigma_room(y, m, lk, c, cp, mem, x_sw):
     return x_sw if xd2 > 0.0 else 0.0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _sigma_entry(y, t, m, lk, c, cp, mem, rtol, atol, work, err_acc):
     """The entry stretch of a contact on the power law F = kappa x**eta from x = 0, in sigma:
     up to SIGMA_ZONE x the depth at which m1 alone would stop, limited by ``_sigma_room``.
@@ -631,7 +632,7 @@ def contact_first_step(w_cont, rtol):
     return min(0.5, 0.11 * (rtol / 1e-12) ** 0.125) / w_cont
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _adaptive(
     y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free_closed, free0=False
 ):
@@ -671,7 +672,7 @@ def _adaptive(
         _record(hist, 0, H_TSTART, 0.0)
         _record(hist, 0, H_VIN, y[n] / v0)
         y[n] = -y[n]
-        ysep[:] = y
+        copy_into(ysep, y)
         _record(hist, 0, H_TEND, 0.0)
         _record(hist, 0, H_VOUT, y[n] / v0)
         _record(hist, 0, H_IMPULSE, (_momentum(y, m) - p_in) / v0)
@@ -733,7 +734,7 @@ def _adaptive(
             t_event = t
             if separated:
                 tcol = t
-                ysep[:] = y
+                copy_into(ysep, y)
                 k = ncol - 1
                 _record(hist, k, H_TEND, t)
                 _record(hist, k, H_VOUT, y[n] / v0)
@@ -804,7 +805,7 @@ def _adaptive(
             if kind == C_RIGID:
                 y[n] = -y[n]
                 tcol = t
-                ysep[:] = y
+                copy_into(ysep, y)
                 _record(hist, k, H_TEND, t)
                 _record(hist, k, H_VOUT, y[n] / v0)
                 _record(hist, k, H_IMPULSE, (_momentum(y, m) - p_in) / v0)
@@ -827,7 +828,7 @@ def _fail(work):
     return STATUS_WORK_BUDGET if work[0] <= 0.0 else STATUS_NONCONVERGED
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _verlet(y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist, v0, free0=False):
     """The paper's scheme: one fixed step for the whole scene, step_frac * 2 pi / w with w the
     highest frequency with the contact's slope scale cp[1] engaged (``verlet_frequency``; k1
@@ -873,7 +874,7 @@ def _verlet(y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist, v0, f
             xmax_c = max(xmax_c, -y[0])
         if in_contact and not now:
             tcol = t
-            ysep[:] = y
+            copy_into(ysep, y)
             k = ncol - 1
             _record(hist, k, H_TEND, t)
             _record(hist, k, H_VOUT, y[n] / v0)
@@ -980,7 +981,7 @@ def _event(evt, evk, cnt, t, kind):
         cnt[0] = j + 1
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _sigma_entry_sampled(y, t, m, lk, c, cp, mem, rtol, atol, work, err_acc, ts, si, Ys, Fs):
     """``_sigma_entry`` on ``sigma_phase_sampled``."""
     n = m.shape[0]
@@ -995,7 +996,7 @@ def _sigma_entry_sampled(y, t, m, lk, c, cp, mem, rtol, atol, work, err_acc, ts,
     )
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _adaptive_sampled(
     y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, ts, si, Ys, Fs,
     evt, evk, cnt, max_work, free0=False,
@@ -1038,7 +1039,7 @@ def _adaptive_sampled(
         _record(hist, 0, H_TSTART, 0.0)
         _record(hist, 0, H_VIN, y[n] / v0)
         y[n] = -y[n]
-        ysep[:] = y
+        copy_into(ysep, y)
         _record(hist, 0, H_TEND, 0.0)
         _record(hist, 0, H_VOUT, y[n] / v0)
         _record(hist, 0, H_IMPULSE, (_momentum(y, m) - p_in) / v0)
@@ -1101,7 +1102,7 @@ def _adaptive_sampled(
             t_event = t
             if separated:
                 tcol = t
-                ysep[:] = y
+                copy_into(ysep, y)
                 k = ncol - 1
                 _record(hist, k, H_TEND, t)
                 _record(hist, k, H_VOUT, y[n] / v0)
@@ -1137,7 +1138,7 @@ def _adaptive_sampled(
             if inside:
                 pass  # the force rose through 0: a contact starts below
             elif closed:
-                y0[:] = y
+                copy_into(y0, y)
                 s = free_flight_linear(y, mem[M_XP], m[0], m[1], lk[0, SP_K2], c[0])
                 if s < 0.0:
                     _sample_free_linear(y0, t, math.inf, m, lk, c, ts, si, Ys, Fs)
@@ -1180,7 +1181,7 @@ def _adaptive_sampled(
             if kind == C_RIGID:
                 y[n] = -y[n]
                 tcol = t
-                ysep[:] = y
+                copy_into(ysep, y)
                 _record(hist, k, H_TEND, t)
                 _record(hist, k, H_VOUT, y[n] / v0)
                 _record(hist, k, H_IMPULSE, (_momentum(y, m) - p_in) / v0)
