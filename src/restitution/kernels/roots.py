@@ -64,7 +64,7 @@ def newton_bisection(fdf, refcount=True):
 
     @njit(error_model="numpy", refcount=refcount)
     def find(lo, hi, args):
-        wide = hi - lo  # the step before last
+        wide = hi - lo  # the length of the last step (Newton or bisection)
         x = 0.5 * (lo + hi)
         for _ in range(200):
             f, df = fdf(x, *args)
