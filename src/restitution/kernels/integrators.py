@@ -417,13 +417,22 @@ def branch_mem(y, m, lk, mem, bstrip):
     bstrip[i, 1] = 1 marks a link that starts on its branch's lower / upper end (its event's
     leading zero is exact, as ``rk_phase``'s ``strip``)."""
     nm = m.shape[0]
+    mb = np.empty(N_MEM + nm - 1)
+    return mb if branch_mem_into(y, m, lk, mem, bstrip, mb) else mem
+
+
+@njit(cache=True, error_model="numpy", refcount=False)
+def branch_mem_into(y, m, lk, mem, bstrip, mb):
+    """``branch_mem`` into the given mb (N_MEM + N - 1 entries); returns whether a link is a
+    scissor (else mb is left alone and the caller uses mem itself)."""
+    nm = m.shape[0]
     held = False
     for i in range(nm - 1):
         held = held or lk[i, SP_KIND] == S_SCISSOR
     if not held:
-        return mem
-    mb = np.full(N_MEM + nm - 1, -1.0)
-    copy_into(mb, mem)  # (mem has N_MEM entries)
+        return False
+    for i in range(mb.shape[0]):
+        mb[i] = mem[i] if i < N_MEM else -1.0
     for i in range(nm - 1):
         bstrip[i, 0] = 0
         bstrip[i, 1] = 0
@@ -436,7 +445,7 @@ def branch_mem(y, m, lk, mem, bstrip):
         mb[N_MEM + i] = br
         bstrip[i, 0] = 1 if x == scissor_point(lk[i], br - 1) else 0
         bstrip[i, 1] = 1 if x == scissor_point(lk[i], br) else 0
-    return mb
+    return True
 
 
 @njit(cache=True, error_model="numpy", refcount=False)
@@ -452,7 +461,7 @@ def link_poly(F, K, h, y, i, coef):
     coef[1] = h * (K[0, i + 1] - K[0, i])
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", refcount=False)
 def first_branch_root(F, K, h, y, m, lk, mb, bstrip, coef, g, rs):
     """First theta in [0, 1] of the step where a scissor link reaches an end of the branch it is
     held on: (theta, link, +1 up / -1 down); theta = -1 when none."""
@@ -575,7 +584,28 @@ def event_state(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp, W, e, b, 
 
 
 @njit(cache=True, error_model="numpy")
-def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, stop, work, err_acc):
+def phase_space(n, nm):
+    """The work arrays of ``rk_phase`` for a state of n entries and nm masses, allocated once per
+    scene: (K, F, ynew, tmp, f0, coef, gb, rs, ext, bstrip, mb)."""
+    return (
+        np.empty((N_EXT, n)),
+        np.empty((N_DENSE, n)),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n),
+        np.empty(N_DENSE + 1),
+        np.empty(N_DENSE + 1),
+        np.empty(N_DENSE + 1),
+        np.empty((max(nm - 1, 0), 2)),
+        np.zeros((max(nm - 1, 0), 2), dtype=np.int64),
+        np.empty(N_MEM + nm - 1),
+    )
+
+
+@njit(cache=True, error_model="numpy", refcount=False)
+def rk_phase(
+    y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, stop, work, err_acc, ws
+):  # fmt: skip
     """Integrate with DOP853 until the first event (or ``stop``); y is updated in place.
 
     W[k], B[k], strip[k] (k < nev) define the events g_k = W[k].y + B[k] (trigger: > 0 -> <= 0);
@@ -587,20 +617,15 @@ def rk_phase(y, t, h, hmax, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev, sto
     out or the step underflows.
     ``err_acc[0]`` accumulates the local error estimates of the total momentum.
     Scissor links stop at their branch points inside the phase ("Link branch points" above).
+    ``ws``: the work arrays (``phase_space``), allocated once per scene, so that the phase
+    allocates nothing and compiles without reference counts (each phase allocated 10 arrays
+    and counted references to its array arguments: ~5 % of a plastic scene's run).
     """
-    n = y.shape[0]
-    K = np.empty((N_EXT, n))
-    F = np.empty((N_DENSE, n))
-    ynew = np.empty(n)
-    tmp = np.empty(n)
-    f0 = np.empty(n)
-    coef = np.empty(N_DENSE + 1)
-    gb = np.empty(N_DENSE + 1)
-    rs = np.empty(N_DENSE + 1)  # first_root's scratch
-    ext = np.full((max(m.shape[0] - 1, 0), 2), -1.0)  # no_contact_possible's
-    bstrip = np.zeros((max(m.shape[0] - 1, 0), 2), dtype=np.int64)
-    mb = branch_mem(y, m, lk, mem, bstrip)  # mem itself without scissor links
-    held = mb.shape[0] > N_MEM
+    K, F, ynew, tmp, f0, coef, gb, rs, ext, bstrip, mbs = ws
+    fill_2d(ext, -1.0)  # no_contact_possible's
+    fill_2d(bstrip, 0)
+    held = branch_mem_into(y, m, lk, mem, bstrip, mbs)
+    mb = mbs if held else mem  # mem itself without scissor links
     still = 0  # branch switches in a row without a step (a guard against a link at rest on one)
     rhs(y, m, lk, c, cp, mb, f0)
     first = True

@@ -63,6 +63,7 @@ from restitution.kernels.integrators import (
     accel_verlet,
     dent,
     no_contact_possible,
+    phase_space,
     rhs,
     rk_phase,
     rk_phase_sampled,
@@ -646,6 +647,7 @@ def _adaptive(
     B = np.zeros(2)
     strip = np.zeros(2, dtype=np.int64)
     err_acc = np.zeros(1)
+    ws = phase_space(ny, n)  # rk_phase's work arrays
     guard = np.zeros(2)  # the Zeno guard's state (_contact_event)
     t_event = 0.0
     t = 0.0
@@ -709,7 +711,7 @@ def _adaptive(
                     x_sw = 0.0
             code, t, h = rk_phase(
                 y, t, h, 1e300, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev,
-                STOP_NEVER, work, err_acc,
+                STOP_NEVER, work, err_acc, ws,
             )  # fmt: skip
             if code == EV_FAIL or code == EV_STOP:
                 return _fail(work), ncol, tcol, err_acc[0]
@@ -759,7 +761,7 @@ def _adaptive(
                 strip[1] = 0
                 code, t, h = rk_phase(
                     y, t, h, hmax_free, rtol, atol, m, lk, c, cp, mem, W, B, strip, 2,
-                    STOP_NEVER, work, err_acc,
+                    STOP_NEVER, work, err_acc, ws,
                 )  # fmt: skip
                 if code == EV_FAIL or code == EV_STOP:
                     return _fail(work), ncol, tcol, err_acc[0]
@@ -785,7 +787,7 @@ def _adaptive(
                     strip[0] = 1 if entering else 0
                     code, t, h = rk_phase(
                         y, t, h, hmax_free, rtol, atol, m, lk, c, cp, mem, W, B, strip, 1,
-                        STOP_NO_CONTACT, work, err_acc,
+                        STOP_NO_CONTACT, work, err_acc, ws,
                     )  # fmt: skip
                     if code == EV_STOP:
                         return STATUS_OK, ncol, tcol, err_acc[0]
