@@ -761,7 +761,7 @@ def _fail(out, status):
 
 
 @njit(cache=True, error_model="numpy", refcount=False)
-def _put_row(rec, r, u, v, first):
+def _record_state(rec, r, u, v, first):
     """rec[r, 3 + i] = u[i], rec[r, 3 + n + i] = v[i] for i >= first: a record's state (a loop,
     as kernels/copies.py)."""
     n = u.shape[0]
@@ -929,7 +929,7 @@ def _run(
             rec[nrec, 0] = t
             rec[nrec, 1] = PH_CONTACT if in_contact else PH_FREE
             rec[nrec, 2] = math.inf
-            _put_row(rec, nrec, u, v, 0)
+            _record_state(rec, nrec, u, v, 0)
         nrec += 1
         if in_contact:
             p_in = 0.0
@@ -1213,7 +1213,7 @@ def _run(
                 rec[nrec, 2] = math.inf
                 rec[nrec, 3] = 0.0
                 rec[nrec, 3 + n] = 0.0
-                _put_row(rec, nrec, u, v, 1)
+                _record_state(rec, nrec, u, v, 1)
             nrec += 1
             for i in range(n - 1):
                 ys[i] = u[i + 1]

@@ -137,10 +137,9 @@ def dense_coeffs(y0, ynew, K, h, m, lk, c, cp, mem, F, tmp):
 @njit(cache=True, error_model="numpy", refcount=False)
 def event_poly(F, K, h, y0, W, e, b, coef):
     """Monomial coefficients (degree 7 in theta) of w.y(theta) + b along the dense output, w the
-    event's row e of W (an index, not a row view: a view costs the loops' caller two atomic
-    reference counts). The
-    linear one is h w.f(y0) directly (not F_0 + F_1 after rounding), so an event that starts on
-    its own surface with zero slope has an exactly zero coefficient there."""
+    event's row e of W (an index, not a row view: kernels/copies.py). The linear one is
+    h w.f(y0) directly (not F_0 + F_1 after rounding), so an event that starts on its own surface
+    with zero slope has an exactly zero coefficient there."""
     n = y0.shape[0]
     g0 = b
     for i in range(n):
@@ -557,10 +556,10 @@ NEWTON_TAYLOR = 1e-6
 @njit(cache=True, error_model="numpy", inline="always")
 def event_state(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp, W, e, b, work):
     """ynew = the state at the event g = w.y + b = 0 (w: row e of W) located at dt on the dense
-    output: by a
-    DOP853 step of its own and one Newton correction of the time (g / g') on that state, so the
-    state carries the step's 8th order, not the dense output's 7th (the interpolant of a long
-    step put event times off by ~1e-10 relative). Returns the corrected dt."""
+    output: by a DOP853 step of its own and one Newton correction of the time (g / g') on that
+    state, so the state carries the step's 8th order, not the dense output's 7th (the
+    interpolant of a long step put event times off by ~1e-10 relative). Returns the corrected
+    dt."""
     n = y.shape[0]
     work[0] -= 12.0
     dp_step(y, f0, dt, rtol, atol, m, lk, c, cp, mb, K, ynew, tmp)

@@ -16,10 +16,10 @@ the locator's step and of rigid2's first guess) are plain functions.
 Users: the event locator (``first_cubic_root``, ``newton_polish``, ``bisection`` of the gap's
 slope for x_max), the two-mass walk rigid2 (``halley_bracketed``, ``newton_bracketed``,
 ``newton_descent``, ``expansion``, ``hermite_cubic_root``), the chain kernel's eigenvalues
-(``threshold_bisection``) and the stepping kernel's closed-form free flight (``bisection``).
+(``threshold_bisection``), the stepping kernel's closed-form free flight (``newton_bisection``)
 and the integrators' events (``first_root``: the first root of a polynomial on [0, 1], certified
-by Bernstein bounds). Not here: ``restitution.model.laws.structure_extent`` (the model layer
-imports no kernel).
+by Bernstein bounds, polished by ``newton_bisection``). Not here:
+``restitution.model.laws.structure_extent`` (the model layer imports no kernel).
 """
 
 import math
