@@ -132,6 +132,34 @@ def test_warm_start_bounds_the_search_by_the_contained_family():
         design.minimize_cor(4, progress=None, warm_starts=5)
 
 
+def test_split_warm_start_keeps_the_shorter_designs_cor(tmp_path):
+    """A free-spring design of N - 1 masses with light masses of its own (as the optima are):
+    an end mass at the lower bound is no small change to it, one of its masses halved into two
+    on the stiffest spring is. The script offers the splits whose halves stay in the bounds."""
+    from conftest import load_script
+    from restitution.tables.io import write_table
+
+    script = load_script("design_fig8b")
+    masses, springs = np.array([1.0, 0.6, 0.04, 0.13]), np.array([1.0, 0.4, 0.07])
+
+    def cor(m, k):
+        mm, kk, kc = design.scaled_chain(m, k, 0.0)
+        return restitution.solve(masses=list(mm), springs=list(kk), k_contact=kc).cor
+
+    base = cor(masses, springs)
+    ends = [abs(cor(*script.extend(masses, springs, 5, e)) - base) for e in (None, 0.01)]
+    splits = [abs(cor(*script.split(masses, springs, j, 100.0)) - base) for j in (1, 2, 3)]
+    assert min(splits) < 0.1 * min(ends)
+    row = {"family": "masses_springs", "n_masses": 4, "masses": masses, "springs": springs}
+    write_table(pd.DataFrame([row]), tmp_path / "ms4.parquet")
+    starts, sources = script.warm_starts([tmp_path / "ms4.parquet"], 5, 0.01, 100.0)
+    assert sources[2:] == [f"masses_springs N=4 split at m_{j}" for j in (2, 3, 4)]
+    for m, k in starts:
+        assert len(m) == 5 and len(k) == 4 and m.min() >= 0.01 and k.max() <= 100.0
+    starts, sources = script.warm_starts([tmp_path / "ms4.parquet"], 5, 0.03, 100.0)
+    assert len(starts) == 2 + 2  # m_3 / 2 = 0.02 would leave the bounds: no split there
+
+
 def test_long_tapered_chain_is_not_cut_off_by_its_end_mass():
     """Issue 26: bounding the end mass r**(N-1) by 0.01 made r >= 0.464 at N = 7, so the
     decreasing chain lost the first cusp (COR 0.39 instead of ~0.14). The step ratio is bounded

@@ -11,8 +11,11 @@ Two independent starts per design (issue 26):
   starts, the input tables): for ``masses`` the uniform and both tapered chains of the same N and
   the free-mass chain of N - 1 extended by one mass (equal to its last, and a light end mass at
   the lower bound); for ``masses_springs`` the free-mass chain of N and its own N - 1 design
-  extended; for ``robust`` the same for its family. A family's search then starts at most at the
-  COR of the chains it contains.
+  extended, and split: one of its masses halved into two joined by the stiffest spring the
+  bounds allow, whose halves move nearly together: nearly the N - 1 design's COR, where an end
+  mass at the lower bound need not be light next to the design's own light masses; for
+  ``robust`` the same for its family. A family's search then starts at most at about the COR of
+  the chains it contains.
 * **cold**: seed ``restart_seed``, no warm start, the same search settings.
 
 The row is the better of the two; ``cor_warm`` and ``cor_cold`` (robust: their worst CORs) and
@@ -36,10 +39,19 @@ def extend(masses, springs, n: int, end_mass=None):
     return np.array(m), np.array(k)
 
 
-def warm_starts(tables, n: int, light: float) -> tuple:
+def split(masses, springs, j: int, stiff: float):
+    """The chain with mass j (j >= 1: m_1 is the unit) halved into two masses joined by a spring
+    ``stiff`` (a ratio to k_12): one more mass, nearly the same motion."""
+    m, k = list(masses), list(springs)
+    return np.array(m[:j] + [m[j] / 2, m[j] / 2] + m[j + 1 :]), np.array(k[:j] + [stiff] + k[j:])
+
+
+def warm_starts(tables, n: int, light: float, stiff: float = math.inf) -> tuple:
     """([(masses, springs)], [source]) of the warm-start tables: a design of this N as it is;
     one of N - 1 extended twice, by a mass equal to its last and by a light end mass ``light``
-    (the lower bound: nearly the N - 1 chain, so the search can start from that chain's COR)."""
+    (the lower bound: nearly the N - 1 chain, so the search can start from that chain's COR),
+    and, for a design with free springs, split at each mass whose halves stay within the bounds
+    (``split`` with the upper bound ``stiff``)."""
     from restitution.tables.io import read_table
 
     starts, sources = [], []
@@ -53,6 +65,11 @@ def warm_starts(tables, n: int, light: float) -> tuple:
         for end, how in ((None, "last mass repeated"), (light, f"end mass {light:g}")):
             starts.append(extend(row["masses"], row["springs"], n, end))
             sources.append(f"{name} + {how}")
+        if row["family"] == "masses_springs" and math.isfinite(stiff):
+            for j in range(1, len(row["masses"])):
+                if row["masses"][j] / 2 >= light:
+                    starts.append(split(row["masses"], row["springs"], j, stiff))
+                    sources.append(f"{name} split at m_{j + 1}")
     return starts, sources
 
 
@@ -95,7 +112,7 @@ def main(params, output_path, family: str, n: int, logger, tables=()) -> pd.Data
     from restitution.tables.io import write_table
 
     d = dict(params.design)
-    starts, sources = warm_starts(tables, n, float(d["bounds"][0]))
+    starts, sources = warm_starts(tables, n, float(d["bounds"][0]), float(d["bounds"][1]))
     rows = {}
     for start, seed, given in (("warm", d["seed"], starts), ("cold", d["restart_seed"], [])):
         result = run(family, n, d, seed, given, progress=logger.info)

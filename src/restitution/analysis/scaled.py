@@ -60,27 +60,32 @@ def solve_scaled_many(chains, max_events=100_000):
     return res["cor"].to_numpy(), (res["status"] == "ok").to_numpy()
 
 
-def solve_scaled_arrays(masses, springs, k_contact, max_events=100_000):
+def solve_scaled_arrays(masses, springs, k_contact, max_events=100_000, check=True):
     """``solve_scaled_many`` of chains of one length given as arrays: masses (S, N), springs
     (S, N - 1), k_contact (S,). The same (cor, ok), bit for bit, without DataFrames or Chains
-    where that is possible (``_general_arrays``); else through ``solve_scaled_many``."""
+    where that is possible (``_general_arrays``); else through ``solve_scaled_many``.
+
+    ``check=False`` is an optimiser's objective (the design search's): where the general
+    kernel takes the rows, each scene is run once, without the replica check, and ``ok`` says
+    only that the run finished (a scene the check would call ill-conditioned keeps its COR).
+    Not a result to report: a design found so is solved again, checked."""
     m = np.asarray(masses, dtype=np.float64)
     k = np.asarray(springs, dtype=np.float64)
     kc = np.asarray(k_contact, dtype=np.float64)
-    done = _general_arrays(m, k, kc, max_events)
+    done = _general_arrays(m, k, kc, max_events, check)
     if done is not None:
         return done
     return solve_scaled_many(list(zip(m, k, kc, strict=True)), max_events)
 
 
-def _general_arrays(m, k, kc, max_events):
+def _general_arrays(m, k, kc, max_events, check=True):
     """(cor, ok) as ``solve_many`` gives them for a general table of these undamped chains, or
     None where its reading would do more than the general exact kernel on every row: a row not
     plainly valid (the table's reading words its error), a row of the paper's form (its own
     kernel) or a chain whose method is not an exact one. The plan and the kernel units are
     those of ``tables.linear_rows.read`` and ``SceneTable.scaled``, operation for operation.
     (The design searches solve ~10^6 chains: the table's per-row reading cost a third of their
-    kernel time.)"""
+    kernel time.) ``check``: ``solve_scaled_arrays``'."""
     from restitution.kernels import layout as L
     from restitution.model.chain import RANGES, Chain
     from restitution.model.units import kernel_params
@@ -104,7 +109,8 @@ def _general_arrays(m, k, kc, max_events):
                 return None
     omega = omega_column(m, k)
     ms, ks, cs, kcs = kernel_params(m, k, c, kc[:, None], m[:, :1], omega[:, None])
-    out, errors = general_block(ms, ks, cs, np.full(s, n, dtype=np.int64), kcs[:, 0], max_events)
+    rows = np.full(s, n, dtype=np.int64)
+    out, errors = general_block(ms, ks, cs, rows, kcs[:, 0], max_events, check)
     ok = out[:, L.OUT_STATUS] == L.STATUS_OK
     if errors:
         ok[list(errors)] = False

@@ -108,6 +108,7 @@ from restitution.kernels.layout import (
     FLAG_EXTRAPOLATED,
     FLAG_RIGID_LIMIT,
     FLAG_STICKING,
+    FLAG_UNCHECKED,
     H_IMPULSE,
     H_TEND,
     H_TSTART,
@@ -1488,7 +1489,9 @@ def _replica_scene(m, k, c, kc, seed):
 
 
 @njit(cache=True)
-def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=None, ccs=0.0):
+def _checked_units(
+    ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=None, ccs=0.0, check=True
+):
     """_solve_units with the replica check (restitution.kernels.replica): a finished row's
     error estimate covers the round-off its replica reveals, or the row is ill-conditioned.
 
@@ -1511,10 +1514,15 @@ def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=N
     ``y0`` (an initial state, _run) is shared by the replicas as given: a replica scene that
     _normalise rescales moves it by JITTER-sized amounts, one more perturbation of the
     round-off size the replicas emulate. ``ccs``: a Kelvin-Voigt contact's dashpot (_run),
-    moved by JITTER relative to itself in the replicas, as the contact spring."""
+    moved by JITTER relative to itself in the replicas, as the contact spring.
+
+    ``check`` False: the first run alone, flagged FLAG_UNCHECKED (a search's row, no result)."""
     out, near = _solve_units(
         ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, 0.0, 0, y0=y0, ccs=ccs
     )
+    if not check:
+        out[OUT_FLAGS] = int(out[OUT_FLAGS]) | FLAG_UNCHECKED
+        return out
     if not finished(out[OUT_STATUS]):
         return out
     nohist = np.zeros((0, N_HIST))
@@ -1587,7 +1595,7 @@ def _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=N
 
 
 @njit(cache=True, inline="always")
-def _extrapolated(ms, ks, cs, beta, lim, max_events, work_max, use_rigid2, y0=None):
+def _extrapolated(ms, ks, cs, beta, lim, max_events, work_max, use_rigid2, y0=None, check=True):
     """The rigid wall's row ``lim`` (its own estimate) corrected to the stiffness ratio ``beta``
     by extrapolation in s = sqrt(beta): the quadratic through the limit (s = 0) and the
     finite-stiffness runs at EXTRAP_BETA and 4 EXTRAP_BETA (where the closed form is accurate),
@@ -1599,11 +1607,13 @@ def _extrapolated(ms, ks, cs, beta, lim, max_events, work_max, use_rigid2, y0=No
     s1 = math.sqrt(EXTRAP_BETA)
     s2 = 2.0 * s1
     r1 = _checked_units(
-        ms, ks, cs, ks[0] / EXTRAP_BETA, max_events, nohist, work_max, use_rigid2, y0
-    )
+        ms, ks, cs, ks[0] / EXTRAP_BETA, max_events, nohist, work_max, use_rigid2, y0,
+        check=check,
+    )  # fmt: skip
     r2 = _checked_units(
-        ms, ks, cs, ks[0] / (4.0 * EXTRAP_BETA), max_events, nohist, work_max, use_rigid2, y0
-    )
+        ms, ks, cs, ks[0] / (4.0 * EXTRAP_BETA), max_events, nohist, work_max, use_rigid2, y0,
+        check=check,
+    )  # fmt: skip
     st = lim[OUT_STATUS]
     if not (
         r1[OUT_STATUS] == st
@@ -1634,16 +1644,18 @@ def _extrapolated(ms, ks, cs, beta, lim, max_events, work_max, use_rigid2, y0=No
 
 
 @njit(cache=True, inline="always")
-def _solve_stiff(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=None):
+def _solve_stiff(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=None, check=True):
     """Normalised scene, with the rigid-limit policy for very stiff contact springs (see
-    BETA_RIGID): returns the raw kernel row (no NaN applied)."""
+    BETA_RIGID): returns the raw kernel row (no NaN applied). ``check``: _checked_units'."""
     beta = ks[0] / kcs
     limit = 0.0 < beta < BETA_RIGID
     extrapolate = 0.0 < beta < EXTRAP_BELOW
     compare = False
     out = np.empty(0)
     if not limit:
-        out = _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0)
+        out = _checked_units(
+            ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0, check=check
+        )
         st = out[OUT_STATUS]
         failed = st != STATUS_OK and st != STATUS_PERMANENT_CONTACT
         limit = 0.0 < beta < BETA_FALLBACK and (
@@ -1656,11 +1668,13 @@ def _solve_stiff(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=Non
         compare = finished(st) or st == STATUS_ILL_CONDITIONED
     if limit or extrapolate:
         kept = hist.copy() if compare else hist[:0]
-        lim = _checked_units(ms, ks, cs, math.inf, max_events, hist, work_max, use_rigid2, y0)
+        lim = _checked_units(
+            ms, ks, cs, math.inf, max_events, hist, work_max, use_rigid2, y0, check=check
+        )
         ext = lim
         bound = RIGID_LIMIT_C * math.sqrt(beta)
         if extrapolate and finished(lim[OUT_STATUS]) and bound > lim[OUT_ERR]:
-            ext = _extrapolated(ms, ks, cs, beta, lim, max_events, work_max, use_rigid2, y0)
+            ext = _extrapolated(ms, ks, cs, beta, lim, max_events, work_max, use_rigid2, y0, check)
         lim[OUT_ERR] = max(lim[OUT_ERR], bound)
         lim[OUT_FLAGS] = int(lim[OUT_FLAGS]) | FLAG_RIGID_LIMIT
         if ext[OUT_ERR] < lim[OUT_ERR]:
@@ -1679,18 +1693,20 @@ def _solve_stiff(ms, ks, cs, kcs, max_events, hist, work_max, use_rigid2, y0=Non
 
 
 @njit(cache=True)
-def _solve(m, k, c, kc, max_events, hist, work_max, y0=None, cc=0.0):
+def _solve(m, k, c, kc, max_events, hist, work_max, y0=None, cc=0.0, check=True):
+    """One scene from the user's (m, k, c, kc): normalised, solved, an unfinished row's COR
+    voided. ``check`` False: the search rows of solve_chain_batch (_checked_units)."""
     out = np.empty(N_OUT)
     if not _valid(m, k, c, kc, max_events):
         return _fail(out, STATUS_INVALID)
     if cc > 0.0:  # Kelvin-Voigt (checked by the caller: kc finite, cc finite)
-        return _solve_kv(m, k, c, kc, cc, max_events, hist, work_max, y0)
+        return _solve_kv(m, k, c, kc, cc, max_events, hist, work_max, y0, check)
     ms, ks, cs, kcs = _normalise(m, k, c, kc)
     if y0 is None:
-        out = _solve_stiff(ms, ks, cs, kcs, max_events, hist, work_max, True)
+        out = _solve_stiff(ms, ks, cs, kcs, max_events, hist, work_max, True, check=check)
     else:
         ys = _normalise_state(m, k, y0)
-        out = _solve_stiff(ms, ks, cs, kcs, max_events, hist, work_max, True, ys)
+        out = _solve_stiff(ms, ks, cs, kcs, max_events, hist, work_max, True, ys, check)
     st = out[OUT_STATUS]
     if st != STATUS_OK and st != STATUS_PERMANENT_CONTACT:
         out[OUT_COR] = math.nan  # an unfinished sequence has no COR
@@ -1699,16 +1715,16 @@ def _solve(m, k, c, kc, max_events, hist, work_max, y0=None, cc=0.0):
 
 
 @njit(cache=True, inline="always")
-def _solve_kv(m, k, c, kc, cc, max_events, hist, work_max, y0=None):
+def _solve_kv(m, k, c, kc, cc, max_events, hist, work_max, y0=None, check=True):
     """A Kelvin-Voigt contact (kc, cc): the checked run (no rigid-limit policy: the contact's
     dashpot has no rigid limit of the chain's, and the laws' ranges keep kc finite)."""
     ms, ks, cs, kcs = _normalise(m, k, c, kc)
     ccs = _scale_dashpot(m, k, kc, cc)
     if y0 is None:
-        out = _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, True, None, ccs)
+        out = _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, True, None, ccs, check)
     else:
         ys = _normalise_state(m, k, y0)
-        out = _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, True, ys, ccs)
+        out = _checked_units(ms, ks, cs, kcs, max_events, hist, work_max, True, ys, ccs, check)
     st = out[OUT_STATUS]
     if st != STATUS_OK and st != STATUS_PERMANENT_CONTACT:
         out[OUT_COR] = math.nan
@@ -1825,8 +1841,9 @@ def solve_chain(m, k, c, kc, max_events, hist):
 
 
 @njit(cache=True, nogil=True)
-def _chain_rows(m, k, c, n, kc, max_events, out, order, start, stop):
-    """``solve_chain`` of the padded rows order[start:stop] into ``out`` (kernels.parallel)."""
+def _chain_rows(m, k, c, n, kc, max_events, check, out, order, start, stop):
+    """``solve_chain`` of the padded rows order[start:stop] into ``out`` (kernels.parallel);
+    ``check`` False: search rows (solve_chain_batch)."""
     hist = np.zeros((0, N_HIST))
     for j in range(start, stop):
         i = order[j]
@@ -1842,20 +1859,27 @@ def _chain_rows(m, k, c, n, kc, max_events, out, order, start, stop):
             max_events,
             hist,
             WORK_MAX,
+            check=check,
         )
         put_row(out, i, row)
 
 
-def solve_chain_batch(m, k, c, n, kc, max_events):
+def solve_chain_batch(m, k, c, n, kc, max_events, check=True):
     """``solve_chain`` over padded arrays: m (rows, nmax), k and c (rows, nmax - 1), n (rows,)
     int64, kc (rows,), on numba's threads. Every row starts as NaN with STATUS_NOT_RUN before
     any work, so no row is ever left uninitialised; rows are independent and their work budgets
-    count operations, so the result is bit-identical for any thread count."""
+    count operations, so the result is bit-identical for any thread count.
+
+    ``check=False`` gives an optimiser's search rows: each scene's first run alone, without the
+    replica check (a third of the work or less), flagged FLAG_UNCHECKED. Such a row is no
+    result: its OUT_ERR is only the kernel's own bound, not the round-off the replicas measure,
+    and an ill-conditioned scene keeps its status. At a rigid wall its COR is the checked row's,
+    bit for bit (with a stiff contact the rigid-limit policy reads OUT_ERR and may differ)."""
     m, k, c, kc = (np.ascontiguousarray(a, dtype=np.float64) for a in (m, k, c, kc))
     n = np.ascontiguousarray(n, dtype=np.int64)
     out = np.full((n.size, N_OUT), math.nan)
     out[:, OUT_STATUS] = STATUS_NOT_RUN
-    over_threads(_chain_rows, n.size, m, k, c, n, kc, int(max_events), out)
+    over_threads(_chain_rows, n.size, m, k, c, n, kc, int(max_events), bool(check), out)
     return out
 
 

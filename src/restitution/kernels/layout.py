@@ -42,6 +42,10 @@ STATUS_NOT_RUN = 8  # a batch row the kernel never finished (rows start with it,
 FLAG_STICKING = 1  # a Zeno chatter was continued by its sticking limit (method impulsive+sticking)
 FLAG_RIGID_LIMIT = 2  # a very stiff contact spring was solved as its rigid limit (OUT_ERR: bound)
 FLAG_EXTRAPOLATED = 4  # ... as its rigid limit corrected by two finite-stiffness runs (sqrt(beta))
+# A search row (``exact_chain.solve_chain_batch(check=False)``): the first run alone, no replica
+# check, so OUT_ERR is only the kernel's own bound and the row is no checked result. Optimisers
+# read its COR (identical, bit for bit, to the checked row's) and never show the row.
+FLAG_UNCHECKED = 8
 
 # Statuses of a row that is not a finished result. Before a user sees such a row its COR,
 # duration and energies are voided (NaN, ``void_unfinished``); the count of contacts reached

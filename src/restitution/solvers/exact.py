@@ -201,9 +201,10 @@ def _general_rows(table, idx: np.ndarray, max_events: int, bar, block: int):
     return out, errors
 
 
-def general_block(m, k, c, n, kc, max_events: int):
+def general_block(m, k, c, n, kc, max_events: int, check: bool = True):
     """Kernel rows (and {row: error message}) of one block of general linear chains in the
-    kernels' units, padded (``SceneTable.scaled``): one parallel batch call (``guarded``)."""
+    kernels' units, padded (``SceneTable.scaled``): one parallel batch call (``guarded``).
+    ``check=False``: an optimiser's unchecked search rows (``solve_chain_batch``)."""
     from restitution.kernels.exact_chain import solve_chain, solve_chain_batch
 
     def single(j):
@@ -212,7 +213,8 @@ def general_block(m, k, c, n, kc, max_events: int):
             a(m[j, :b]), a(k[j, : b - 1]), a(c[j, : b - 1]), kc[j], max_events, NO_HIST
         )
 
-    return guarded(solve_chain_batch, (m, k, c, n, kc, max_events), np.arange(len(n)), single)
+    args = (m, k, c, n, kc, max_events, check)
+    return guarded(solve_chain_batch, args, np.arange(len(n)), single)
 
 
 def _initial_rows(table, idx: np.ndarray, max_events: int, bar, block: int):
