@@ -45,6 +45,7 @@ import math
 import numpy as np
 
 from restitution.jit import njit
+from restitution.kernels.constants import EPS
 from restitution.kernels.copies import copy_into
 from restitution.kernels.integrators import (
     EV_FAIL,
@@ -124,42 +125,88 @@ MAX_WORK_DEFAULT = 4_000_000
 
 # ------------------------------------------------- closed-form free flight of two masses --
 @njit(cache=True, error_model="numpy", refcount=False)
-def _osc(s, xi, r0, w0):
-    """r(s), r'(s) of r'' + 2 xi r' + r = 0 (all damping regimes, overflow-free)."""
+def _basis(x, xi):
+    """C(x), S(x): the solutions of r'' + 2 xi r' + r = 0 with C(0) = 1, C'(0) = -xi and
+    S(0) = 0, S'(0) = 1 (all damping regimes, overflow-free)."""
     if xi < 1.0:
         wd = math.sqrt(1.0 - xi * xi)
-        e = math.exp(-xi * s)
-        c = e * math.cos(wd * s)
-        sn = e * (math.sin(wd * s) / wd if wd * s > 1e-300 else s)
-    elif xi == 1.0:
-        e = math.exp(-s)
-        c = e
-        sn = e * s
-    else:
-        wh = math.sqrt(xi * xi - 1.0)
-        ep = math.exp((wh - xi) * s)
-        em = math.exp(-(wh + xi) * s)
-        c = 0.5 * (ep + em)
-        sn = 0.5 * (ep - em) / wh
-    r = r0 * c + (w0 + xi * r0) * sn
-    w = w0 * c - (r0 + xi * w0) * sn
-    return r, w
+        e = math.exp(-xi * x)
+        return e * math.cos(wd * x), e * (math.sin(wd * x) / wd if wd * x > 1e-300 else x)
+    if xi == 1.0:
+        e = math.exp(-x)
+        return e, e * x
+    wh = math.sqrt(xi * xi - 1.0)
+    ep = math.exp(-x / (wh + xi))  # e^{(wh - xi) x}, its rate without cancellation
+    em = math.exp(-(wh + xi) * x)
+    return 0.5 * (ep + em), 0.5 * (ep - em) / wh
+
+
+# Below this |x| (1 + xi) the increments of the basis are summed as Taylor series (terms fall
+# at least like 0.5**n / n!; 24 of them leave < 1e-25 of the leading term).
+SERIES_X = 0.5
 
 
 @njit(cache=True, error_model="numpy", refcount=False)
-def _gap(s, x0, v, mu, xi, w, r0, w0):
-    r, _ = _osc(w * s, xi, r0, w0)
-    return x0 + v * s - mu * r
+def _increments(x, xi):
+    """E = C(x) - 1 + xi x and F = S(x) - x (``_basis``), both O(x**2), without the
+    cancellation of forming them from C and S where x is small: there by their Taylor series
+    (coefficients a_{n+2} = -(2 xi (n + 1) a_{n+1} + a_n) / ((n + 1)(n + 2)))."""
+    if abs(x) * (1.0 + xi) > SERIES_X:
+        cx, sx = _basis(x, xi)
+        return cx - 1.0 + xi * x, sx - x
+    c0, c1, s0, s1 = 1.0, -xi, 0.0, 1.0
+    e = 0.0
+    f = 0.0
+    p = x
+    for n in range(24):
+        d = (n + 1.0) * (n + 2.0)
+        c2 = -(2.0 * xi * (n + 1.0) * c1 + c0) / d
+        s2 = -(2.0 * xi * (n + 1.0) * s1 + s0) / d
+        p *= x
+        e += c2 * p
+        f += s2 * p
+        c0, c1, s0, s1 = c1, c2, s1, s2
+    return e, f
 
 
 @njit(cache=True, error_model="numpy", refcount=False)
-def _gap_slope(s, x0, v, mu, xi, w, r0, w0):
+def _osc_change(x, xi, r0, w0):
+    """(r(x) - r0 - w0 x, r'(x) - w0) for r'' + 2 xi r' + r = 0 from r(0) = r0, r'(0) = w0 (r
+    = r0 C + (w0 + xi r0) S): the change of the link's motion over x, accurate relative to
+    itself where x is small (``_increments``)."""
+    e, f = _increments(x, xi)
+    return r0 * e + (w0 + xi * r0) * f, w0 * e - (r0 + xi * w0) * f - (r0 + 2.0 * xi * w0) * x
+
+
+@njit(cache=True, error_model="numpy", refcount=False)
+def _gap(s, g0, v1, mu, xi, w, r0, w0):
+    """m1's gap at lab time s: g0 + v1 s - mu (r - r0 - w0 w s). Formed from its own start and
+    speed, not as the centre of mass minus mu r: those are O(1) where the gap and its slope are
+    tiny (a chatter), and their difference had put a root 5e-9 (relative) off."""
+    dr, _ = _osc_change(w * s, xi, r0, w0)
+    return g0 + v1 * s - mu * dr
+
+
+@njit(cache=True, error_model="numpy", refcount=False)
+def _gap_slope(s, g0, v1, mu, xi, w, r0, w0):
     """``_gap`` and its derivative in s."""
-    r, dr = _osc(w * s, xi, r0, w0)
-    return x0 + v * s - mu * r, v - mu * w * dr
+    dr, dw = _osc_change(w * s, xi, r0, w0)
+    return g0 + v1 * s - mu * dr, v1 - mu * w * dw
 
 
 _polish_gap = newton_bisection(_gap_slope, refcount=False)
+
+# A closed-form flight rounds the state once (a few operations per speed). Its momentum error,
+# at most FLIGHT_ROUNDING eps (m1 |v1| + m2 |v2|), enters the sum of local errors that floors
+# the adaptive estimate: without it a run solved in closed form throughout (two masses at a
+# rigid wall: impulsive contacts and these flights) had the estimate 0, its two settings giving
+# one result.
+FLIGHT_ROUNDING = 4.0
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _flight_rounding(y, m, err_acc):
+    err_acc[0] += FLIGHT_ROUNDING * EPS * (m[0] * abs(y[2]) + m[1] * abs(y[3]))
 
 
 @njit(cache=True, error_model="numpy", refcount=False)
@@ -181,8 +228,9 @@ def free_flight_linear(y, xp, m1, m2, k, c):
     w0 = (y[3] - y[2]) / w  # dr/d(w t)
     amp = math.sqrt(r0 * r0 + w0 * w0)
     gbound = mu * w * w * math.sqrt(1.0 + 4.0 * xi * xi) * amp
-    g0 = x0 - mu * r0
-    dg0 = v - mu * w * w0
+    # the gap u1 + xp and its slope v1 from m1's own state (``_gap``)
+    g0 = y[0] + xp
+    dg0 = y[2]
     s = 0.0
     if g0 <= 0.0:
         g0 = 0.0
@@ -190,7 +238,7 @@ def free_flight_linear(y, xp, m1, m2, k, c):
         if dg0 <= 0.0:
             return 0.0  # leaving along the surface: touching again at once
         s = dg0 / gbound if gbound > 0.0 else 1.0 / w
-    gs = _gap(s, x0, v, mu, xi, w, r0, w0)
+    gs = _gap(s, g0, dg0, mu, xi, w, r0, w0)
     h = 0.25 / w
     hit = -1.0
     for _ in range(100_000_000):
@@ -198,9 +246,9 @@ def free_flight_linear(y, xp, m1, m2, k, c):
             break  # the gap can never close again
         if v <= 0.0 and w * s > 1e9:
             break
-        gb = _gap(s + h, x0, v, mu, xi, w, r0, w0)
+        gb = _gap(s + h, g0, dg0, mu, xi, w, r0, w0)
         if gb <= 0.0:
-            hit = _polish_gap(s, s + h, (x0, v, mu, xi, w, r0, w0))[1]
+            hit = _polish_gap(s, s + h, (g0, dg0, mu, xi, w, r0, w0))[1]
             break
         if min(gs, gb) - gbound * h * h / 8.0 > 0.0 or w * h < 1e-12 * max(1.0, w * s):
             s += h
@@ -210,12 +258,15 @@ def free_flight_linear(y, xp, m1, m2, k, c):
             h *= 0.5
     if hit < 0.0:
         return -1.0
-    r, wr = _osc(w * hit, xi, r0, w0)
+    x = w * hit
+    dr, dw = _osc_change(x, xi, r0, w0)
+    r = r0 + w0 * x + dr
+    wr = w0 + dw
     e_before = 0.5 * mu * m1 * w * w * (r0 * r0 + w0 * w0)  # (reduced mass m1 mu)
     e_after = 0.5 * mu * m1 * w * w * (r * r + wr * wr)
     y[0] = -xp
     y[1] = -xp + r
-    y[2] = v - mu * w * wr
+    y[2] = dg0 - mu * w * dw  # (m1's speed from its own, as the gap)
     y[3] = v + (m1 / m) * w * wr
     y[5] += e_before - e_after
     return hit
@@ -776,6 +827,7 @@ def _adaptive(
                     s = free_flight_linear(y, mem[M_XP], m[0], m[1], lk[0, SP_K2], c[0])
                     if s < 0.0:
                         return STATUS_OK, ncol, tcol, err_acc[0]
+                    _flight_rounding(y, m, err_acc)
                     t += s
                     work[0] -= 100.0  # a closed-form free flight: about 100 gap evaluations
                     if work[0] <= 0.0:
@@ -949,16 +1001,18 @@ def _free_linear_at(y0, m1, m2, k, c, s, out):
     inv = 1.0 / m1 + 1.0 / m2
     w = math.sqrt(k * inv)
     xi = c * inv / (2.0 * w)
-    x0 = (m1 * y0[0] + m2 * y0[1]) / m
     v = (m1 * y0[2] + m2 * y0[3]) / m
     r0 = y0[1] - y0[0]
     w0 = (y0[3] - y0[2]) / w
-    r, wr = _osc(w * s, xi, r0, w0)
+    x = w * s
+    dr, dw = _osc_change(x, xi, r0, w0)
+    r = r0 + w0 * x + dr
+    wr = w0 + dw
     e_before = 0.5 * mu * m1 * w * w * (r0 * r0 + w0 * w0)
     e_after = 0.5 * mu * m1 * w * w * (r * r + wr * wr)
-    out[0] = x0 + v * s - mu * r
+    out[0] = y0[0] + y0[2] * s - mu * dr
     out[1] = out[0] + r
-    out[2] = v - mu * w * wr
+    out[2] = y0[2] - mu * w * dw
     out[3] = v + (m1 / m) * w * wr
     out[4] = y0[4]
     out[5] = y0[5] + e_before - e_after
@@ -1146,6 +1200,7 @@ def _adaptive_sampled(
                     _sample_free_linear(y0, t, math.inf, m, lk, c, ts, si, Ys, Fs)
                     return STATUS_OK, ncol, tcol, err_acc[0]
                 _sample_free_linear(y0, t, t + s, m, lk, c, ts, si, Ys, Fs)
+                _flight_rounding(y, m, err_acc)
                 t += s
                 work[0] -= 100.0
                 if work[0] <= 0.0:

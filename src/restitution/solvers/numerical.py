@@ -118,6 +118,39 @@ def _two_setting_estimate(out, check, safety=1.0, both_floors=False) -> None:
         out[LY.OUT_ERR] = max(floor, safety * change)
 
 
+def _closed_form_only(ms, lk, cp) -> bool:
+    """True where the adaptive kernel solves the scene in closed form throughout: two masses on a
+    linear link at a rigid wall (impulsive contacts, ``stepping.free_flight_linear``). Its runs
+    at rtol and rtol/10 are then one result, so their change says nothing (``_replica_check``)."""
+    return ms.size == 2 and cp[0] == laws.C_RIGID and lk[0, laws.SP_KIND] == laws.S_LINEAR
+
+
+def _replica_scene(ms, lk, cs, r: int) -> tuple:
+    """Replica ``r`` of a two-mass scene in kernel units: masses, link stiffness and dashpot
+    moved by JITTER relative, as the exact kernels' replicas move theirs
+    (``restitution.kernels.replica``)."""
+    from restitution.kernels.replica import JITTER, REPLICA_SEED, weyl
+
+    seed = r * REPLICA_SEED
+    mr = np.array([x * (1.0 + JITTER * weyl(seed + i)) for i, x in enumerate(ms)])
+    lkr = lk.copy()
+    lkr[0, laws.SP_K2] *= 1.0 + JITTER * weyl(seed + 2)
+    cr = cs * (1.0 + JITTER * weyl(seed + 3))
+    return mr, lkr, cr
+
+
+def _replica_check(out, run) -> None:
+    """Fold the replicas of a closed-form-only scene into its row ``out`` (``replica.combine``,
+    in place): its estimate becomes at least REPLICA_SAFETY times their spread, or the row
+    ill-conditioned. ``run(r)`` is replica r's kernel row. (Without it the row's estimate was
+    only the flights' rounding, however sensitive the contact sequence.)"""
+    from restitution.kernels.replica import REPLICAS, combine
+
+    if out[LY.OUT_STATUS] != LY.STATUS_OK:
+        return
+    combine(out, np.array([run(r) for r in range(REPLICAS)]))
+
+
 def _fall_back(fine, setting) -> bool:
     """True where the adaptive result must be the setting's own run: the finer run (returned
     otherwise) did not finish while the setting's did (e.g. its work budget ran out)."""
@@ -205,6 +238,16 @@ def solve_chain(
             # its floor is the larger local-error sum (on one random linear chain the rtol/10
             # run was as far off as the setting's, 0.8 of an estimate floored by its own sum)
             _two_setting_estimate(out, check, ADAPTIVE_SAFETY, both_floors=True)
+        if free_closed and _closed_form_only(ms, lk, cp):
+
+            def replica(r):
+                mr, lkr, cr = _replica_scene(ms, lk, cs, r)
+                return st.solve_scene(
+                    mr, lkr, cr, cp, v0, code, _finer(rtol), step, etol, max_events, work,
+                    no_rows, np.zeros(st.N_ACCT), free_closed, y0,
+                )  # fmt: skip
+
+            _replica_check(out, replica)
     if account is not None:
         account.update(_account(acct, kappa))
     return out, (hist if history else None)
@@ -287,6 +330,18 @@ def solve_chains(
                 out[j, LY.OUT_ERR] = math.inf
             else:
                 _two_setting_estimate(row, other, ADAPTIVE_SAFETY, both_floors=True)
+        for j in range(len(chains)):
+            ms, lkj, cs, cpj = m[j, : n[j]], lk[j, : n[j] - 1], c[j, : n[j] - 1], cp[j]
+            if _closed_form_only(ms, lkj, cpj):
+
+                def replica(r, ms=ms, lkj=lkj, cs=cs, cpj=cpj, v0j=float(v0[j])):
+                    mr, lkr, cr = _replica_scene(ms, lkj, cs, r)
+                    return st.solve_scene(
+                        mr, lkr, cr, cpj, v0j, code, _finer(rtol), step, etol, max_events,
+                        work, np.zeros((0, LY.N_HIST)), np.zeros(st.N_ACCT), True, None,
+                    )  # fmt: skip
+
+                _replica_check(out[j], replica)
     return out
 
 
