@@ -218,3 +218,24 @@ def test_sticking_limit_estimate_covers_a_chatter_that_ends_by_itself():
     actual = abs(r.cor - ref.cor)
     assert actual > 1e-6  # the case the check exists for
     assert actual <= r.error_estimate, (actual, r)
+
+
+@pytest.mark.parametrize(
+    "alpha, xi, ends",
+    [(6.437158260198205, 5.0983171232811655, 7907), (9.042695505897878, 2.8679740678485204, 8032)],
+)
+def test_two_mass_sticking_estimate_covers_a_chatter_ending_long_after_the_cut(alpha, xi, ends):
+    """Two masses, cut at 2001 contacts, whose chatter ends by itself 4 times later: the cut at
+    half the speed gives the same COR (it cuts at the same contact), so only the pure chatter,
+    now run on for up to 16 times the contacts (2.5 before), sees the sticking limit's error
+    (3.4e-9 under an estimate of 1.3e-10, and 8.1e-9 under 4.0e-9 before). The 40-digit
+    reference has no sticking rule."""
+    import restitution as R
+
+    r = R.solve(alpha=alpha, xi=xi)
+    assert r.status == "ok" and r.method == "impulsive+sticking" and r.n_collisions == 2001, r
+    ref = R.solve(alpha=alpha, xi=xi, method="precise")
+    assert ref.status == "ok" and ref.n_collisions == ends, ref
+    actual = abs(r.cor - ref.cor)
+    assert actual > 1e-9  # the case the check exists for
+    assert actual <= r.error_estimate, (actual, r)

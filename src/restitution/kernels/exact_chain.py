@@ -167,6 +167,7 @@ from restitution.kernels.replica import (
     REPLICA_SEED,
     REPLICAS,
     STICK_BUDGET,
+    STICK_BUDGET_RIGID2,
     STICK_SAFETY,
     combine,
     finished,
@@ -1399,6 +1400,13 @@ def _scale_dashpot(m, k, kc, cc):
 
 
 @njit(cache=True, inline="always")
+def _walks_rigid2(ms, kcs, use_rigid2, y0):
+    """Whether _solve_units runs the two-mass walk (kernels.rigid2): two masses at a rigid wall
+    from the uniform approach (the walk starts from it only)."""
+    return use_rigid2 and ms.size == 2 and kcs == math.inf and y0 is None
+
+
+@njit(cache=True, inline="always")
 def _solve_units(
     ms,
     ks,
@@ -1421,12 +1429,11 @@ def _solve_units(
     """(out, closest pass) of one run (_run's; the closest pass is none for two masses at a rigid
     wall, whose kernel walks the gap's critical points in closed form). ``stick`` scales the
     sticking limit's cut-off speed (the half-speed check of _checked_units)."""
-    if use_rigid2 and ms.size == 2 and kcs == math.inf:
-        if y0 is None:  # (the closed-form kernel starts from the uniform approach only)
-            # Two masses at a rigid wall: the dedicated closed-form kernel (alpha, xi) is faster.
-            xi = cs[0] / (2.0 * ks[0])
-            out = _rigid2(ms[1], xi, max_events, hist, stick * V_STICK_RIGID2, jitter, seed)
-            return out, np.array([math.inf, -1.0, 0.0, 0.0])
+    if _walks_rigid2(ms, kcs, use_rigid2, y0):
+        # Two masses at a rigid wall: the dedicated closed-form kernel (alpha, xi) is faster.
+        xi = cs[0] / (2.0 * ks[0])
+        out = _rigid2(ms[1], xi, max_events, hist, stick * V_STICK_RIGID2, jitter, seed)
+        return out, np.array([math.inf, -1.0, 0.0, 0.0])
     rec = np.zeros((0, 3 + 2 * ms.size))
     out, _, closest = _run(
         ms,
@@ -1581,7 +1588,8 @@ def _checked_units(
         put_row(reps, REPLICAS, row)
     out = combine(out, reps[: REPLICAS + extra])
     if int(out[OUT_FLAGS]) & FLAG_STICKING:  # the cut-off, measured (replica.stick_check)
-        budget = min(max_events, int(STICK_BUDGET * out[OUT_NCOL]) + 100)
+        factor = STICK_BUDGET_RIGID2 if _walks_rigid2(ms, kcs, use_rigid2, y0) else STICK_BUDGET
+        budget = min(max_events, int(factor * out[OUT_NCOL]) + 100)
         pure = _solve_units(
             ms, ks, cs, kcs, budget, nohist, work_max, use_rigid2, 0.0, 0, stick=0.0, y0=y0
         )[0]

@@ -100,7 +100,7 @@ from restitution.kernels.replica import (
     PURE_SAFETY,
     REPLICA_SEED,
     REPLICAS,
-    STICK_BUDGET,
+    STICK_BUDGET_RIGID2,
     STICK_SAFETY,
     combine,
     finished,
@@ -687,7 +687,7 @@ def rigid2(alpha, xi, max_events, hist):
     out = combine(out, reps)
     if int(out[OUT_FLAGS]) & FLAG_STICKING:  # the cut-off, measured (replica.stick_check)
         nohist = np.zeros((0, N_HIST))
-        budget = min(max_events, int(STICK_BUDGET * out[OUT_NCOL]) + 100)
+        budget = min(max_events, int(STICK_BUDGET_RIGID2 * out[OUT_NCOL]) + 100)
         pure = _rigid2(alpha, xi, budget, nohist, 0.0, 0.0)
         if finished(pure[OUT_STATUS]):
             return stick_check(out, pure, PURE_SAFETY)
