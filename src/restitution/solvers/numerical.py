@@ -139,16 +139,25 @@ def _replica_scene(ms, lk, cs, r: int) -> tuple:
     return mr, lkr, cr
 
 
-def _replica_check(out, run) -> None:
+def _replica_check(out, ms, lk, cs, cp, v0, y0, settings) -> None:
     """Fold the replicas of a closed-form-only scene into its row ``out`` (``replica.combine``,
     in place): its estimate becomes at least REPLICA_SAFETY times their spread, or the row
-    ill-conditioned. ``run(r)`` is replica r's kernel row. (Without it the row's estimate was
-    only the flights' rounding, however sensitive the contact sequence.)"""
+    ill-conditioned. ``settings`` = (code, rtol, step, etol, max_events, work) of the kernel
+    run that ``out`` is. (Without it the row's estimate was only the flights' rounding, however
+    sensitive the contact sequence.)"""
     from restitution.kernels.replica import REPLICAS, combine
 
     if out[LY.OUT_STATUS] != LY.STATUS_OK:
         return
-    combine(out, np.array([run(r) for r in range(REPLICAS)]))
+    st = _kernels()
+    rows = np.zeros((0, LY.N_HIST))
+    reps = [
+        st.solve_scene(
+            *_replica_scene(ms, lk, cs, r), cp, v0, *settings, rows, np.zeros(st.N_ACCT), True, y0
+        )  # fmt: skip
+        for r in range(REPLICAS)
+    ]
+    combine(out, np.array(reps))
 
 
 def _fall_back(fine, setting) -> bool:
@@ -239,15 +248,8 @@ def solve_chain(
             # run was as far off as the setting's, 0.8 of an estimate floored by its own sum)
             _two_setting_estimate(out, check, ADAPTIVE_SAFETY, both_floors=True)
         if free_closed and _closed_form_only(ms, lk, cp):
-
-            def replica(r):
-                mr, lkr, cr = _replica_scene(ms, lk, cs, r)
-                return st.solve_scene(
-                    mr, lkr, cr, cp, v0, code, _finer(rtol), step, etol, max_events, work,
-                    no_rows, np.zeros(st.N_ACCT), free_closed, y0,
-                )  # fmt: skip
-
-            _replica_check(out, replica)
+            settings = (code, _finer(rtol), step, etol, max_events, work)
+            _replica_check(out, ms, lk, cs, cp, v0, y0, settings)
     if account is not None:
         account.update(_account(acct, kappa))
     return out, (hist if history else None)
@@ -330,18 +332,11 @@ def solve_chains(
                 out[j, LY.OUT_ERR] = math.inf
             else:
                 _two_setting_estimate(row, other, ADAPTIVE_SAFETY, both_floors=True)
+        settings = (code, _finer(rtol), step, etol, max_events, work)
         for j in range(len(chains)):
             ms, lkj, cs, cpj = m[j, : n[j]], lk[j, : n[j] - 1], c[j, : n[j] - 1], cp[j]
             if _closed_form_only(ms, lkj, cpj):
-
-                def replica(r, ms=ms, lkj=lkj, cs=cs, cpj=cpj, v0j=float(v0[j])):
-                    mr, lkr, cr = _replica_scene(ms, lkj, cs, r)
-                    return st.solve_scene(
-                        mr, lkr, cr, cpj, v0j, code, _finer(rtol), step, etol, max_events,
-                        work, np.zeros((0, LY.N_HIST)), np.zeros(st.N_ACCT), True, None,
-                    )  # fmt: skip
-
-                _replica_check(out[j], replica)
+                _replica_check(out[j], ms, lkj, cs, cpj, float(v0[j]), None, settings)
     return out
 
 
