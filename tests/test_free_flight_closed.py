@@ -105,7 +105,7 @@ def test_increments_of_the_basis_against_mpmath(xi):
 @pytest.mark.parametrize("velocities", [None, [-1.4259545399149562, 1.4890106392301425]])
 def test_closed_form_run_error_within_its_estimate(velocities):
     """Two masses at a rigid wall: the adaptive kernel's run is closed form throughout, so its
-    runs at rtol and rtol/10 are one result. Its estimate is the flights' rounding and its
+    runs at rtol and rtol/100 are one result. Its estimate is the flights' rounding and its
     replicas' spread (the estimate was 0, the COR 5.7e-9 off: 2,264 contacts)."""
     kw = dict(masses=[1.0, 30.941746848571587], springs=[22.33713129533995],
               dashpots=[6.4079345737101026])  # fmt: skip

@@ -243,7 +243,7 @@ def test_random_chains_agree_with_solve_ivp(n, which):
     r = solve_nonlinear_chain(m, k, c, contact, None, v0, rtol=1e-12)
     # the reference at scipy's tightest rtol: at 1e-12 it was 1.0e-9 off in t_col on one
     # five-mass Hunt-Crossley chain and 1.2e-11 off in the COR of the two-mass Hertz chain (2, 0)
-    # against mpmath (benchmarks/mp_nonlinear.py), where the kernel's result (its rtol/10 run)
+    # against mpmath (benchmarks/mp_nonlinear.py), where the kernel's result (then its rtol/10 run)
     # was 1.4e-14 off with an estimate of 1.1e-12; at 1e-13 it was 9.1e-12 off on (3, 6), where
     # at 2.5e-14 it met the kernel's runs at rtol 1e-11..1e-14 (which agree to 8e-15) to 5e-14
     cor, ncol, tcol = reference(m, k, c, contact, None, v0, rtol=2.5e-14)

@@ -82,3 +82,38 @@ def test_plastic_scene_against_the_reference():
     assert r.status == "ok" and r.n_collisions == sc.reference_contacts
     assert abs(r.cor - sc.reference_cor) < 1e-12 + sc.reference_bound
     assert abs(r.cor - sc.reference_cor) <= r.error_estimate + sc.reference_bound
+
+
+# Two random Hertz chains (benchmarks/mp_nonlinear.py: 30 and 40 digits agree to 1e-20) whose
+# adaptive runs at rtol 1e-6 and 1e-7 lay on one plateau of their error (1.43e-6 and 1.60e-6;
+# 9.45e-7 and 1.13e-6 off): with the check one decade finer, the rtol/10 result was outside its
+# estimate (2.0 and 1.3 times). The check two decades finer sees the plateau.
+PLATEAU = [
+    (
+        dict(
+            masses=[1.0, 34.451416510053505],
+            springs=[0.04976077016136915],
+            dashpots=[0.015684767203690976],
+            contact={"law": "hertz", "k": 32.28786140190496},
+        ),
+        0.93950859440872603917,
+        21,
+    ),
+    (
+        dict(
+            masses=[1.0, 12.525210938790599, 1.0101242447044905],
+            springs=[0.052270101597704, 4.13046215293787],
+            contact={"law": "hertz", "k": 44.660433130849576},
+        ),
+        0.94939678227002860277,
+        9,
+    ),
+]
+
+
+@pytest.mark.parametrize("kw, ref, ncol", PLATEAU, ids=["hertz2", "hertz3"])
+@pytest.mark.parametrize("rtol", [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-10, 1e-12])
+def test_adaptive_estimate_holds_where_two_runs_share_their_error(kw, ref, ncol, rtol):
+    r = R.solve(**kw, method="adaptive", rtol=rtol)
+    assert r.status == "ok" and r.n_collisions == ncol
+    assert abs(r.cor - ref) <= r.error_estimate

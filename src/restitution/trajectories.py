@@ -8,7 +8,7 @@ the requested times, in the scene's own units, from the same event sequence the 
 * every other scene (Hertz, plastic contact, scissor links; the Kelvin-Voigt contact too, which
   ``solve`` takes exactly) from the solver's own adaptive run
   (``restitution.kernels.stepping.sample_scene``: the same DOP853 steps and events as the run
-  at rtol/10 that ``solve`` returns, its result bit for bit), each sample from the 7th-order
+  at rtol/100 that ``solve`` returns, its result bit for bit), each sample from the 7th-order
   dense output of the step that crosses it (in sigma = sqrt(x) at the ends of a power-law
   contact, in closed form in the free flight of two masses with a linear link);
   ``attrs["method"]`` is ``"adaptive"`` and ``attrs["rtol"]`` its tolerance (the setting).
@@ -154,8 +154,8 @@ def _sample_adaptive(ch: Chain, wt: np.ndarray, rtol: float, max_events: int):
     """(y, f, (evt, evk), hist, out) of the adaptive method's run of ``ch`` at the kernel times
     wt (any order): states (len(wt), 2n + 2) and forces in the stepping kernels' units (m_1 = 1,
     omega = 1, the scene's speed unit), the contact events (times, kinds), the history and the
-    result row. The run is the one ``solve`` returns for this rtol: its finer run (rtol/10), or
-    where that one does not finish the setting's own."""
+    result row. The run is the one ``solve`` returns for this rtol: its finer run
+    (``numerical._finer``: rtol/100), or where that one does not finish the setting's own."""
     from restitution.kernels import layout as LY
     from restitution.kernels import stepping
     from restitution.solvers.numerical import _default_etol, _finer, packed

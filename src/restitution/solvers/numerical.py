@@ -10,10 +10,10 @@ scipy reference (``restitution.solvers.reference``, two masses). The method is c
 ``restitution.solvers.methods`` (``METHODS``), never here.
 
 ``error_estimate`` of a numerical method is the change of the COR between two settings:
-|cor(h/2) - cor(h)| for ``verlet``; |cor(rtol) - cor(rtol/10)| for ``adaptive``, at least the
-sum of its local error estimates of the total momentum (/ M v0); |cor(rtol) - cor(rtol/10)|, at
-least rtol, for ``reference``. All three return their finer run (``verlet`` h/2, ``adaptive``
-and ``reference`` rtol/10: local extrapolation, the accuracy of the run the estimate already
+|cor(h/2) - cor(h)| for ``verlet``; 4 |cor(rtol) - cor(rtol/100)| for ``adaptive``, at least
+the sum of its local error estimates of the total momentum (/ M v0); |cor(rtol) - cor(rtol/10)|,
+at least rtol, for ``reference``. All three return their finer run (``verlet`` h/2, ``adaptive``
+rtol/100, ``reference`` rtol/10: local extrapolation, the accuracy of the run the estimate already
 paid for); the estimate stays the one sized for the setting's run (the adaptive floor the larger
 of the two runs' local-error sums). Where only the finer run failed, the setting's own run is
 returned with an infinite estimate. The checks run finer, not coarser: DOP853's errors at rtol
@@ -21,9 +21,11 @@ and 10 rtol were of one size and sign on long sequences (98 contacts: 2.2e-8 and
 their difference fell below the error, while the finer run's error is a tenth of it; the
 reference's plastic contacts at rtol >= 1e-8 were sized by its max_step (1/50 of a period), not
 rtol (the same 2.47e-8 off at rtol 1e-6, 1e-7 and 1e-8), so its check at 10 rtol had left 7 of
-80 random plastic rows outside the estimate at rtol 1e-8 (up to 2.5 times). Not divided by
-the Richardson factor (3 for a second-order method, ~1 for DOP853 at proportional tolerance): the
-hard-case suite (tests/test_hard.py) measured errors 1.5 to
+80 random plastic rows outside the estimate at rtol 1e-8 (up to 2.5 times). The adaptive check
+is two decades finer, not one (``ADAPTIVE_GAP``): one decade apart, the two runs were often as far
+off as each other (random chains, rtol 1e-6: 36 of 36,524 rows outside, up to 30 times). Not
+divided by the Richardson factor (3 for a second-order method, ~1 for DOP853 at proportional
+tolerance): the hard-case suite (tests/test_hard.py) measured errors 1.5 to
 6000 times above such asymptotic estimates, because contact events fall between steps and shallow
 contacts appear or vanish with the setting, so convergence is not asymptotic there.
 """
@@ -70,10 +72,25 @@ def _coarser(rtol: float) -> float:
 # 1e-8 under an estimate of 1e-7).
 
 
+# The adaptive method's check run is ADAPTIVE_GAP times finer than the setting, and it is the run
+# returned. One decade apart (the rule until 2026-11-27) the two runs often shared their error: a
+# two-mass Hertz chain was 1.60e-6 and 1.43e-6 off at rtol 1e-6 and 1e-7, then 8.4e-8 at 1e-8.
+# On 36,488 random chains of 2-4 masses (Hertz, plastic, linear and Hunt-Crossley contacts,
+# scissor links on a quarter, dashpots; against the rtol 1e-14 run, rows whose reference estimate
+# is below a tenth of theirs) the result was outside its estimate on 21 rows at rtol 1e-4 (up to
+# 15.9 times), 37 at 1e-6 (up to 144 times), 2 at 1e-9 (1.37 times), none at 1e-11. Two decades
+# apart: 4 (2.1 times), 1 (3.6 times), none, none. The pair costs 1 + 1.8 runs at the setting
+# (DOP853's work grows like rtol**(-1/8)) instead of 1 + 1.33, for the rtol/100 run's result: at
+# equal error it is cheaper than the old pair was (1.33 + 1.8). Measured on 3,650 such rows per
+# call of solve_many: 0-13 % longer at equal rtol (rtol 1e-4..1e-14).
+ADAPTIVE_GAP = 100.0
+FINEST_RTOL = 1e-15  # the finest check run, still above DOP853's round-off floor
+
+
 def _finer(rtol: float) -> float:
-    """The adaptive method's check setting (rtol/10; the declared floor 1e-14 checks at 1e-15,
-    still above DOP853's round-off floor)."""
-    return rtol / 10.0
+    """The adaptive method's check setting, the run it returns: rtol / ADAPTIVE_GAP, at least
+    FINEST_RTOL (the declared floor 1e-14 checks at 1e-15)."""
+    return max(rtol / ADAPTIVE_GAP, FINEST_RTOL)
 
 
 # Verlet's convergence in the step is erratic (contacts fall between steps): |cor(h) - cor(h/2)|
@@ -99,7 +116,7 @@ def _verlet_estimate(out, coarse, fine) -> None:
     out[LY.OUT_ERR] = VERLET_SAFETY * change
 
 
-# The adaptive method's error estimate is ADAPTIVE_SAFETY x its COR change against rtol/10
+# The adaptive method's error estimate is ADAPTIVE_SAFETY x its COR change against _finer(rtol)
 # (tests/test_accuracy.py checks it against the exact kernels on random linear-contact chains).
 ADAPTIVE_SAFETY = 4.0
 
@@ -121,7 +138,7 @@ def _two_setting_estimate(out, check, safety=1.0, both_floors=False) -> None:
 def _closed_form_only(ms, lk, cp) -> bool:
     """True where the adaptive kernel solves the scene in closed form throughout: two masses on a
     linear link at a rigid wall (impulsive contacts, ``stepping.free_flight_linear``). Its runs
-    at rtol and rtol/10 are then one result, so their change says nothing (``_replica_check``)."""
+    at rtol and rtol/100 are then one result, so their change says nothing (``_replica_check``)."""
     return ms.size == 2 and cp[0] == laws.C_RIGID and lk[0, laws.SP_KIND] == laws.S_LINEAR
 
 
@@ -243,8 +260,8 @@ def solve_chain(
             out = run(rtol, step, hist, acct)
             out[LY.OUT_ERR] = math.inf
         else:
-            # the estimate sized for the setting's run, as before the rtol/10 run was returned:
-            # its floor is the larger local-error sum (on one random linear chain the rtol/10
+            # the estimate sized for the setting's run, as before the finer run was returned:
+            # its floor is the larger local-error sum (on one random linear chain the finer
             # run was as far off as the setting's, 0.8 of an estimate floored by its own sum)
             _two_setting_estimate(out, check, ADAPTIVE_SAFETY, both_floors=True)
         if free_closed and _closed_form_only(ms, lk, cp):
@@ -371,7 +388,7 @@ def solve_reference_chain(
             steps_per_period=steps,
         )  # fmt: skip
 
-    finer = max(_finer(rtol), SCIPY_RTOL_FLOOR)
+    finer = max(rtol / 10.0, SCIPY_RTOL_FLOOR)
     if finer < rtol:
         check, _ = run(rtol, np.zeros(5), STEPS_PER_PERIOD / 2)
         out, hist = run(finer, acct)
