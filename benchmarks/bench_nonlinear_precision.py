@@ -8,7 +8,7 @@ plastic contact (the hard suite's ``plastic`` scene: eta = 0.5, reloads past the
 reference is ``benchmarks/mp_nonlinear.py`` (mpmath Taylor series, sigma = sqrt(x) at the power
 law's ends) at 30 and 40 digits; its bound is their difference. For every rtol the adaptive
 method's median time per solve (one thread, checks included: ``restitution.solve`` runs the
-setting and its check at rtol/10), its actual COR error and its ``error_estimate`` are printed;
+setting and its check at rtol/100; rtol/10 until 2026-11-27), its actual COR error and its ``error_estimate`` are printed;
 for the two-mass scenes the same for scipy's ``solve_ivp`` (DOP853, LSODA, Radau, RK45, with
 terminal events; ``restitution.solvers.reference``). Then, per target error, the fastest setting
 of each family that reached it, and the ratio. Runs unchanged on an older checkout (public API
