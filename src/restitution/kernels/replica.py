@@ -106,7 +106,9 @@ STICK_BUDGET = 2.5
 # than 2.5 times the row's contacts after the cut (2.9, 5.6 and 10.7 times) with the sticking
 # limit outside its estimate (1.05e-9 under 2.8e-11; 4.2e-8 under 2.3e-8): a later cut does not
 # see that error, which comes from how such a chatter ends, not from where it is cut. The general
-# chain's locator costs 10-100 us a contact, so its budget stays 2.5 (docs/solvers.md).
+# chain's locator costs 10-100 us a contact, so its budget stays 2.5: of 458 random sticking rows of
+# 3-5 masses, 49 chatters ended more than 2.5 times the row's contacts after the start, none outside
+# its estimate (worst 0.75; docs/solvers.md).
 STICK_BUDGET_RIGID2 = 16.0
 STICK_SAFETY = 4.0
 PURE_SAFETY = 2.0  # the exact chatter's difference, with room for both runs' round-off
