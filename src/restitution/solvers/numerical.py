@@ -85,6 +85,12 @@ def _coarser(rtol: float) -> float:
 # call of solve_many: 0-13 % longer at equal rtol (rtol 1e-4..1e-14).
 ADAPTIVE_GAP = 100.0
 FINEST_RTOL = 1e-15  # the finest check run, still above DOP853's round-off floor
+# The work budget of both adaptive runs, in units of ``max_work``: the finer run's work is about
+# 10**(2/8) = 1.8 times the setting's (DOP853). With one budget, a long scissor sequence (alpha
+# 1.9e4, L = 57, 2026-11-27) finished at rtol 1e-9 and ran out at 1e-11, so the row lost its
+# estimate; the check run has the same budget, so that a scene whose finer run finishes is never
+# left without one (a plastic scene at alpha 1.2e4 ran out at rtol 1e-9 only).
+FINER_WORK = 2.0
 
 
 def _finer(rtol: float) -> float:
@@ -222,12 +228,12 @@ def solve_chain(
 
     ``ch`` is a validated ``Chain`` and the settings are checked by the caller
     (``methods.options``). ``max_work`` is the work budget in right-hand-side evaluations
-    (default ``stepping.MAX_WORK_DEFAULT``); ``energy_tol`` the energy-account tolerance
-    (default ``_default_etol``); ``account``, if given, is filled with the energy account at
-    the final separation: kinetic, elastic, dissipated_contact, dissipated_dashpot, residual
-    (fractions of the initial energy) and the plastic law's kappa (kernel units; nan for other
-    laws). ``free_closed`` = False integrates the free flight of two masses with a linear link
-    instead of its closed form (checks only).
+    (default ``stepping.MAX_WORK_DEFAULT``; each adaptive run gets FINER_WORK times it);
+    ``energy_tol`` the energy-account tolerance (default ``_default_etol``); ``account``, if
+    given, is filled with the energy account at the final separation: kinetic, elastic,
+    dissipated_contact, dissipated_dashpot, residual (fractions of the initial energy) and the
+    plastic law's kappa (kernel units; nan for other laws). ``free_closed`` = False integrates
+    the free flight of two masses with a linear link instead of its closed form (checks only).
     """
     st = _kernels()
     _check_stepping(method)
@@ -244,9 +250,9 @@ def solve_chain(
     # a given initial state in the stepping kernels' units: speeds as given, lengths * omega
     y0 = ch.initial_state(1.0 / ch.omega, 1.0)
 
-    def run(tol, stp, rows, acc):
+    def run(tol, stp, rows, acc, budget=work):
         return st.solve_scene(
-            ms, lk, cs, cp, v0, code, tol, stp, etol, max_events, work, rows, acc, free_closed, y0
+            ms, lk, cs, cp, v0, code, tol, stp, etol, max_events, budget, rows, acc, free_closed, y0
         )
 
     if method == "verlet":
@@ -254,10 +260,11 @@ def solve_chain(
         out = run(rtol, step / 2, hist, acct)
         _verlet_estimate(out, coarse, run(rtol, step / 4, no_rows, np.zeros(st.N_ACCT)))
     else:
-        check = run(rtol, step, no_rows, np.zeros(st.N_ACCT))
-        out = run(_finer(rtol), step, hist, acct)
+        budget = FINER_WORK * work
+        check = run(rtol, step, no_rows, np.zeros(st.N_ACCT), budget)
+        out = run(_finer(rtol), step, hist, acct, budget)
         if _fall_back(out, check):  # the finer run failed: the setting's own, no estimate
-            out = run(rtol, step, hist, acct)
+            out = run(rtol, step, hist, acct, budget)
             out[LY.OUT_ERR] = math.inf
         else:
             # the estimate sized for the setting's run, as before the finer run was returned:
@@ -265,7 +272,7 @@ def solve_chain(
             # run was as far off as the setting's, 0.8 of an estimate floored by its own sum)
             _two_setting_estimate(out, check, ADAPTIVE_SAFETY, both_floors=True)
         if free_closed and _closed_form_only(ms, lk, cp):
-            settings = (code, _finer(rtol), step, etol, max_events, work)
+            settings = (code, _finer(rtol), step, etol, max_events, FINER_WORK * work)
             _replica_check(out, ms, lk, cs, cp, v0, y0, settings)
     if account is not None:
         account.update(_account(acct, kappa))
@@ -334,22 +341,23 @@ def solve_chains(
     work = float(st.MAX_WORK_DEFAULT if max_work is None else max_work)
     code = st.METHOD_VERLET if method == "verlet" else st.METHOD_ADAPTIVE
 
-    def run(tol, stp):
-        return st.solve_scene_batch(m, lk, c, n, cp, v0, code, tol, stp, etol, max_events, work)
+    def run(tol, stp, budget=work):
+        return st.solve_scene_batch(m, lk, c, n, cp, v0, code, tol, stp, etol, max_events, budget)
 
     if method == "verlet":
         coarse, out, fine = run(rtol, step), run(rtol, step / 2), run(rtol, step / 4)
         for row, c_, f in zip(out, coarse, fine, strict=True):
             _verlet_estimate(row, c_, f)
     else:
-        check, out = run(rtol, step), run(_finer(rtol), step)
+        budget = FINER_WORK * work
+        check, out = run(rtol, step, budget), run(_finer(rtol), step, budget)
         for j, (row, other) in enumerate(zip(out, check, strict=True)):
             if _fall_back(row, other):
                 out[j] = other
                 out[j, LY.OUT_ERR] = math.inf
             else:
                 _two_setting_estimate(row, other, ADAPTIVE_SAFETY, both_floors=True)
-        settings = (code, _finer(rtol), step, etol, max_events, work)
+        settings = (code, _finer(rtol), step, etol, max_events, FINER_WORK * work)
         for j in range(len(chains)):
             ms, lkj, cs, cpj = m[j, : n[j]], lk[j, : n[j] - 1], c[j, : n[j] - 1], cp[j]
             if _closed_form_only(ms, lkj, cpj):
