@@ -87,7 +87,9 @@ def test_plastic_scene_against_the_reference():
 # Two random Hertz chains (benchmarks/mp_nonlinear.py: 30 and 40 digits agree to 1e-20) whose
 # adaptive runs at rtol 1e-6 and 1e-7 lay on one plateau of their error (1.43e-6 and 1.60e-6;
 # 9.45e-7 and 1.13e-6 off): with the check one decade finer, the rtol/10 result was outside its
-# estimate (2.0 and 1.3 times). The check two decades finer sees the plateau.
+# estimate (2.0 and 1.3 times). The check two decades finer sees the plateau. Then two random
+# two-mass plastic scenes (eta = 0.5, one contact; 30 and 40 digits agree to 1e-22) whose rtol
+# 1e-5 result was outside the estimate of the runs at 1e-4 and 1e-5 (2.0 and 1.7 times).
 PLATEAU = [
     (
         dict(
@@ -108,10 +110,40 @@ PLATEAU = [
         0.94939678227002860277,
         9,
     ),
+    (
+        dict(
+            masses=[1.0, 0.07906624565945466],
+            springs=[0.7659650129375085],
+            contact={
+                "law": "plastic",
+                "k": 8.138157369621515,
+                "eta": 0.5,
+                "dr": 0.8617676273025765,
+            },
+        ),
+        0.3784618607989551273966,
+        1,
+    ),
+    (
+        dict(
+            masses=[1.0, 0.09509049915486013],
+            springs=[3.8703232171252906],
+            contact={
+                "law": "plastic",
+                "k": 37.48229531350965,
+                "eta": 0.5,
+                "dr": 0.8707371974052436,
+            },
+        ),
+        0.3679391317845677659418,
+        1,
+    ),
 ]
 
 
-@pytest.mark.parametrize("kw, ref, ncol", PLATEAU, ids=["hertz2", "hertz3"])
+@pytest.mark.parametrize(
+    "kw, ref, ncol", PLATEAU, ids=["hertz2", "hertz3", "plastic2a", "plastic2b"]
+)
 @pytest.mark.parametrize("rtol", [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-10, 1e-12])
 def test_adaptive_estimate_holds_where_two_runs_share_their_error(kw, ref, ncol, rtol):
     r = R.solve(**kw, method="adaptive", rtol=rtol)
