@@ -84,6 +84,12 @@ def test_plastic_scene_against_the_reference():
     assert abs(r.cor - sc.reference_cor) <= r.error_estimate + sc.reference_bound
 
 
+def _plastic2(m2, k12, k1, dr):
+    """Two masses on the paper's plastic contact with eta = 0.5 (m1 = 1, v0 = 1)."""
+    return dict(masses=[1.0, m2], springs=[k12],
+                contact={"law": "plastic", "k": k1, "eta": 0.5, "dr": dr})  # fmt: skip
+
+
 # Two random Hertz chains (benchmarks/mp_nonlinear.py: 30 and 40 digits agree to 1e-20) whose
 # adaptive runs at rtol 1e-6 and 1e-7 lay on one plateau of their error (1.43e-6 and 1.60e-6;
 # 9.45e-7 and 1.13e-6 off): with the check one decade finer, the rtol/10 result was outside its
@@ -111,30 +117,12 @@ PLATEAU = [
         9,
     ),
     (
-        dict(
-            masses=[1.0, 0.07906624565945466],
-            springs=[0.7659650129375085],
-            contact={
-                "law": "plastic",
-                "k": 8.138157369621515,
-                "eta": 0.5,
-                "dr": 0.8617676273025765,
-            },
-        ),
+        _plastic2(0.07906624565945466, 0.7659650129375085, 8.138157369621515, 0.8617676273025765),
         0.3784618607989551273966,
         1,
     ),
     (
-        dict(
-            masses=[1.0, 0.09509049915486013],
-            springs=[3.8703232171252906],
-            contact={
-                "law": "plastic",
-                "k": 37.48229531350965,
-                "eta": 0.5,
-                "dr": 0.8707371974052436,
-            },
-        ),
+        _plastic2(0.09509049915486013, 3.8703232171252906, 37.48229531350965, 0.8707371974052436),
         0.3679391317845677659418,
         1,
     ),

@@ -158,12 +158,12 @@ def _sample_adaptive(ch: Chain, wt: np.ndarray, rtol: float, max_events: int):
     (``numerical._finer``: rtol/100), or where that one does not finish the setting's own."""
     from restitution.kernels import layout as LY
     from restitution.kernels import stepping
-    from restitution.solvers.numerical import FINER_WORK, _default_etol, _finer, packed
+    from restitution.solvers.numerical import _default_etol, _finer, _work_budget, packed
 
     ms, lk, cs, cp, _, _ = packed(ch)
     order = np.argsort(wt, kind="stable")
     etol = _default_etol("adaptive", rtol, 0.0)
-    budget = FINER_WORK * stepping.MAX_WORK_DEFAULT  # (as solve runs them)
+    budget = _work_budget("adaptive")  # (as solve runs them)
     for tol in (_finer(rtol), rtol):
         hist = np.zeros((max_events, LY.N_HIST))
         with blas.one_thread(ch.n_masses):
