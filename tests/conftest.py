@@ -70,7 +70,8 @@ def solve_paper_law(
     """A paper-form scene with the law keywords of ``restitution.solve`` (contact, eta, dr,
     structure, L, ks_ratio, theta0, corner, v0) on the one numerical stack, with the knobs the
     public API does not show: the energy ``account`` (a dict filled in), ``energy_tol`` and
-    ``free_closed`` (False: the free flight of two masses integrated, not closed form)."""
+    ``free_closed`` (False: the free flight of two masses, and the plastic law's elastic line on an
+    undamped link, integrated, not closed form)."""
     from restitution.model.chain import paper_with_laws
     from restitution.solvers import numerical
 

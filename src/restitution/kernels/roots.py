@@ -13,13 +13,14 @@ Conventions: ``f(x, *args)`` returns f(x); ``fdf(x, *args)`` returns (f(x), f'(x
 ``fd2(x, *args)`` returns (f(x), f'(x), f''(x)). Finders that need no function (the cubics of
 the locator's step and of rigid2's first guess) are plain functions.
 
-Users: the event locator (``first_cubic_root``, ``newton_polish``, ``bisection`` of the gap's
-slope for x_max), the two-mass walk rigid2 (``halley_bracketed``, ``newton_bracketed``,
+Users: the event locator (``first_cubic_root``, ``newton_polish``, ``bisection`` of the gap's slope
+for x_max), the two-mass walk rigid2 (``halley_bracketed``, ``newton_bracketed``,
 ``newton_descent``, ``expansion``, ``hermite_cubic_root``), the chain kernel's eigenvalues
-(``threshold_bisection``), the stepping kernel's closed-form free flight (``newton_bisection``)
-and the integrators' events (``first_root``: the first root of a polynomial on [0, 1], certified
-by Bernstein bounds, polished by ``newton_bisection``). Not here:
-``restitution.model.laws.structure_extent`` (the model layer imports no kernel).
+(``threshold_bisection``), the stepping kernel's closed-form free flight and the plastic law's
+closed-form elastic phase (``newton_bisection``) and the integrators' events (``first_root``: the
+first root of a polynomial on [0, 1], certified by Bernstein bounds, polished by
+``newton_bisection``). Not here: ``restitution.model.laws.structure_extent`` (the model layer
+imports no kernel).
 """
 
 import math

@@ -17,7 +17,9 @@ mass X moves at constant V and r = u2 - u1 solves r'' + 2 xi w r' + w**2 r = 0, 
 g = u1 + xp = X + xp - mu r has |g''| <= G = mu w**2 sqrt(1 + 4 xi**2) sqrt(r0**2 + (r0'/w)**2)
 (the oscillator's energy never grows). The next contact is found by a scan whose intervals are
 skipped only when min(g(a), g(b)) - G h**2/8 > 0 (the linear interpolation error bound): no
-sampling gamble, shallow dips are subdivided until resolved.
+sampling gamble, shallow dips are subdivided until resolved. On such a link without a dashpot,
+the plastic law's elastic line (unloading and reloading below xmax) is closed form as well
+(``kernels/elastic2.py``): only the power-law loading is integrated.
 
 Contact phases are two-branch machines whose switches are all linear events (integrators.py):
 plastic: loading --(x' = 0)--> elastic --(x = xmax)--> loading, elastic --(x = xp)--> separated;
@@ -47,6 +49,7 @@ import numpy as np
 from restitution.jit import njit
 from restitution.kernels.constants import EPS
 from restitution.kernels.copies import copy_into
+from restitution.kernels.elastic2 import EL_FAIL, EL_INTEGRATE, elastic_at, elastic_phase
 from restitution.kernels.integrators import (
     EV_FAIL,
     EV_STOP,
@@ -691,6 +694,8 @@ def _adaptive(
     """The adaptive run from y (a contact at t = 0, or with ``free0`` a free flight first)."""
     n = m.shape[0]
     closed = free_closed and n == 2 and lk[0, SP_KIND] == S_LINEAR
+    # the plastic law's elastic line in closed form too (kernels/elastic2.py): undamped link
+    elastic_closed = closed and cp[0] == C_PLASTIC and c[0] == 0.0
     ny = 2 * n + 2
     atol = rtol * v0
     kind = int(cp[0])
@@ -760,10 +765,22 @@ def _adaptive(
                     B[0] -= x_sw
                 else:
                     x_sw = 0.0
-            code, t, h = rk_phase(
-                y, t, h, 1e300, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev,
-                STOP_NEVER, work, err_acc, ws,
-            )  # fmt: skip
+            code = EL_INTEGRATE
+            if elastic_closed and mem[M_BRANCH] == 0.0:
+                code, s, err = elastic_phase(
+                    y, mem[M_XP], mem[M_XMAX], m[0], m[1], lk[0, SP_K2], cp[1], work
+                )  # fmt: skip
+                if code == EL_FAIL:
+                    return _fail(work), ncol, tcol, err_acc[0]
+                if code != EL_INTEGRATE:
+                    t += s
+                    err_acc[0] += err
+                    h = hc
+            if code == EL_INTEGRATE:
+                code, t, h = rk_phase(
+                    y, t, h, 1e300, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev,
+                    STOP_NEVER, work, err_acc, ws,
+                )  # fmt: skip
             if code == EV_FAIL or code == EV_STOP:
                 return _fail(work), ncol, tcol, err_acc[0]
             if code == 0 and x_sw > 0.0:
@@ -1029,6 +1046,17 @@ def _sample_free_linear(y0, t0, t_hi, m, lk, c, ts, si, Ys, Fs):
 
 
 @njit(cache=True, error_model="numpy", refcount=False)
+def _sample_elastic(y0, t0, t_hi, mem, m, lk, cp, ts, si, Ys, Fs):
+    """Fill the samples in [t0, t_hi) from the closed-form elastic phase from y0 at t0."""
+    while si[0] < ts.shape[0] and ts[si[0]] < t_hi:
+        k = si[0]
+        Fs[k] = elastic_at(
+            y0, mem[M_XP], m[0], m[1], lk[0, SP_K2], cp[1], ts[k] - t0, Ys[k]
+        )  # fmt: skip
+        si[0] += 1
+
+
+@njit(cache=True, error_model="numpy", refcount=False)
 def _event(evt, evk, cnt, t, kind):
     j = cnt[0]
     if j < evt.shape[0]:
@@ -1062,6 +1090,7 @@ def _adaptive_sampled(
     ``max_work``). ``free0``: a free flight first, as in ``_adaptive``."""
     n = m.shape[0]
     closed = n == 2 and lk[0, SP_KIND] == S_LINEAR
+    elastic_closed = closed and cp[0] == C_PLASTIC and c[0] == 0.0
     ny = 2 * n + 2
     atol = rtol * v0
     kind = int(cp[0])
@@ -1131,10 +1160,24 @@ def _adaptive_sampled(
                     B[0] -= x_sw
                 else:
                     x_sw = 0.0
-            code, t, h = rk_phase_sampled(
-                y, t, h, 1e300, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev,
-                STOP_NEVER, work, err_acc, ts, si, Ys, Fs,
-            )  # fmt: skip
+            code = EL_INTEGRATE
+            if elastic_closed and mem[M_BRANCH] == 0.0:
+                copy_into(y0, y)
+                code, s, err = elastic_phase(
+                    y, mem[M_XP], mem[M_XMAX], m[0], m[1], lk[0, SP_K2], cp[1], work
+                )  # fmt: skip
+                if code == EL_FAIL:
+                    return _fail(work), ncol, tcol, err_acc[0]
+                if code != EL_INTEGRATE:
+                    _sample_elastic(y0, t, t + s, mem, m, lk, cp, ts, si, Ys, Fs)
+                    t += s
+                    err_acc[0] += err
+                    h = hc
+            if code == EL_INTEGRATE:
+                code, t, h = rk_phase_sampled(
+                    y, t, h, 1e300, rtol, atol, m, lk, c, cp, mem, W, B, strip, nev,
+                    STOP_NEVER, work, err_acc, ts, si, Ys, Fs,
+                )  # fmt: skip
             if code == EV_FAIL or code == EV_STOP:
                 return _fail(work), ncol, tcol, err_acc[0]
             if code == 0 and x_sw > 0.0:

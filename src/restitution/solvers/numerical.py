@@ -240,7 +240,8 @@ def solve_chain(
     given, is filled with the energy account at the final separation: kinetic, elastic,
     dissipated_contact, dissipated_dashpot, residual (fractions of the initial energy) and the
     plastic law's kappa (kernel units; nan for other laws). ``free_closed`` = False integrates
-    the free flight of two masses with a linear link instead of its closed form (checks only).
+    the free flight of two masses with a linear link, and the plastic law's elastic line on an
+    undamped one, instead of their closed forms (checks only).
     """
     st = _kernels()
     _check_stepping(method)
