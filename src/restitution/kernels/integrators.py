@@ -38,8 +38,9 @@ both ends of every contact; the plastic law's first loading) makes y(t) a series
 t**(eta + 2), ... that no step across t = 0 resolves at its order. Those stretches are integrated
 in sigma = sqrt(x) instead (``rhs_sigma``, ``sigma_phase``), where x = sigma**2 exactly and the
 motion is smooth for half-integer eta (for other eta the force sigma**(2 eta) is smoother than in
-t but not smooth: ``sigma_first_step``): the exit ends exactly at sigma = 0, so the separation
-needs no event location at all.
+t but not smooth: the step that starts or ends at sigma = 0 is then sized by its singular term,
+``sigma_end_zone``): the exit ends exactly at sigma = 0, so the separation needs no event
+location at all.
 """
 
 from __future__ import annotations
@@ -704,19 +705,48 @@ SIG_FAIL = 2  # step underflow or work budget
 
 
 @njit(cache=True, error_model="numpy", refcount=False)
-def sigma_first_step(span, rtol, eta):
-    """The first step of a sigma stretch: span * min(cap, 0.13 (rtol/1e-12)**(1/8)). At a
-    quarter of the span the first step's error norm was ~100 at rtol 1e-12 (Hertz contacts:
-    a rejected step per stretch); DOP853's error grows like h**8, so this size lands near 0.5.
+def sigma_end_zone(span, rtol, eta):
+    """The length next to sigma = 0 that one step spans where the power law's force
+    sigma**(2 eta) is not smooth there (2 eta not an integer), else 0.
 
-    ``cap`` is 0.25 where the power law's force sigma**(2 eta) is smooth in sigma (2 eta an
-    integer: Hertz, eta = 0.5, 1, ...). Otherwise DOP853's estimate of the first step is not its
-    error, and with that cap a run and its check at rtol/10 took the same first step at every
-    rtol above 2e-10 and shared its error, which their difference cannot see (plastic eta = 0.84:
-    both runs 3.8e-9 off at rtol 1e-8, the estimate 2.6e-9). There the cap is 0.9: the two runs'
-    first steps differ by 10**(1/8) up to rtol 5e-6."""
-    cap = 0.25 if 2.0 * eta == math.floor(2.0 * eta) else 0.9
-    return span * min(cap, 0.13 * (rtol / 1e-12) ** 0.125)
+    The motion then has a term in sigma**(2 eta + 2), and a DOP853 step that starts or ends at
+    sigma = 0 has an error of the order of its length**(2 eta + 2) (relative to the stretch's
+    change) that its own estimate does not see. So that step is |span| rtol**(1/(2 eta + 2))
+    long: its error about rtol. The steps away from sigma = 0 are the controller's (the
+    motion is analytic on each; the singular point off the step only makes the controller grade
+    them). Until 2026-11-28 the first step was sized as in a smooth stretch (capped at 0.9 of
+    the span): a run and its check at rtol/100 took nearly the same first step and shared its
+    error (plastic, eta = 0.69, m2/m1 = 4e-4: 3.8e-7 off at rtol 1e-6, 1.06 times the estimate
+    of the setting rtol 1e-4; 2.4e-10 with a first step of 0.01 of the span)."""
+    if 2.0 * eta == math.floor(2.0 * eta):
+        return 0.0
+    return abs(span) * rtol ** (1.0 / (2.0 * eta + 2.0))
+
+
+@njit(cache=True, error_model="numpy", refcount=False)
+def sigma_first_step(span, rtol, eta, s0):
+    """The first step of a sigma stretch from s0: span * min(0.25, 0.13 (rtol/1e-12)**(1/8)),
+    and at most ``sigma_end_zone`` from a non-smooth sigma = 0. At a quarter of the span the
+    first step's error norm was ~100 at rtol 1e-12 (Hertz contacts: a rejected step per
+    stretch); DOP853's error grows like h**8, so this size lands near 0.5."""
+    h = span * min(0.25, 0.13 * (rtol / 1e-12) ** 0.125)
+    zone = sigma_end_zone(span, rtol, eta) if s0 == 0.0 else 0.0
+    if zone > 0.0 and abs(h) > zone:
+        h = math.copysign(zone, span)
+    return h
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def sigma_last_step(h, s, s_b, zone):
+    """(h, last): the step from s towards s_b, landing on s_b if it reaches it; towards a
+    non-smooth s_b = 0 (``zone`` > 0) the step that would land there from farther than
+    1.25 zone stops zone short of it, so the last step is zone long."""
+    rest = s_b - s
+    if abs(h) < abs(rest):
+        return h, False
+    if zone > 0.0 and abs(rest) > 1.25 * zone:
+        return rest - math.copysign(zone, rest), False
+    return rest, True
 
 
 @njit(cache=True, error_model="numpy")
@@ -752,14 +782,13 @@ def sigma_phase(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc):
     still = 0  # branch switches in a row without a step (a guard against a link at rest on one)
     rhs_sigma(s0, z, m, lk, c, cp, mb, f0)
     span = s_b - s0
-    h = sigma_first_step(span, rtol, cp[3])  # (cp[3]: the power law's exponent)
+    h = sigma_first_step(span, rtol, cp[3], s0)  # (cp[3]: the power law's exponent)
+    zone = sigma_end_zone(span, rtol, cp[3]) if s_b == 0.0 else 0.0
     s = s0
     code = SIG_FAIL
     while work[0] > 0.0:
         work[0] -= 12.0
-        last = abs(h) >= abs(s_b - s)
-        if last:
-            h = s_b - s
+        h, last = sigma_last_step(h, s, s_b, zone)
         if not (abs(h) >= 1e-14 * abs(span)):  # also catches NaN
             break
         err = dp_step(z, f0, h, rtol, atol, m, lk, c, cp, mb, K, znew, tmp, True, s)
@@ -1116,14 +1145,13 @@ def sigma_phase_sampled(y, t, s_b, rtol, atol, m, lk, c, cp, mem, work, err_acc,
     still = 0
     rhs_sigma(s0, z, m, lk, c, cp, mb, f0)
     span = s_b - s0
-    h = sigma_first_step(span, rtol, cp[3])  # (cp[3]: the power law's exponent)
+    h = sigma_first_step(span, rtol, cp[3], s0)  # (cp[3]: the power law's exponent)
+    zone = sigma_end_zone(span, rtol, cp[3]) if s_b == 0.0 else 0.0
     s = s0
     code = SIG_FAIL
     while work[0] > 0.0:
         work[0] -= 12.0
-        last = abs(h) >= abs(s_b - s)
-        if last:
-            h = s_b - s
+        h, last = sigma_last_step(h, s, s_b, zone)
         if not (abs(h) >= 1e-14 * abs(span)):  # also catches NaN
             break
         err = dp_step(z, f0, h, rtol, atol, m, lk, c, cp, mb, K, znew, tmp, True, s)
