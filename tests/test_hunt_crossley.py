@@ -79,6 +79,9 @@ SINGLE = [
     (0.1, 3.0, 1.0, 0.3, 2.0),
     (1.0, 10.0, 2.0, 0.05, 1.5),
     (5.0, 0.5, 2.5, 0.01, 0.7),
+    # exponents whose force sigma**(2 n) is not smooth at x = 0 (integrators.sigma_end_zone)
+    (1.0, 1.0, 1.3, 0.1, 1.0),
+    (2.0, 5.0, 1.75, 0.2, 0.5),
 ]
 
 

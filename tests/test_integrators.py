@@ -7,6 +7,7 @@ import pytest
 from scipy.optimize import brentq
 
 from conftest import solve_paper_law
+from restitution.kernels import integrators
 from restitution.kernels.paper_chain import solve_linear
 from restitution.kernels.rigid2 import rigid2
 from restitution.kernels.roots import first_root
@@ -208,3 +209,27 @@ def test_verlet_error_estimate_is_step_halving():
     o = _exact(2.2, 0.1)
     assert r.method == "verlet" and r.status == "ok"
     assert 0 < r.error_estimate and abs(r.cor - o[0]) < 20 * r.error_estimate + 1e-6
+
+
+@pytest.mark.parametrize("eta", [0.5, 1.0, 1.5, 2.5])
+def test_a_smooth_power_law_has_no_end_zone(eta):
+    assert integrators.sigma_end_zone(0.3, 1e-8, eta) == 0.0
+
+
+def test_the_steps_at_a_non_smooth_end_are_sized_by_its_singular_term():
+    """At x = 0 a force sigma**(2 eta) with 2 eta not an integer: the step touching sigma = 0
+    is |span| rtol**(1/(2 eta + 2)) long, as the first step of an entry and as the last of an
+    exit (the step before stops that far short of it)."""
+    span, rtol, eta = -0.4, 1e-8, 0.69
+    zone = integrators.sigma_end_zone(span, rtol, eta)
+    assert zone == pytest.approx(0.4 * 1e-8 ** (1.0 / 3.38))
+    assert integrators.sigma_first_step(-span, rtol, eta, 0.0) == zone  # entry from sigma = 0
+    assert abs(integrators.sigma_first_step(-span, rtol, eta, 0.1)) > zone  # not from 0
+    # an exit from sigma = 0.4 towards 0: a step that would land on 0 from afar stops short
+    h, last = integrators.sigma_last_step(-0.3, 0.2, 0.0, zone)
+    assert not last and 0.2 + h == pytest.approx(zone, rel=1e-12)
+    h, last = integrators.sigma_last_step(-0.3, zone, 0.0, zone)  # then the last step
+    assert last and h == -zone
+    h, last = integrators.sigma_last_step(-0.05, 0.2, 0.0, zone)  # a short step goes on
+    assert (h, last) == (-0.05, False)
+    assert integrators.sigma_last_step(-0.3, 0.2, 0.0, 0.0) == (-0.2, True)  # smooth: lands
