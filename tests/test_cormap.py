@@ -153,3 +153,9 @@ def test_first_velocity_is_first_bit_for_bit():
             got = modes.first_velocity(u, v, ts)
             assert got.shape == want.shape
             assert np.array_equal(got.view(np.int64), want.view(np.int64))
+        # Brent's evaluator (velocity_from, the modal state's invariants done once), one time
+        # at a time as brentq calls it: the same bits again
+        at = modes.velocity_from(*modes.coords(u, v))
+        for s in t[:: max(1, t.size // 7)]:
+            one = at(np.array([s]))
+            assert one.view(np.int64)[0] == modes.first(u, v, np.array([s]))[1].view(np.int64)[0]

@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from restitution import SceneError
 from restitution.analysis import design, scaled
 
 
@@ -142,3 +143,60 @@ def test_unchecked_search_rows_keep_the_checked_cor(beta):
     cor_c, ok_c = scaled.solve_scaled_arrays(m, k, kc)
     assert (ok >= ok_c).all() and (ok & ~ok_c).sum() == ill.sum()
     assert cor[ok_c].tobytes() == cor_c[ok_c].tobytes()
+
+
+def _hist_times(m, k, kc, max_events=100_000):
+    """solve_scaled's result and its history's contact times (the documented path)."""
+    r = scaled.solve_scaled(m, k, kc, history=True, max_events=max_events)
+    return r, r.history["omega_t_start"].to_numpy(), r.history["omega_t_end"].to_numpy()
+
+
+def _bits(x):
+    return np.asarray(x, dtype=np.float64).tobytes()
+
+
+@pytest.mark.parametrize("beta", [0.0, 0.05])
+def test_contact_times_are_the_history_s_bit_for_bit(beta):
+    """contact_times (the design polish's grazing evaluations) gives solve_scaled(history=True)'s
+    result and contact times, bit for bit, on general chains, a paper-form chain and rows that
+    do not finish (a budget of 2 contacts)."""
+    rng = np.random.default_rng(11)
+    m, k, kc = _chains(rng, 40, 5, beta)
+    a = 2.2
+    m[3], k[3] = [1.0, a, a, a, a], a / (1.0 + a)
+    for budget in (100_000, 2):
+        for i in range(len(m)):
+            want, ts, te = _hist_times(m[i], k[i], kc[i], budget)
+            got, gs, ge = scaled.contact_times(m[i], k[i], kc[i], max_events=budget)
+            assert (got.history is None) == (i != 3)  # the paper's form: solve_scaled's own
+            assert (got.status, got.n_collisions, got.method) == (
+                want.status, want.n_collisions, want.method
+            )  # fmt: skip
+            assert _bits([got.cor, got.error_estimate]) == _bits([want.cor, want.error_estimate])
+            assert _bits(gs) == _bits(ts) and _bits(ge) == _bits(te)
+
+
+def test_unchecked_contact_times_are_the_checked_run_s():
+    """check=False runs a general chain once, without its replicas: the same contact times as
+    the checked run and, at a rigid wall, the same COR bit for bit wherever the checked row
+    finished; only the status may differ (a row the replicas call ill-conditioned)."""
+    m, k, kc = _chains(np.random.default_rng(12), 60, 6, 0.0)
+    finished = 0
+    for i in range(len(m)):
+        want, ts, te = _hist_times(m[i], k[i], kc[i])
+        got, gs, ge = scaled.contact_times(m[i], k[i], kc[i], check=False)
+        assert _bits(gs) == _bits(ts) and _bits(ge) == _bits(te)
+        assert got.n_collisions == want.n_collisions
+        if want.success:
+            finished += 1
+            assert got.success and _bits(got.cor) == _bits(want.cor)
+    assert finished > 50
+
+
+def test_contact_times_refuses_what_solve_refuses():
+    m, k, kc = _chains(np.random.default_rng(13), 1, 4, 0.0)
+    m[0, 2] = 1e12  # a mass ratio past the solvers' range
+    with pytest.raises(SceneError, match="mass"):
+        scaled.solve_scaled(m[0], k[0], kc[0])
+    with pytest.raises(SceneError, match="mass"):
+        scaled.contact_times(m[0], k[0], kc[0], check=False)

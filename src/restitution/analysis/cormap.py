@@ -97,17 +97,28 @@ class Modes:
 
         Brent's solve in :func:`first_minimum` needs the velocity alone: no positions, no
         accelerations, and no sines of the rigid-body mode (its velocity is constant)."""
-        q0, p0 = self.coords(u, v)
+        return self.velocity_from(*self.coords(u, v))(t)
+
+    def velocity_from(self, q0, p0):
+        """``t -> first_velocity`` of the modal state (q0, p0), with everything that does not
+        depend on t done once (Brent's solve calls it ~10 times per minimum)."""
         w = np.sqrt(self.w2)
-        tt = np.atleast_1d(np.asarray(t, dtype=float))[:, None]
         moving = w != 0.0
-        p = np.empty((tt.shape[0], w.size))
-        p[:, ~moving] = p0[~moving]
-        wm, q0m, p0m = w[moving], q0[moving], p0[moving]
-        # The same operations, in the same order, as _q on the moving modes.
-        sn, cs = np.sin(tt * wm), np.cos(tt * wm)
-        p[:, moving] = p0m * cs - q0m * wm * sn
-        return p @ self.phi[0]
+        still = ~moving
+        rest, wm, p0m = p0[still], w[moving], p0[moving]
+        qw = q0[moving] * wm
+        row = self.phi[0]
+
+        def at(t):
+            tt = np.atleast_1d(np.asarray(t, dtype=float))[:, None]
+            p = np.empty((tt.shape[0], w.size))
+            p[:, still] = rest
+            # The same operations, in the same order, as _q on the moving modes.
+            sn, cs = np.sin(tt * wm), np.cos(tt * wm)
+            p[:, moving] = p0m * cs - qw * sn
+            return p @ row
+
+        return at
 
 
 def stiffness(springs, k_contact: float = 0.0) -> np.ndarray:
@@ -124,22 +135,26 @@ def stiffness(springs, k_contact: float = 0.0) -> np.ndarray:
     return K
 
 
-def chain_states(masses, springs, k_contact, history: pd.DataFrame, upto: int):
+def chain_states(masses, springs, k_contact, history, upto: int, modes=None):
     """States (u, v) at the start and end of contacts 1..upto, propagated between the given times.
 
-    ``history`` has the kernel's ``omega_t_start, omega_t_end`` per contact (scaled units);
-    ``k_contact = inf`` is the rigid wall (m1's velocity reverses at each contact instant).
-    Returns a list of ``(u_start, v_start, u_end, v_end)``.
+    ``history`` has the kernel's ``omega_t_start, omega_t_end`` per contact (scaled units): a
+    ``Result.history`` table or the pair of arrays; ``k_contact = inf`` is the rigid wall (m1's
+    velocity reverses at each contact instant). ``modes``: the chain's (free, touching) Modes
+    when the caller has them (``_modes``). Returns a list of ``(u_start, v_start, u_end,
+    v_end)``.
     """
     m = np.asarray(masses, dtype=float)
-    free = Modes.of(m, stiffness(springs))
+    free, touch = _modes(m, springs, k_contact) if modes is None else modes
     rigid = math.isinf(k_contact)
-    touch = None if rigid else Modes.of(m, stiffness(springs, k_contact))
     u = np.zeros(m.size)
     v = -np.ones(m.size)
     t = 0.0
-    ts = history["omega_t_start"].to_numpy()
-    te = history["omega_t_end"].to_numpy()
+    if isinstance(history, tuple):
+        ts, te = history
+    else:
+        ts = history["omega_t_start"].to_numpy()
+        te = history["omega_t_end"].to_numpy()
     out = []
     for j in range(upto):
         if ts[j] > t:
@@ -159,6 +174,13 @@ def chain_states(masses, springs, k_contact, history: pd.DataFrame, upto: int):
     return out
 
 
+def _modes(m: np.ndarray, springs, k_contact):
+    """(free, touching) Modes of a chain: off the wall, and on its contact spring (None at a
+    rigid wall)."""
+    free = Modes.of(m, stiffness(springs))
+    return free, None if math.isinf(k_contact) else Modes.of(m, stiffness(springs, k_contact))
+
+
 def first_minimum(modes: Modes, u, v, horizon: float, sign: float = 1.0):
     """First local minimum of sign * u_1(t), t in (0, horizon]: (t_min, value) or (nan, nan).
 
@@ -175,9 +197,10 @@ def first_minimum(modes: Modes, u, v, horizon: float, sign: float = 1.0):
     i = first_rise(t, q0, p0, np.sqrt(modes.w2), np.ascontiguousarray(modes.phi[0]), sign)
     if i < 0:
         return math.nan, math.nan
+    velocity = modes.velocity_from(q0, p0)
 
     def f(s):
-        return sign * float(modes.first_velocity(u, v, np.array([s]))[0])
+        return sign * float(velocity(np.array([s]))[0])
 
     s = brentq(f, t[i], t[i + 1], xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
     return s, sign * float(modes.first(u, v, np.array([s]))[0][0])
@@ -196,21 +219,25 @@ class Grazing:
     cor: float
 
 
-def grazing(masses, springs, k_contact, n: int, kind: str, max_events: int = 10_000) -> Grazing:
-    """Grazing condition G of contact ``n`` of a chain (scaled units, see module docstring)."""
-    from restitution.analysis.scaled import solve_scaled  # the one place that calls the solver
+def grazing(
+    masses, springs, k_contact, n: int, kind: str, max_events: int = 10_000, check: bool = True
+) -> Grazing:
+    """Grazing condition G of contact ``n`` of a chain (scaled units, see module docstring).
+
+    ``check=False``: an optimiser's evaluation (the design polish): the contact times of the
+    kernel's first run without its replica check (``scaled.contact_times``)."""
+    from restitution.analysis.scaled import contact_times  # the one place that calls the solver
 
     if kind not in KINDS:
         raise ValueError(f"kind={kind!r}: must be one of {KINDS}")
     if kind == "split" and math.isinf(k_contact):
         raise ValueError("kind='split' needs a finite contact stiffness (beta > 0)")
-    res = solve_scaled(masses, springs, k_contact, history=True, max_events=max_events)
-    hist = res.history
+    res, ts, te = contact_times(masses, springs, k_contact, max_events=max_events, check=check)
     if res.n_collisions < n or not res.success:
         return Grazing(math.nan, math.nan, res.n_collisions, res.cor)
-    states = chain_states(masses, springs, k_contact, hist, n)
     m = np.asarray(masses, dtype=float)
-    free = Modes.of(m, stiffness(springs))
+    free, touch = modes = _modes(m, springs, k_contact)
+    states = chain_states(masses, springs, k_contact, (ts, te), n, modes)
     slow = math.sqrt(float(free.w2[free.w2 > 0].min()))
     if kind == "new":
         _, _, u, v = states[n - 1]
@@ -222,9 +249,6 @@ def grazing(masses, springs, k_contact, n: int, kind: str, max_events: int = 10_
             g = math.inf if com >= 0.0 else -math.inf
         return Grazing(g, s, res.n_collisions, res.cor)
     u, v, _, _ = states[n - 1]
-    touch = Modes.of(m, stiffness(springs, k_contact))
-    ts = hist["omega_t_start"].to_numpy()
-    te = hist["omega_t_end"].to_numpy()
     dur = te[n - 1] - ts[n - 1]
     if n < res.n_collisions:
         dur = max(dur, te[n] - ts[n - 1])

@@ -378,7 +378,9 @@ def _grazing_value(fam: Family, beta: float, x, n: int, kind: str, objective=Non
     m, k = fam.chain(x)
     masses, springs, kc = scaled_chain(m, k, beta)
     try:
-        return grazing(masses, springs, kc, n, kind).value
+        # Unchecked runs, as the search's (``_Objective.batch``): the polish needs G only, and
+        # the design it finds is solved again, checked (``_optimise``).
+        return grazing(masses, springs, kc, n, kind, check=False).value
     except SceneError:
         # The manifold search's unbounded steps (Nelder-Mead, secant) can leave the ratios the
         # solvers handle (a mass ratio of 6e-9 in Fig. 8(b)'s polish): no manifold point there.

@@ -1820,7 +1820,7 @@ def solve_chain_state(m, k, c, kc, y0, max_events, hist):
 
 
 @njit(cache=True)
-def solve_chain(m, k, c, kc, max_events, hist):
+def solve_chain(m, k, c, kc, max_events, hist, check=True):
     """Exact event-driven solution of one linear chain hitting a wall.
 
     Parameters
@@ -1837,6 +1837,9 @@ def solve_chain(m, k, c, kc, max_events, hist):
         Contact budget; exceeding it gives STATUS_EVENT_BUDGET.
     hist : ndarray, shape (rows, N_HIST)
         One row per contact is written while rows last.
+    check : bool
+        False: the first run alone, without the replica check, flagged FLAG_UNCHECKED (a
+        search's row, as in ``solve_chain_batch``); its history is the checked row's.
 
     Returns
     -------
@@ -1845,7 +1848,7 @@ def solve_chain(m, k, c, kc, max_events, hist):
         STATUS_OK and STATUS_PERMANENT_CONTACT comes with a NaN cor. Never raises for input of
         the declared types: invalid values give STATUS_INVALID.
     """
-    return _solve(m, k, c, kc, max_events, hist, WORK_MAX)
+    return _solve(m, k, c, kc, max_events, hist, WORK_MAX, check=check)
 
 
 @njit(cache=True, nogil=True)

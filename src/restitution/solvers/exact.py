@@ -89,9 +89,11 @@ def kv_row(ch: Chain, max_events: int, hist: np.ndarray):
         return solve_chain_kv(m, k, c, kc, cc, max_events, hist)
 
 
-def exact_row(ch: Chain, max_events: int, hist: np.ndarray):
+def exact_row(ch: Chain, max_events: int, hist: np.ndarray, check: bool = True):
     """Kernel row of a linear chain, on the kernel ``linear_kernel`` names (a Kelvin-Voigt
-    chain: ``kv_row``)."""
+    chain: ``kv_row``). ``check=False``: a general chain from the uniform approach is run
+    once, without the replica check (``solve_chain``'s search row); every other row is
+    checked."""
     if ch.contact is not None:
         return kv_row(ch, max_events, hist)
     paper = ch.paper_form
@@ -107,7 +109,7 @@ def exact_row(ch: Chain, max_events: int, hist: np.ndarray):
             return solve_chain_state(m, k, c, kc, y0, max_events, hist)
     announce(solve_chain)
     with blas.one_thread(ch.n_masses):
-        return solve_chain(m, k, c, kc, max_events, hist)
+        return solve_chain(m, k, c, kc, max_events, hist, check)
 
 
 def run(ch: Chain, opts) -> tuple:
