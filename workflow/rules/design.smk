@@ -129,6 +129,10 @@ rule design_fig8b:
     wildcard_constraints:
         family="uniform|tapered_decreasing|tapered_increasing|masses|masses_springs|robust",
         n=r"\d+",
+    # The designs are the longest chain of jobs (masses N = 2..8, then masses+springs N = 3..8,
+    # each warm-started from the one before): run them before the other ready jobs, which then
+    # fill the core the chain leaves free.
+    priority: 1
     conda:
         "../envs/restitution.yaml"
     threads: 1

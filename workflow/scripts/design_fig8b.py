@@ -80,7 +80,8 @@ def run(family: str, n: int, d: dict, seed: int, starts, progress):
     popsize = d["robust_popsize"] if robust else d["popsize"]
     maxiter = d["robust_maxiter"] if robust else d["maxiter"]
     common = dict(beta=d["beta"], bounds=tuple(d["bounds"]), seed=seed, popsize=popsize,
-                  maxiter=maxiter, progress=progress, warm_starts=starts)  # fmt: skip
+                  maxiter=maxiter, max_events=d["max_events"], progress=progress,
+                  warm_starts=starts)  # fmt: skip
     if family == "uniform":
         return design.best_uniform(n, **common)
     if family.startswith("tapered_"):

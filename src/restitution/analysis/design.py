@@ -829,6 +829,11 @@ def minimize_cor(
         > 0: minimise the worst COR over independent mass errors |dm_i/m_i| <= tolerance (robust).
     seed, popsize, maxiter
         Of ``differential_evolution`` (seeded: the same result on every run and thread count).
+    max_events : int
+        Contact budget of every solve of the search and of the design's own: a candidate that
+        needs more contacts counts as unfinished, never as a minimum. The long sequences near
+        the edges of a box (a heavy end mass: 10^4-10^5 contacts, COR near 1) cost 0.03-0.3 s
+        each; a budget of 10^4 skips most of that work.
     progress : callable or None
         Called with one line per generation, one per polish step, and every ``HEARTBEAT``
         (30) s of a stage with no step of its own (polish, bound test, worst case: "masses N=4
@@ -869,12 +874,15 @@ def best_uniform(
     seed: int = 1,
     popsize: int = 15,
     maxiter: int = 200,
+    max_events: int = 100_000,
     progress=print,
     warm_starts=(),
 ) -> Design:
     """The paper's uniform chain (Fig. 6: m_2..m_N all alpha m_1, equal springs), best alpha.
-    ``warm_starts`` as in :func:`minimize_cor` (each read as its m_2/m_1)."""
-    _check(n_masses, beta, bounds, 0.0, "masses", seed, popsize, maxiter, 100_000, True, progress)
+    ``max_events`` and ``warm_starts`` as in :func:`minimize_cor` (each start read as its
+    m_2/m_1)."""
+    _check(n_masses, beta, bounds, 0.0, "masses", seed, popsize, maxiter, max_events, True,
+           progress)  # fmt: skip
     starts = _starts(warm_starts, n_masses)
     bounds = (float(_real(bounds[0])), float(_real(bounds[1])))
     return _optimise(
@@ -885,7 +893,7 @@ def best_uniform(
         seed,
         popsize,
         maxiter,
-        100_000,
+        max_events,
         progress,
         True,
         starts,
@@ -901,14 +909,16 @@ def best_tapered(
     seed: int = 1,
     popsize: int = 15,
     maxiter: int = 200,
+    max_events: int = 100_000,
     progress=print,
     warm_starts=(),
 ) -> Design:
     """Geometric chain m_i = r**(i-1) m_1, equal springs, best r < 1 ("decreasing" from the wall)
     or r > 1 ("increasing"); the step ratio r within ``bounds`` and the end mass r**(N-1) within
-    the ratios the solvers handle (1e-8..1e8). ``warm_starts`` as in :func:`minimize_cor` (each
-    read as its m_2/m_1)."""
-    _check(n_masses, beta, bounds, 0.0, "masses", seed, popsize, maxiter, 100_000, True, progress)
+    the ratios the solvers handle (1e-8..1e8). ``max_events`` and ``warm_starts`` as in
+    :func:`minimize_cor` (each start read as its m_2/m_1)."""
+    _check(n_masses, beta, bounds, 0.0, "masses", seed, popsize, maxiter, max_events, True,
+           progress)  # fmt: skip
     starts = _starts(warm_starts, n_masses)
     bounds = (float(_real(bounds[0])), float(_real(bounds[1])))
     if direction not in ("decreasing", "increasing"):
@@ -927,7 +937,7 @@ def best_tapered(
         seed,
         popsize,
         maxiter,
-        100_000,
+        max_events,
         progress,
         True,
         starts,
