@@ -288,3 +288,23 @@ def test_manifold_point_outside_the_solvers_ranges_is_no_point():
     outside = _grazing_value(fam, 0.0, np.log([2.0, 6.2e-9, 3.0]), 2, "new")
     assert math.isfinite(inside)
     assert math.isnan(outside)
+
+
+def test_a_candidate_over_the_contact_budget_counts_as_unfinished():
+    """max_events is the budget of every solve of a search (fig8.design.max_events): a chain
+    that needs more contacts is no minimum, however low its COR would be; within the budget
+    the objective is the COR itself. best_uniform and best_tapered take it as minimize_cor."""
+    fam = design.family("tapered", 4)
+    x = np.log([1.9])  # an increasing taper of 4 masses: several contacts
+    m, k = fam.chain(x)
+    ms, ks, kc = design.scaled_chain(m, k, 0.0)
+    full = restitution.solve(masses=list(ms), springs=list(ks), k_contact=kc)
+    assert full.success and full.n_collisions >= 3
+    enough = design._Objective(fam, 0.0, 0.0, full.n_collisions, None)
+    short = design._Objective(fam, 0.0, 0.0, full.n_collisions - 1, None)
+    assert enough.cor(x) == full.cor
+    assert short.cor(x) == design._BAD
+    assert short.batch(x[:, None])[0] == design._BAD
+    for search in (design.best_uniform, design.best_tapered):
+        with pytest.raises(ValueError, match="max_events"):
+            search(3, max_events=0, progress=None)
