@@ -308,3 +308,15 @@ def test_a_candidate_over_the_contact_budget_counts_as_unfinished():
     for search in (design.best_uniform, design.best_tapered):
         with pytest.raises(ValueError, match="max_events"):
             search(3, max_events=0, progress=None)
+
+
+def test_a_design_s_error_estimate_bounds_its_cor_against_mpmath():
+    """A design carries its checked solve's error estimate (the table's error_estimate): on a
+    grazing cusp, where the replica runs straddle the cusp, it is not round-off, and it must
+    still bound the COR's error against the 40-digit solve."""
+    d = design.minimize_cor(3, progress=None)
+    assert d.row()["error_estimate"] == d.error_estimate
+    assert 0.0 <= d.error_estimate < 1e-4
+    m, k, kc = design.scaled_chain(d.masses, d.springs, 0.0)
+    precise = restitution.solve(masses=list(m), springs=list(k), k_contact=kc, method="precise")
+    assert abs(d.cor - precise.cor) <= d.error_estimate

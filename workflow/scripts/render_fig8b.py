@@ -135,6 +135,13 @@ def caption_data(table: pd.DataFrame) -> dict:
     near = ok[(ok["bounds_hit"].str.len() > 0) & ~ok["bound_active"].astype(bool)]
     robust = ok[ok["family"] == "robust"]
     recheck = (ok["cor_resolved"] - ok["cor"]).abs().max()
+    # The solver's COR error estimates of the designs (largest on a grazing cusp).
+    err = _column(ok, "error_estimate", np.nan).astype(float)
+    err_max, err_where = "not recorded", ""
+    if err.notna().any():
+        worst = ok.loc[err.idxmax()]
+        err_max = f"{err.max():.1e}"
+        err_where = f" ({LABEL[worst['family']]} N = {int(worst['n_masses'])})"
     differ = ok[ok["restart_spread"] > SPREAD_SHOWN].sort_values(["family", "n_masses"])
     cold_better = ok[(ok["start"] == "cold") & (ok["restart_spread"] > SPREAD_SHOWN)]
     warm_better = ok[(ok["start"] == "warm") & (ok["restart_spread"] > SPREAD_SHOWN)]
@@ -175,6 +182,9 @@ def caption_data(table: pd.DataFrame) -> dict:
             or "not run"  # fmt: skip
         ),
         recheck=f"{recheck:.1e}",
+        err_max=err_max,
+        err_where=err_where,
+        n_err_tiny=int((err <= 1e-12).sum()),
         evaluations=int(ok["evaluations"].sum()),
         y_min=fmt(ok["y"].min(), 3),
         y_max=fmt(ok["y"].max(), 3),

@@ -105,6 +105,9 @@ class Design:
         Worst COR over the mass errors (nan unless ``tolerance`` > 0).
     cor_check : float
         COR re-solved by a fresh ``restitution.solve`` call.
+    error_estimate : float
+        The solver's estimate of the COR's error (``Result.error_estimate`` of the design's
+        checked solve): on a grazing cusp, where the replica runs straddle the cusp, about 1e-6.
     bounds_hit : list of str
         Parameters on or within 1 % of a bound, each with the COR just past the bound
         (e.g. ``["m_3/m_1 = 0.01 at lower bound 0.01 (active: COR 0.0987 past it)"]``).
@@ -134,6 +137,7 @@ class Design:
     worst_cor: float = math.nan
     tolerance: float = 0.0
     cor_check: float = math.nan
+    error_estimate: float = math.nan
     bounds_hit: list = field(default_factory=list)
     grazing: tuple | None = None
     method: str = ""
@@ -152,6 +156,7 @@ class Design:
             tolerance=self.tolerance,
             cor=self.cor,
             cor_check=self.cor_check,
+            error_estimate=self.error_estimate,
             worst_cor=self.worst_cor,
             n_collisions=self.n_collisions,
             parameter=self.parameter,
@@ -761,6 +766,7 @@ def _optimise(fam, beta, bounds, tolerance, seed, popsize, maxiter, max_events, 
         worst_cor=objective.worst(x) if tolerance > 0.0 else math.nan,
         tolerance=tolerance,
         cor_check=check.cor,
+        error_estimate=r.error_estimate,
         bounds_hit=[text for text, _ in hits],
         bound_active=any(on for _, on in hits),
         active=active,
