@@ -320,3 +320,31 @@ def test_a_design_s_error_estimate_bounds_its_cor_against_mpmath():
     m, k, kc = design.scaled_chain(d.masses, d.springs, 0.0)
     precise = restitution.solve(masses=list(m), springs=list(k), k_contact=kc, method="precise")
     assert abs(d.cor - precise.cor) <= d.error_estimate
+
+
+def test_manifold_solve_stops_at_the_grazing_gaps_round_off(monkeypatch):
+    """The polish's root solve of G = 0 (``_solve_on_manifold``) on a 7-mass chain of Fig. 8(b)'s
+    free masses-and-springs polish where the old secant (xtol 1e-15) chased G's round-off to its
+    iteration limit (56 grazing evaluations): it lands on the side without the grazing contact,
+    within a few ROOT_XTOL of the root Brent's method finds at 1e-15 on a bracket, and stops there
+    (at most 20 evaluations)."""
+    from scipy.optimize import brentq
+
+    fam = design.family("masses+springs", 7)
+    x = np.array([-0.4442409082353475, -4.568325688823292, -2.0075638110388696,
+                  -3.8785560379490476, -3.8785560379490476, -2.0469716768583304,
+                  -0.8790323738282037, -1.2545061389646015, -2.724219847149873,
+                  4.605170185988092, -4.60517018598809])  # fmt: skip
+    calls = []
+    value = design._grazing_value
+    monkeypatch.setattr(design, "_grazing_value", lambda *a, **k: calls.append(1) or value(*a, **k))
+    y = design._solve_on_manifold(fam, 0.0, x, 0, 1, "new")
+    assert y is not None and len(calls) <= 20
+    np.testing.assert_array_equal(np.delete(y, 0), np.delete(x, 0))  # only coordinate 0 moves
+
+    def g(t):
+        return value(fam, 0.0, np.concatenate([[t], x[1:]]), 1, "new")
+
+    assert 0.0 <= g(y[0]) <= 1e-9
+    root = brentq(g, y[0] - 1e-6, y[0] + 1e-6, xtol=1e-15, rtol=4 * np.finfo(float).eps)
+    assert abs(y[0] - root) <= 4 * design.ROOT_XTOL

@@ -392,9 +392,17 @@ def _grazing_value(fam: Family, beta: float, x, n: int, kind: str, objective=Non
         return math.nan
 
 
+# The root finders' tolerance on G = 0. G, the grazing contact's gap, carries round-off of about
+# 1e-12 (its sign flips several times within +-8 ulps of a root: design polish of free masses and
+# springs N = 7, 2026-11-28), so a root is defined to about that and the finders stop there. At
+# 1e-15 the secant chased that noise to its iteration limit in a quarter of the polish's solves.
+ROOT_XTOL = 1e-12
+
+
 def _solve_on_manifold(fam, beta, x, j, n, kind, span=0.05, objective=None):
     """x with coordinate j moved so that G(n, kind) = 0 (nearest root within +-span), or None."""
 
+    @functools.lru_cache(maxsize=8)  # the secant starts where f0 was taken
     def f(t):
         y = np.array(x, dtype=float)
         y[j] = t
@@ -405,7 +413,7 @@ def _solve_on_manifold(fam, beta, x, j, n, kind, span=0.05, objective=None):
         return None
     # Fast path (the manifold search calls this often from points near the manifold): secant.
     try:
-        sec = root_scalar(f, x0=x[j], x1=x[j] + 1e-7, method="secant", xtol=1e-15, maxiter=30)
+        sec = root_scalar(f, x0=x[j], x1=x[j] + 1e-7, method="secant", xtol=ROOT_XTOL, maxiter=30)
         if sec.converged and abs(sec.root - x[j]) <= span:
             y = _to_safe_side(f, sec.root, x, j)
             if y is not None:
@@ -419,7 +427,7 @@ def _solve_on_manifold(fam, beta, x, j, n, kind, span=0.05, objective=None):
             if math.isfinite(f1) and f1 * f0 <= 0.0:
                 lo, hi = sorted((x[j], x[j] + s * step))
                 try:
-                    t = brentq(f, lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
+                    t = brentq(f, lo, hi, xtol=ROOT_XTOL, maxiter=200)
                 except ValueError:  # G is NaN inside the bracket (a scene the solver refused)
                     return None
                 return _to_safe_side(f, t, x, j)
@@ -436,10 +444,12 @@ def _to_safe_side(f, t, x, j):
     if not math.isfinite(g) or abs(g) > 1e-9:
         return None
     direction = 1.0 if f(t + 1e-9) >= g else -1.0
-    d = 0
-    while g < 0.0 and d < 64:
-        t = np.nextafter(t, direction * math.inf)
-        g, d = f(t), d + 1
+    # Steps of 1, 2, 4, ... ulps: the root is known to ROOT_XTOL, so the safe side can be
+    # thousands of ulps away; the step ends at most twice as far in as the first safe point.
+    step = float(np.spacing(abs(t)))
+    while g < 0.0 and step <= 1e-9:
+        t += direction * step
+        g, step = f(t), 2.0 * step
     if not g >= 0.0:
         return None
     y = np.array(x, dtype=float)
