@@ -13,6 +13,7 @@ import decimal
 import fractions
 import math
 import os
+import re
 import subprocess
 import sys
 
@@ -223,6 +224,46 @@ def test_law_parameters_without_their_law_are_refused(law, law_value, params):
         frame = pd.DataFrame({"alpha": [0.5, 0.7], "beta": [1.0, 1.0], p: [np.nan, 0.5]})
         with pytest.raises(SceneError, match=rf"{p}.*row 1"):
             restitution.solve_many(frame)
+
+
+# A chain whose first link is not the unit: m1 = 2, omega**2 = k (1/m1 + 1/m2) = 25/6, so a law
+# parameter's kernel value differs from the one given.
+UNITS = dict(masses=[2.0, 3.0], springs=[5.0])
+
+
+@pytest.mark.parametrize(
+    "law, where",
+    [
+        (dict(contact={"law": "kelvin_voigt", "k": 1.0, "c": -1.0}), "contact.c"),
+        (dict(links=[{"law": "scissor", "L": -1.0, "ks": 1.0}]), "links[0].L"),
+        (dict(links=[{"law": "scissor", "L": 1.0, "ks": -1.0}]), "links[0].ks"),
+    ],
+)
+def test_negative_law_parameters_are_refused_as_given(law, where):
+    """The packers check kernel values (m1 = 1, omega = 1): the error names the value given,
+    not its kernel value (c = -1 was reported as -0.2449)."""
+    with pytest.raises(SceneError, match=re.escape(f"{where} must not be negative; got -1.0")):
+        restitution.solve(**UNITS, **law)
+
+
+def test_scissor_length_range_is_stated_in_the_chains_units():
+    """L's range [1e-6, 1e6] is in units V_ref/omega of the first link: the error gives it in
+    the chain's units, and a length inside that range but below 1e-6 is solved."""
+    omega = math.sqrt(5.0 * (1 / 2.0 + 1 / 3.0))
+    low, high = 1e-6 / omega, 1e6 / omega
+    for bad in (0.5 * low, 2.0 * high):
+        link = {"law": "scissor", "L": bad, "ks": 1.0}
+        with pytest.raises(SceneError, match=re.escape(f"[{low:.6g}, {high:.6g}]")):
+            restitution.solve(**UNITS, links=[link])
+    inside = restitution.solve(**UNITS, links=[{"law": "scissor", "L": 0.9e-6, "ks": 1.0}])
+    assert inside.status == "ok" and 0.0 < inside.cor < 1.0
+
+
+def test_unknown_keyword_lists_each_allowed_name_once():
+    with pytest.raises(SceneError, match="unknown scene parameter") as err:
+        restitution.solve(alpha=0.5, bogus=1.0)
+    names = str(err.value).split("allowed: ")[1].split(", ")
+    assert len(names) == len(set(names)) and "contact" in names
 
 
 def test_history_budget_that_cannot_be_allocated_is_refused():

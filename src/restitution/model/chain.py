@@ -610,7 +610,7 @@ def paper_with_laws(alpha, beta, xi, n_masses, law: dict) -> tuple[Chain, dict]:
         raise SceneError(
             f"unknown scene parameter(s) {', '.join(unknown)}; allowed: alpha, beta, xi, "
             f"n_masses, method, history, max_events, masses, springs, dashpots, k_contact, "
-            f"contact, links, {', '.join(NUMERICAL_KEYS)}"
+            f"links, {', '.join(NUMERICAL_KEYS)}"
         )
     for k, v in law.items():  # (a table passes only its given cells: a missing one is an error)
         if missing_cell(v):

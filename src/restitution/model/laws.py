@@ -416,7 +416,7 @@ def check_stiffness(name: str, value, high: float = 1e12) -> float:
     """A stiffness-like law parameter: finite, in (0, high] (kernel units)."""
     x = _num(name, value, f"in (0, {high:g}]")
     if not 0.0 < x <= high:
-        raise SceneError(f"{name} must be in (0, {high:g}]; got {value!r}")
+        raise SceneError(f"{name} must be in (0, {high:g}]; got {_show(value)}")
     return x
 
 
@@ -555,7 +555,7 @@ def pack_link(spec, k_link: float, where: str = "link") -> np.ndarray:
     try:
         L_ = check_L(p["L"])
         theta0 = check_theta0(p["theta0"])
-        ks = check_stiffness("ks", p["ks"])
+        ks = check_stiffness("ks (in units m1 omega**2 of the first link)", p["ks"])
         check_ks_ratio(ks / k_link, theta0)
         corner = check_corner(p["corner"])
     except SceneError as e:
@@ -828,9 +828,23 @@ def to_kernel_units(spec, table: dict, m1: float, omega: float, where: str):
     law = spec.get("law")
     entry = table.get(law) if isinstance(law, str) else None
     for key, unit in (entry[2] if entry else {}).items():
-        if out.get(key) is not None:
+        given = out.get(key)
+        if given is not None:
             a, b = unit(out, where) if callable(unit) else unit
-            out[key] = _num(f"{where}.{key}", out[key], "> 0") / (m1**a * omega**b)
+            scale = m1**a * omega**b
+            x = _num(f"{where}.{key}", given, "> 0")
+            # The packers check kernel values; the errors they can raise about the sign or a
+            # range in kernel units are raised here, with the value and range as given.
+            if x < 0.0:
+                raise SceneError(f"{where}.{key} must not be negative; got {_show(given)}")
+            r = RANGES.get(key) if table is LINK_LAWS else None  # (the scissor's L)
+            if r is not None and not r.contains(x / scale):
+                raise SceneError(
+                    f"{where}.{key} must be in [{r.low * scale:.6g}, {r.high * scale:.6g}] in "
+                    f"the chain's units ({r.text} in units of m1 and omega of its first link); "
+                    f"got {_show(given)}"
+                )
+            out[key] = x / scale
     return out
 
 
