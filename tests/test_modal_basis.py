@@ -178,3 +178,38 @@ def test_dashpot_work_of_all_dashpots_at_once_matches_quadrature(T):
 
     ref = quad(power, 0.0, T, epsabs=0.0, epsrel=1e-12, limit=400)[0]
     assert got == pytest.approx(ref, rel=1e-10)
+
+
+@pytest.mark.parametrize("n, beta", [(128, 1e-3), (40, 1e-10)])
+def test_modes_of_a_long_chain_on_a_stiff_contact_stay_finite(n, beta):
+    """A stiff contact's mode decays by ~k_contact/k per mass away from the wall, so the shape
+    recurrence towards its peak grew by that factor per mass and overflowed (N = 128, beta =
+    1e-3: NaN modes; the scene then ran the locator through its whole work budget). Every mode
+    is finite and solves K phi = w^2 M phi to round-off of its own terms, the modes are
+    M-orthonormal, and the contact mode's amplitude falls off along the chain."""
+    m, k, c = _paper_chain(1.0, beta, 0.0, n)[:3]
+    kg = k[0] / beta
+    lam, U, P, cond = _modal_model(m, k, c, kg, 0.0, False)
+    assert cond == 1.0 and np.isfinite(U).all() and np.isfinite(P).all()
+    K, _ = chain_mats(m, k, c)
+    K[0, 0] += kg
+    phi = U.real
+    w2 = (lam * lam.conjugate()).real
+    resid = K @ phi - m[:, None] * phi * w2
+    terms = np.abs(K) @ np.abs(phi) + m[:, None] * np.abs(phi) * w2
+    assert np.all(np.abs(resid) <= 64 * EPS * terms + 1e-300)  # (subnormal tails: absolute)
+    np.testing.assert_allclose(phi.T @ (m[:, None] * phi), np.eye(n), atol=1e-12)
+    top = np.abs(phi[:, np.argmax(w2)])
+    assert top[0] > 0.5 and top[-1] < 1e-100  # the contact mode lives at the wall
+
+
+def test_long_chain_on_a_stiff_contact_agrees_with_the_integrator():
+    """The overflowing case of the exact solver (72 masses, beta = 1e-5: 'event_not_converged'
+    after the first contact before) against the adaptive integrator (no modal shapes)."""
+    import restitution
+
+    exact = restitution.solve(alpha=1.0, beta=1e-5, n_masses=72)
+    ref = restitution.solve(alpha=1.0, beta=1e-5, n_masses=72, method="adaptive", rtol=1e-10)
+    assert exact.status == "ok" and ref.status == "ok"
+    assert exact.n_collisions == ref.n_collisions
+    assert abs(exact.cor - ref.cor) <= exact.error_estimate + ref.error_estimate

@@ -279,6 +279,26 @@ def _refine_w2(m, k, kg, q, lo, hi):
     return _bisect_w2(lo, hi, (m, k, kg, q))  # geometric midpoints: the spectrum spans decades
 
 
+# A mode far above or below the band of the chain's other masses (a stiff contact's mode on a
+# long chain) decays by a large factor per mass away from its peak, so the recurrences of
+# _shape, which run towards the peak, grow by it: 500x per mass overflowed after 114 masses
+# (N = 128, beta = 1e-3: NaN modes, the locator then spent its whole budget on NaN). Past
+# SHAPE_BIG the values computed so far are scaled by 1/SHAPE_BIG, a power of two: exact, so a
+# mode that does not overflow keeps its bits, and the far end's amplitudes fall to their true,
+# negligible size.
+SHAPE_BIG = 2.0**200
+
+
+@njit(cache=True, refcount=False)
+def _rescale(x, ext, lo, hi, f):
+    """x[lo..hi], ext[lo..hi-1] and the link force f scaled by 1/SHAPE_BIG (returns f)."""
+    for j in range(lo, hi + 1):
+        x[j] /= SHAPE_BIG
+    for j in range(lo, hi):
+        ext[j] /= SHAPE_BIG
+    return f / SHAPE_BIG
+
+
 @njit(cache=True)
 def _shape(m, k, kg, w2, r, x, ext):
     """Mode shape x (x_r scaled to 1 first, then M-normalised) of eigenvalue w2 and its link
@@ -294,6 +314,8 @@ def _shape(m, k, kg, w2, r, x, ext):
         f -= w2 * m[i] * x[i]
         ext[i] = f / k[i]
         x[i + 1] = x[i] + ext[i]
+        if abs(x[i + 1]) > SHAPE_BIG:
+            f = _rescale(x, ext, 0, i + 1, f)
     xr = x[r]
     f = 0.0
     xs = np.empty(n)
@@ -302,6 +324,8 @@ def _shape(m, k, kg, w2, r, x, ext):
         f += w2 * m[i] * xs[i]
         ext[i - 1] = f / k[i - 1]
         xs[i - 1] = xs[i] - ext[i - 1]
+        if abs(xs[i - 1]) > SHAPE_BIG:
+            f = _rescale(xs, ext, i - 1, n - 1, f)
     xb = xs[r]
     sc = xr / xb
     for i in range(r + 1, n):
@@ -589,13 +613,17 @@ def _safe_model(m, k, c, kg, cg, drop_rigid):
     except Exception:  # LinAlgError: the eigen-solver did not converge
         lam, U, P = _empty_model(m.size)
         return lam, U, P, math.inf
-    ok = math.isfinite(cond)
-    for q in range(lam.size):
-        if not (math.isfinite(lam[q].real) and math.isfinite(lam[q].imag)):
-            ok = False
+    # (the shapes too: a NaN amplitude would send the locator through its whole budget)
+    ok = math.isfinite(cond) and _finite(lam) and _finite(U) and _finite(P)
     if not ok:
         return lam, U, P, math.inf
     return lam, U, P, cond
+
+
+@njit(cache=True)
+def _finite(a):
+    """Every entry of the complex array ``a`` (any shape) finite."""
+    return bool(np.isfinite(a).all())
 
 
 @njit(cache=True)
