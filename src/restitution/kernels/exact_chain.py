@@ -72,10 +72,11 @@ A sticking phase is one contact interval in the history (H_VOUT = 0).
 Budgets
 -------
 Every scene has an event budget (max_events, STATUS_EVENT_BUDGET) and a work budget counted in
-operations (modal term evaluations in the locator and in the quadratures, WORK_MAX,
-STATUS_WORK_BUDGET), never wall time, so results are identical for any thread count. A contact
-that never ends (a damped contact or a sticking phase that decays to rest on the wall) is proven
-and reported as STATUS_PERMANENT_CONTACT with cor = 0, omega_t_col = inf, all energy dissipated.
+operations (modal term evaluations in the locator and in the quadratures, WORK_MAX, raised in
+proportion by a max_events above WORK_EVENTS; STATUS_WORK_BUDGET), never wall time, so results are
+identical for any thread count. A contact that never ends (a damped contact or a sticking phase
+that decays to rest on the wall) is proven and reported as STATUS_PERMANENT_CONTACT with cor = 0,
+omega_t_col = inf, all energy dissipated.
 The hardest chatter of the grid alpha 5..200, xi 0.05..3, N = 2..5 (N = 5, alpha = 200,
 xi = 0.1: 33,267 contacts) needs 9e6 operations; the N = 128, alpha = 10, xi = 1 chatter 1.8e7
 (2,001 contacts, then sticking: ok). WORK_MAX = 2e7 bounds a scene to a few seconds.
@@ -183,6 +184,10 @@ COND_MAX = 1e8  # eigenvector condition number above which a closed form is not 
 # cancelling phase is integrated by Gauss-Legendre, at a cost growing with its length.
 DISS_FLOOR = 1e-16
 WORK_MAX = 2e7  # operations (modal term evaluations) per scene before STATUS_WORK_BUDGET
+# A max_events above WORK_EVENTS (the API's default) raises the work budget in proportion: the
+# one knob a user has for how long a scene may run. Long chains need it: every locator step costs
+# a term per mode, so 512 masses at the rigid wall stop after about 150 contacts within WORK_MAX.
+WORK_EVENTS = 100_000
 # Very stiff contact springs (beta = k_12 / kc -> 0). The COR approaches the rigid wall's like
 # sqrt(beta): |COR(beta) - COR(0)| <= RIGID_LIMIT_C sqrt(beta), measured max 6.5 sqrt(beta) over
 # 125 random paper scenes (N = 2..5, alpha 0.1..100, xi 0..2) at beta = 1e-10..1e-6 (same count).
@@ -849,6 +854,7 @@ def _run(
     out = np.zeros(N_OUT)
     closest = np.array([math.inf, -1.0, 0.0, 0.0])
     n = m.size
+    work_max *= max(1.0, max_events / WORK_EVENTS)  # (see WORK_EVENTS)
     rigid = kc == math.inf
     mt = _total(m)
     floor = DISS_FLOOR * 0.5 * mt  # of a phase's dissipation: see _diss_phase

@@ -48,7 +48,8 @@ MESSAGES = {
     "permanent_contact": "m1 never leaves the wall (proven): the chain comes to rest against it "
     "(cor 0, omega_t_col inf).",
     "work_budget_exhausted": "Stopped after the scene's work budget (counted in operations); the "
-    "sequence was NOT finished. method='precise' solves a linear chain at high precision "
+    "sequence was NOT finished. The exact solvers' budget grows with max_events above 100,000 "
+    "(long chains need it); method='precise' solves a short linear chain at high precision "
     "(mpmath: seconds to minutes per scene).",
     "invalid_parameters": "The kernel refused parameters outside the range it handles.",
     "not_run": "The kernel did not finish this row.",
