@@ -348,3 +348,18 @@ def test_manifold_solve_stops_at_the_grazing_gaps_round_off(monkeypatch):
     assert 0.0 <= g(y[0]) <= 1e-9
     root = brentq(g, y[0] - 1e-6, y[0] + 1e-6, xtol=1e-15, rtol=4 * np.finfo(float).eps)
     assert abs(y[0] - root) <= 4 * design.ROOT_XTOL
+
+
+def test_safe_side_step_from_a_root_at_zero():
+    """``_to_safe_side`` climbs to the side G >= 0 by doubling steps; from a root estimate at
+    exactly 0 (a unit ratio, log 1) it starts at 1e-18, not at 5e-324's 1,000 doublings, and
+    ends at most about twice as far in as the first safe point."""
+    calls = []
+
+    def g(t):
+        calls.append(t)
+        return t - 3e-13
+
+    y = design._to_safe_side(g, 0.0, np.zeros(2), 1)
+    assert y is not None and y[0] == 0.0
+    assert 3e-13 <= y[1] <= 6e-13 + 1e-18 and len(calls) <= 24

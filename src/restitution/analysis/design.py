@@ -446,7 +446,7 @@ def _to_safe_side(f, t, x, j):
     direction = 1.0 if f(t + 1e-9) >= g else -1.0
     # Steps of 1, 2, 4, ... ulps: the root is known to ROOT_XTOL, so the safe side can be
     # thousands of ulps away; the step ends at most twice as far in as the first safe point.
-    step = float(np.spacing(abs(t)))
+    step = max(float(np.spacing(abs(t))), 1e-18)  # (a root at 0: no climb from 5e-324)
     while g < 0.0 and step <= 1e-9:
         t += direction * step
         g, step = f(t), 2.0 * step
