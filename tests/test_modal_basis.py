@@ -15,6 +15,7 @@ from restitution.kernels.exact_chain import PH_CONTACT, _modal_model, _modal_sta
 from restitution.kernels.layout import N_HIST
 from restitution.kernels.locator import N_INFO, _locate
 from restitution.kernels.paper_chain import _paper_chain
+from restitution.kernels.quadratic_refine import REFINE_REL
 from test_chain_kernel import chain_mats
 
 
@@ -213,3 +214,66 @@ def test_long_chain_on_a_stiff_contact_agrees_with_the_integrator():
     assert exact.status == "ok" and ref.status == "ok"
     assert exact.n_collisions == ref.n_collisions
     assert abs(exact.cor - ref.cor) <= exact.error_estimate + ref.error_estimate
+
+
+def _quadratic_eigenvalues(m, k, c, kg, dps=50):
+    """Eigenvalues of the chain's first-order system (no modal form), assembled and solved in
+    mpmath at dps digits (kg added in floating point would round away its last bits)."""
+    with mpmath.workdps(dps):
+        n = len(m)
+        mp = mpmath.mpf
+        K = mpmath.zeros(n)
+        C = mpmath.zeros(n)
+        K[0, 0] = mp(kg)
+        for i in range(n - 1):
+            for a, b, s in ((i, i, 1), (i + 1, i + 1, 1), (i, i + 1, -1), (i + 1, i, -1)):
+                K[a, b] += s * mp(k[i])
+                C[a, b] += s * mp(c[i])
+        A_ = mpmath.zeros(2 * n)
+        for i in range(n):
+            A_[i, n + i] = 1
+            for j in range(n):
+                A_[n + i, j] = -K[i, j] / mp(m[i])
+                A_[n + i, n + j] = -C[i, j] / mp(m[i])
+        return [complex(e) for e in mpmath.eig(A_, left=False, right=False)]
+
+
+@pytest.mark.parametrize(
+    "alpha, n", [(1.0, 3), (10.0, 2), (1.0, 4)], ids=["N3", "N2", "N4"]
+)
+def test_heavily_damped_contact_modes_to_their_own_round_off(alpha, n):
+    """xi = 1e3 on a soft contact (beta = 1e6): dgeev's error eps ||S|| (||S|| ~ 2e3) is 1e-9 of
+    the contact mode (|lam| ~ 4e-4) and 0.4 % of its decay rate. The modes dgeev resolves to
+    worse than REFINE_REL of themselves are refined on the quadratic eigenproblem: good to
+    round-off of their own size, their real part included; the others keep dgeev's eps ||S||."""
+    m, k, c, kg = _paper_chain(alpha, 1e6, 1e3, n)
+    lam, _, _, cond = _modal_model(m, k, c, kg, 0.0, False)
+    assert cond < 1e6
+    ref = _quadratic_eigenvalues(m, k, c, kg)
+    top = np.abs(lam).max()  # ~ ||S||
+    refined = 0
+    for z in lam:
+        exact = min(ref, key=lambda e: abs(e - z))
+        if EPS * top > REFINE_REL * abs(z):
+            refined += 1
+            assert abs(z - exact) <= 1e-14 * abs(exact), (z, exact)
+            assert abs(z.real - exact.real) <= 1e-8 * abs(exact.real), (z, exact)
+        else:
+            assert abs(z - exact) <= 16 * EPS * top, (z, exact)
+    assert refined >= 1  # the contact mode
+
+
+@pytest.mark.parametrize(
+    "alpha, beta, xi, n",
+    [(1.0, 1e6, 1e3, 3), (10.0, 1e6, 1e3, 2), (0.1, 1e6, 1e3, 5), (1e3, 1e6, 100.0, 3)],
+)
+def test_heavily_damped_corners_finish_within_their_estimates(alpha, beta, xi, n):
+    """Corners of the declared ranges that ended ``energy_account_open`` while dgeev's slow modes
+    were 1e-9 off: now ok, and within their estimates of ``method="precise"`` (mpmath)."""
+    from restitution import solve
+
+    res = solve(alpha=alpha, beta=beta, xi=xi, n_masses=n)
+    ref = solve(alpha=alpha, beta=beta, xi=xi, n_masses=n, method="precise")
+    assert res.status == "ok" and ref.status == "ok"
+    assert res.n_collisions == ref.n_collisions
+    assert abs(res.cor - ref.cor) <= res.error_estimate + ref.error_estimate

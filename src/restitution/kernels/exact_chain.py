@@ -105,6 +105,7 @@ from restitution.kernels.constants import (
 )
 from restitution.kernels.copies import put_row, put_rows
 from restitution.kernels.lapack import eig_real
+from restitution.kernels.quadratic_refine import refine_pairs
 from restitution.kernels.layout import (
     FLAG_EXTRAPOLATED,
     FLAG_RIGID_LIMIT,
@@ -442,7 +443,7 @@ def _modal_model(m, k, c, kg, cg, drop_rigid):
         S[nm + q, q] = -om[q] * (om[q] / sc[q])
         for p in range(nm):
             S[nm + q, nm + p] = -D[q, p]
-    lamk, Vk, Wk, cond = _real_modes(S, sc)
+    lamk, Vk, Wk, cond = _real_modes(S, sc, om, D)
     for q in range(nm):  # back to (q, q')
         for j in range(lamk.size):
             Vk[q, j] /= sc[q]
@@ -513,7 +514,7 @@ def _consistent_vectors(wr, wi, Vr, sc):
 
 
 @njit(cache=True)
-def _real_modes(S, sc):
+def _real_modes(S, sc, om, D):
     """Modal basis of the real state matrix S, one term per conjugate pair of eigenvalues.
 
     An eigenvalue lam with Im > 0 has the partner conj(lam), and the two terms of a real motion
@@ -525,8 +526,10 @@ def _real_modes(S, sc):
     (doubling one member of each pair of a complex inverse instead left 5e-10 at a near-critical
     pair, whose two projectors are large and cancel only to round-off).
 
-    S is the modal state matrix of (sc q, q') (see _modal_model); its eigenvectors are made
-    consistent (_consistent_vectors) before the inverse.
+    S is the modal state matrix of (sc q, q') (see _modal_model) of the modal frequencies om
+    and damping D; the eigenpairs dgeev resolves poorly against ||S|| (heavy damping) are
+    refined on the quadratic eigenproblem (restitution.kernels.quadratic_refine) and every
+    eigenvector is made consistent (_consistent_vectors) before the inverse.
 
     Returns (lam, V, W, cond): the K kept eigenvalues, V (2nm, K) and W (K, 2nm) complex with
     y(t) = Re V (e^{lam t} * (W y0)), and the real basis's condition number (1-norm). Raises
@@ -540,6 +543,7 @@ def _real_modes(S, sc):
     for j in range(K):
         for i in range(K):
             Vr[i, j] = vr[j, i]
+    refine_pairs(wr, wi, Vr, S, om, D, sc)
     _consistent_vectors(wr, wi, Vr, sc)
     nkeep = 0
     for j in range(K):
