@@ -238,9 +238,7 @@ def _quadratic_eigenvalues(m, k, c, kg, dps=50):
         return [complex(e) for e in mpmath.eig(A_, left=False, right=False)]
 
 
-@pytest.mark.parametrize(
-    "alpha, n", [(1.0, 3), (10.0, 2), (1.0, 4)], ids=["N3", "N2", "N4"]
-)
+@pytest.mark.parametrize("alpha, n", [(1.0, 3), (10.0, 2), (1.0, 4)], ids=["N3", "N2", "N4"])
 def test_heavily_damped_contact_modes_to_their_own_round_off(alpha, n):
     """xi = 1e3 on a soft contact (beta = 1e6): dgeev's error eps ||S|| (||S|| ~ 2e3) is 1e-9 of
     the contact mode (|lam| ~ 4e-4) and 0.4 % of its decay rate. The modes dgeev resolves to

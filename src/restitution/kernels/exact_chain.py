@@ -105,7 +105,6 @@ from restitution.kernels.constants import (
 )
 from restitution.kernels.copies import put_row, put_rows
 from restitution.kernels.lapack import eig_real
-from restitution.kernels.quadratic_refine import refine_pairs
 from restitution.kernels.layout import (
     FLAG_EXTRAPOLATED,
     FLAG_RIGID_LIMIT,
@@ -162,6 +161,7 @@ from restitution.kernels.locator import (
     _xmax,
 )
 from restitution.kernels.parallel import over_threads
+from restitution.kernels.quadratic_refine import refine_pairs
 from restitution.kernels.replica import (
     JITTER,
     PURE_SAFETY,
