@@ -28,8 +28,8 @@ from restitution.jit import njit
 from restitution.kernels.constants import EPS
 
 #: A mode is refined where dgeev's absolute error bound eps ||S|| exceeds this fraction of
-#: |lam|: below it the modes keep LAPACK's values bit for bit (every scene of the figures,
-#: whose damped modes lie within 1e4 of the fastest: a bound of 2e-12 of themselves).
+#: |lam| (||S|| / |lam| > 4.5e4): below it the modes keep LAPACK's values bit for bit (every
+#: output of `make all` did).
 REFINE_REL = 1e-11
 
 
