@@ -342,9 +342,11 @@ def test_random_chains_against_solve_ivp(n, zeta):
 
 
 def test_declared_ranges_finish_or_fail_explicitly():
-    # k, c (damping ratio 0 .. 1e3, its ends included) and v0 over their ranges on random
-    # chains: each scene is rejected before any work (naming the range), or finishes sane, or
-    # fails with an explicit status and a NaN COR; never a traceback
+    # k, c (damping ratio 0 .. 1e3, its ends included, and 2e3 beyond it) and v0 over their
+    # ranges on random chains: each scene is rejected before any work (naming the range), or
+    # finishes sane, or fails with an explicit status and a NaN COR; never a traceback. (The
+    # exact method is not held to the numerical methods' frequency spread: since 2026-11-28
+    # the draw's rejections are its own ranges', hence the damping ratio beyond its end.)
     rng = np.random.default_rng(28)
     rows, rejected = [], 0
     for _ in range(60):
@@ -352,7 +354,7 @@ def test_declared_ranges_finish_or_fail_explicitly():
         m = np.exp(rng.uniform(-3, 3, n)).tolist()
         k = np.exp(rng.uniform(-3, 3, n - 1)).tolist()
         kc = float(np.exp(rng.uniform(-5, 12)))
-        zeta = float((0.0, 1e3, np.exp(rng.uniform(-7, 7)))[int(rng.integers(3))])
+        zeta = float((0.0, 1e3, 2e3, np.exp(rng.uniform(-7, 7)))[int(rng.integers(4))])
         v0 = float(np.exp(rng.uniform(math.log(1e-6), math.log(1e6))))
         contact = {"law": KV, "k": kc, "c": 2.0 * zeta * math.sqrt(kc * m[0])}
         try:

@@ -252,3 +252,29 @@ def test_the_precise_method_takes_kelvin_voigt():
     p = _exact(m, k, c, kc, cc, method="precise")
     assert p.method == "precise" and p.n_collisions == r.n_collisions
     assert abs(p.cor - r.cor) <= r.error_estimate
+
+
+# Beyond the numerical methods' frequency spread (laws.SPREAD_MAX = 1e3; these: 3.16e3, 1000.05
+# and 5.47e3): a stiff contact on a light second mass, a contact dashpot at a damping ratio of
+# 500. Solved exactly, they were refused with the numerical methods' spread error.
+BEYOND_SPREAD = [
+    ([1.0, 1e-4], [1e-4], [0.0], {"law": KV, "k": 1e7, "c": 1e-2}),
+    ([1.0, 1e-4], [1e-4], [0.0], {"law": KV, "k": 1.0, "c": 1e3}),
+    ([1.0, 1e-3, 5.0], [1e-3, 0.2], [0.0, 0.01], {"law": KV, "k": 3e7, "c": 2.0}),
+]
+
+
+@pytest.mark.parametrize("m, k, c, contact", BEYOND_SPREAD)
+def test_beyond_the_numerical_spread_solved_exactly(m, k, c, contact):
+    r = restitution.solve(masses=m, springs=k, dashpots=c, contact=contact)
+    assert r.method == "piecewise" and r.status == "ok"
+    p = restitution.solve(masses=m, springs=k, dashpots=c, contact=contact, method="precise")
+    assert p.status == "ok" and p.n_collisions == r.n_collisions
+    assert abs(r.cor - p.cor) <= r.error_estimate + p.error_estimate
+    # a numerical method is still held to its range, and says which
+    with pytest.raises(restitution.SceneError, match="frequency spread .* at most 1000"):
+        restitution.solve(masses=m, springs=k, dashpots=c, contact=contact, method="adaptive")
+    many = restitution.solve_many(
+        pd.DataFrame({"masses": [m], "springs": [k], "dashpots": [c], "contact": [contact]})
+    )
+    assert many["status"][0] == "ok" and many["cor"][0] == r.cor

@@ -395,9 +395,15 @@ class Chain:
             # The laws' own parameter checks (restitution.model.laws), before any work.
             from restitution.model.laws import pack_checked
 
+            # A Kelvin-Voigt contact on linear links is solved exactly (piecewise linear): the
+            # numerical methods' ranges apply only when one is asked for (numerical.packed).
+            exact_kv = links is None and contact is not None and contact["law"] == "kelvin_voigt"
             speed = self.law_speed
-            packed = pack_checked(m, k, c, self.contact_law, self.link_laws, speed)
-            object.__setattr__(self, "_packed", (speed, packed))  # kept for the numerical runners
+            packed = pack_checked(
+                m, k, c, self.contact_law, self.link_laws, speed, numerical=not exact_kv
+            )
+            # kept for the runners: (speed, pack, whether the numerical ranges were checked)
+            object.__setattr__(self, "_packed", (speed, packed, not exact_kv))
 
     # ------------------------------------------------------------------------------------------
     @classmethod

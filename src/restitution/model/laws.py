@@ -236,9 +236,12 @@ def check_frequency_spread(m, lk, c, cp, v0: float) -> float:
         lo = min(lo, math.sqrt(k_eff / sum(m)))
     spread = hi / lo
     if not spread <= SPREAD_MAX:
+        shown = f"{spread:.3g}"
+        if float(shown) <= SPREAD_MAX:  # (1000.2 is not "1e+03")
+            shown = repr(spread)
         raise SceneError(
             f"the chain's frequency spread (fastest rate: springs, contact, dashpots; over the "
-            f"slowest link) is {spread:.3g}; it must be at most {SPREAD_MAX:g} for the numerical "
+            f"slowest link) is {shown}; it must be at most {SPREAD_MAX:g} for the numerical "
             f"methods "
             f"(narrow the ratios of masses, springs and the contact stiffness)"
         )
@@ -892,9 +895,11 @@ def pack_chain(masses, springs, dashpots=None, contact="rigid", links=None, v0=1
     return pack_checked(m, k, c, contact, links, v0)
 
 
-def pack_checked(m, k, c, contact, links, v0: float):
+def pack_checked(m, k, c, contact, links, v0: float, numerical: bool = True):
     """``pack_chain`` of float64 vectors already checked (``Chain`` checks its own: finite, >
-    0, dashpots >= 0, their lengths); v0, the laws and the units are checked here."""
+    0, dashpots >= 0, their lengths); v0, the laws and the units are checked here, and with
+    ``numerical`` the ranges the numerical methods handle (mass ratio, frequency spread): a
+    chain solved exactly (a Kelvin-Voigt contact on linear links) is not held to them."""
     n = m.size
     v0 = check_v0(v0)
     m1 = m[0]
@@ -914,7 +919,7 @@ def pack_checked(m, k, c, contact, links, v0: float):
     rest = ms[1:]
     lo, hi = rest.min(), rest.max()  # (ms[0] = 1)
     ratio = hi / min(lo, 1.0), max(hi, 1.0) / lo
-    if not max(ratio) <= ALPHA_NL_MAX:
+    if numerical and not max(ratio) <= ALPHA_NL_MAX:
         raise SceneError(
             f"masses: the ratio of the largest to the smallest mass must be at most "
             f"{ALPHA_NL_MAX:g} for the nonlinear laws (the numerical methods' handled "
@@ -932,5 +937,6 @@ def pack_checked(m, k, c, contact, links, v0: float):
         where = f"links[{i}]"
         s = to_kernel_units(spec, LINK_LAWS, m1, w, where)
         lk[i] = pack_link(s, ks[i], where)
-    check_frequency_spread(ms, lk, cs, cp, v0)
+    if numerical:
+        check_frequency_spread(ms, lk, cs, cp, v0)
     return ms, lk, cs, cp, w, kappa

@@ -77,7 +77,7 @@ def kv_row(ch: Chain, max_events: int, hist: np.ndarray):
     from restitution.solvers.numerical import packed
 
     m, k, c, _ = ch.scaled()
-    cp = packed(ch)[3]
+    cp = packed(ch, numerical=False)[3]  # (exact: the numerical ranges do not apply)
     kc, cc = float(cp[2]), float(cp[3])
     y0 = ch.initial_state(ch.v0 / ch.omega, ch.v0)
     if y0 is not None:

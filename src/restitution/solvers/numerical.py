@@ -196,12 +196,14 @@ def _fall_back(fine, setting) -> bool:
     return fine[LY.OUT_STATUS] != LY.STATUS_OK and setting[LY.OUT_STATUS] == LY.STATUS_OK
 
 
-def packed(ch: Chain) -> tuple:
+def packed(ch: Chain, numerical: bool = True) -> tuple:
     """(m, lk, c, cp, omega, kappa) of a validated chain in kernel units (``laws.pack_chain``;
-    the arrays a nonlinear Chain packed when it was checked, if it kept them; never written)."""
+    the arrays a nonlinear Chain packed when it was checked, if it kept them; never written).
+    ``numerical``: within the ranges the numerical methods handle (SceneError naming the
+    range otherwise); False only for an exact runner (a Kelvin-Voigt chain's ``kv_row``)."""
     kept = getattr(ch, "_packed", None)
     speed = ch.law_speed  # (v0, or the energy's speed from a given state)
-    if kept is not None and kept[0] == speed:
+    if kept is not None and kept[0] == speed and (kept[2] or not numerical):
         return kept[1]
     return pack_chain(ch.masses, ch.springs, ch.dashpots, ch.contact_law, ch.link_laws, speed)
 
