@@ -278,3 +278,30 @@ def test_beyond_the_numerical_spread_solved_exactly(m, k, c, contact):
         pd.DataFrame({"masses": [m], "springs": [k], "dashpots": [c], "contact": [contact]})
     )
     assert many["status"][0] == "ok" and many["cor"][0] == r.cor
+
+
+@pytest.mark.parametrize("alpha", [1.0, 1e-4, 1e4])
+@pytest.mark.parametrize("dxi", [0.0, 3e-9, -3e-9])
+def test_critically_damped_link_of_two_masses(alpha, dxi):
+    """xi = 1 on the link of two masses: the flight inside the penetration has a defective free
+    mode (ill_conditioned before, and for `precise`); now bracketed at xi = 1 -+ 1e-8 and
+    interpolated, within its estimate of the adaptive integrator (which has no modes)."""
+    k = alpha / (1.0 + alpha)
+    kw = dict(
+        masses=[1.0, alpha],
+        springs=[k],
+        dashpots=[2.0 * (1.0 + dxi) * k],
+        contact={"law": KV, "k": 1e3, "c": 1e-2},
+    )
+    r = restitution.solve(**kw)
+    assert r.status == "ok" and r.method == "piecewise+critical-bracket"
+    ref = restitution.solve(**kw, method="adaptive", rtol=1e-12)
+    assert ref.status == "ok" and ref.n_collisions == r.n_collisions
+    assert abs(r.cor - ref.cor) <= r.error_estimate + ref.error_estimate
+    assert r.error_estimate < 1e-8
+    assert abs(r.e_translational + r.e_vibrational + r.e_dissipated - 1.0) < 1e-12
+    many = restitution.solve_many(pd.DataFrame({k_: [v] for k_, v in kw.items()}))
+    assert many["method"][0] == r.method and many["cor"][0] == r.cor
+    # outside the bracket the modal closed form itself
+    far = restitution.solve(**{**kw, "dashpots": [2.0 * (1.0 + 1e-6) * k]})
+    assert far.method == "piecewise"

@@ -37,6 +37,7 @@ from restitution.model.units import user_time
 from restitution.solvers import exact
 from restitution.solvers import methods as M
 from restitution.solvers.result import (
+    CRITICAL_BRACKET,
     EXTRAPOLATED,
     RESULT_COLUMNS,
     STATUS,
@@ -443,6 +444,7 @@ def _fill(cols: dict, idx: np.ndarray, out: np.ndarray, errors: dict, passive=Tr
     flags = np.nan_to_num(flag_col, nan=0.0).astype(np.int64)
     method.set(idx[(flags & M.FLAG_RIGID_LIMIT) != 0], "impulsive+rigid-limit")
     method.set(idx[(flags & M.FLAG_EXTRAPOLATED) != 0], EXTRAPOLATED)
+    method.set(idx[(flags & L.FLAG_CRITICAL_BRACKET) != 0], CRITICAL_BRACKET)
     stick = idx[(flags & M.FLAG_STICKING) != 0]
     for code in np.unique(method.codes[stick]):
         rows = stick[method.codes[stick] == code]

@@ -46,6 +46,9 @@ FLAG_EXTRAPOLATED = 4  # ... as its rigid limit corrected by two finite-stiffnes
 # check, so OUT_ERR is only the kernel's own bound and the row is no checked result. Optimisers
 # read its COR (identical, bit for bit, to the checked row's) and never show the row.
 FLAG_UNCHECKED = 8
+# A two-mass Kelvin-Voigt row whose link is critically damped (a defective free mode): solved
+# just below and above critical damping and interpolated (``solvers.exact._critical_kv``).
+FLAG_CRITICAL_BRACKET = 16
 
 # Statuses of a row that is not a finished result. Before a user sees such a row its COR,
 # duration and energies are voided (NaN, ``void_unfinished``); the count of contacts reached

@@ -320,13 +320,16 @@ def _history(hist: np.ndarray, scene, lengths_of_v0: bool) -> pd.DataFrame:
 
 
 EXTRAPOLATED = "piecewise+extrapolated"
+CRITICAL_BRACKET = "piecewise+critical-bracket"
 
 
 def label(name: str, out) -> str:
     """The method recorded in a result: ``name``, plus ``+sticking`` when the kernel used the
     sticking limit (bit 0 of OUT_FLAGS), ``impulsive+rigid-limit`` for a contact solved as
-    its rigid limit, or ``piecewise+extrapolated`` for that limit corrected to the contact's
-    stiffness by two finite-stiffness runs (kernels.exact_chain._extrapolated)."""
+    its rigid limit, ``piecewise+extrapolated`` for that limit corrected to the contact's
+    stiffness by two finite-stiffness runs (kernels.exact_chain._extrapolated), or
+    ``piecewise+critical-bracket`` for a critically damped two-mass Kelvin-Voigt scene
+    interpolated between two runs next to it (solvers.exact._critical_kv)."""
     flags_at = getattr(L, "OUT_FLAGS", None)
     if flags_at is not None and len(out) > flags_at and math.isfinite(out[flags_at]):
         f = int(out[flags_at])
@@ -334,6 +337,8 @@ def label(name: str, out) -> str:
             name = "impulsive+rigid-limit"
         if f & L.FLAG_EXTRAPOLATED:
             name = EXTRAPOLATED
+        if f & L.FLAG_CRITICAL_BRACKET:
+            name = CRITICAL_BRACKET
         if f & L.FLAG_STICKING:
             name += "+sticking"
     return name
