@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -157,6 +158,8 @@ class Result:
     @property
     def message(self) -> str:
         text = MESSAGES.get(self.status, self.status)
+        if self.method == "precise":  # (not advice to use the method that gave it)
+            text = re.sub(r"[ ;]*method='precise' solves[^.]*\.", ".", text).replace("..", ".")
         if self.status == "energy_account_open" and _contact_law(self.scene) == "plastic":
             text += " " + PLASTIC_ENERGY
         return text
