@@ -200,23 +200,3 @@ def test_contact_times_refuses_what_solve_refuses():
         scaled.solve_scaled(m[0], k[0], kc[0])
     with pytest.raises(SceneError, match="mass"):
         scaled.contact_times(m[0], k[0], kc[0], check=False)
-
-
-@pytest.mark.parametrize("beta", [0.0, 0.05])
-def test_search_cor_is_the_unchecked_array_row(beta):
-    """``search_cor`` (the design polish's evaluation) is ``solve_scaled_arrays(check=False)``
-    of one row bit for bit (NaN where that row is not ok), paper-form rows included; at a rigid
-    wall it is also the checked ``solve_scaled``'s COR wherever that one is a result."""
-    m, k, kc = _chains(np.random.default_rng(11), 40, 5, beta)
-    m[0, 1:] = m[0, 1]  # a paper-form row (equal masses and springs, omega = 1)
-    k[0] = m[0, 1] / (1.0 + m[0, 1])
-    kc[0] = math.inf if beta == 0.0 else k[0, 0] / beta
-    for i in range(len(m)):
-        one = scaled.search_cor(m[i], k[i], kc[i], 100_000)
-        row, ok = scaled.solve_scaled_arrays(m[i : i + 1], k[i : i + 1], kc[i : i + 1], check=False)
-        want = row[0] if ok[0] else math.nan
-        assert np.float64(one).tobytes() == np.float64(want).tobytes()
-        if beta == 0.0:
-            r = scaled.solve_scaled(m[i], k[i], kc[i])
-            if r.success:
-                assert one == r.cor

@@ -10,9 +10,8 @@ Method
    m_i/m_1 (i = 2..N; optionally also k_i/k_12, i = 2..N-1) within user bounds, seeded, one worker
    and ``updating="deferred"``, so the result is identical for any thread count. Its population
    is solved unchecked (the kernel's first run alone, without the replica check that a reported
-   result gets: ``solve_scaled_arrays(check=False)``), 3-8 times faster; so are the polish's
-   evaluations (``scaled.search_cor``, one row; at a rigid wall its COR is the checked run's
-   bit for bit); the reported design is solved checked.
+   result gets: ``solve_scaled_arrays(check=False)``), 3-8 times faster; the polish and the
+   reported design are solved checked.
 2. **Polish on the grazing manifold**: the optimum sits where some contact grazes, i.e. on the
    zero set of a smooth grazing condition G (``restitution.analysis.cormap``: the first gap minimum
    after
@@ -52,7 +51,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import brentq, differential_evolution, minimize, root_scalar
 
-from restitution.analysis.scaled import search_cor, solve_scaled, solve_scaled_arrays
+from restitution.analysis.scaled import solve_scaled, solve_scaled_arrays
 from restitution.model.chain import RATIOS, check
 from restitution.model.ranges import SceneError, _real, _show
 
@@ -292,14 +291,9 @@ class _Objective:
         return solve_scaled(masses, springs, kc, max_events=self.max_events)
 
     def cor(self, x) -> float:
-        """COR of one member for the searches: an unchecked run (``scaled.search_cor``, as the
-        population's ``batch``; at a rigid wall the checked run's COR bit for bit), a quarter of
-        a checked solve's time; every design found is solved again, checked (``_optimise``)."""
         m, k = self.fam.chain(x)
-        self.spend()
-        self.calls += 1
-        cor = search_cor(*scaled_chain(m / m[0], k, self.beta), self.max_events)
-        return cor if cor == cor else _BAD
+        r = self.solve(m, k)
+        return r.cor if r.success else _BAD
 
     def _box(self, n):
         """Error vectors of the robust objective: centre, corners (<= 64), a Sobol sample."""

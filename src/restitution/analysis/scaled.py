@@ -77,32 +77,6 @@ def contact_times(masses, springs, k_contact, *, max_events=100_000, check=True)
     return res, h["omega_t_start"].to_numpy(), h["omega_t_end"].to_numpy()
 
 
-def search_cor(masses, springs, k_contact, max_events=100_000) -> float:
-    """COR of one undamped chain for an optimiser (the design polish), NaN where the run did
-    not finish: ``solve_scaled_arrays(..., check=False)`` of one row, bit for bit, without its
-    table and thread pool (the general kernel's single run, 28 us on 8 masses, where the checked
-    ``solve_scaled`` took 230 us). A row the general kernel does not take (not plainly valid, of
-    the paper's form) goes through ``solve_scaled``, checked. Not a result to report."""
-    from restitution.kernels import layout as L
-    from restitution.kernels.exact_chain import solve_chain
-    from restitution.model.units import kernel_params
-    from restitution.solvers.exact import NO_HIST
-    from restitution.tables.linear_rows import omega_column, paper_rows, plainly_valid
-
-    m = np.asarray(masses, dtype=np.float64)[None, :]
-    k = np.asarray(springs, dtype=np.float64)[None, :]
-    c = np.zeros_like(k)
-    kc = np.array([float(k_contact)])
-    # (an undamped linear chain: an exact method always applies, so no method choice here)
-    if not (k_contact > 0.0 and plainly_valid(m, k, c, kc)) or paper_rows(m, k, c).any():
-        r = solve_scaled(masses, springs, k_contact, max_events=max_events)
-        return r.cor if r.success else math.nan
-    omega = omega_column(m, k)
-    ms, ks, cs, kcs = kernel_params(m, k, c, kc[:, None], m[:, :1], omega[:, None])
-    out = solve_chain(ms[0], ks[0], cs[0], kcs[0, 0], max_events, NO_HIST, False)
-    return float(out[L.OUT_COR]) if out[L.OUT_STATUS] == L.STATUS_OK else math.nan
-
-
 def solve_scaled_many(chains, max_events=100_000):
     """COR and success (status ok) of many scaled chains ``[(masses, springs, k_contact), ...]``
     in one call to ``solve_many`` (the paper form when every chain is a paper scene)."""
@@ -183,7 +157,6 @@ def _general_arrays(m, k, kc, max_events, check=True):
 __all__ = [
     "contact_times",
     "paper_form",
-    "search_cor",
     "solve_scaled",
     "solve_scaled_arrays",
     "solve_scaled_many",
