@@ -34,37 +34,17 @@ REFINE_REL = 1e-11
 
 
 @njit(cache=True)
-def _norm_inf(S):
-    out = 0.0
-    for i in range(S.shape[0]):
-        row = 0.0
-        for j in range(S.shape[1]):
-            row += abs(S[i, j])
-        out = max(out, row)
-    return out
-
-
-@njit(cache=True)
-def _q_apply(lam, om, D, x, out):
-    """out = Q(lam) x = lam^2 x + lam D x + Omega^2 x; returns x^T Q'(lam) x (Q' = 2 lam + D)."""
-    nm = om.size
-    dq = 0.0j
-    for q in range(nm):
-        dx = 0.0j
-        for p in range(nm):
-            dx += D[q, p] * x[p]
-        out[q] = (lam * lam + om[q] * om[q]) * x[q] + lam * dx
-        dq += x[q] * (2.0 * lam * x[q] + dx)
-    return dq
-
-
-@njit(cache=True)
-def _newton(lam, om, D, x, buf):
-    """One Newton step of the Rayleigh functional: lam - x^T Q(lam) x / x^T Q'(lam) x."""
-    dq = _q_apply(lam, om, D, x, buf)
+def _newton(lam, om, D, x):
+    """One Newton step of the Rayleigh functional: lam - x^T Q(lam) x / x^T Q'(lam) x, with
+    Q(lam) x = lam^2 x + lam D x + Omega^2 x and Q'(lam) = 2 lam + D."""
     num = 0.0j
+    dq = 0.0j
     for q in range(om.size):
-        num += x[q] * buf[q]
+        dx = 0.0j
+        for p in range(om.size):
+            dx += D[q, p] * x[p]
+        num += x[q] * ((lam * lam + om[q] * om[q]) * x[q] + lam * dx)
+        dq += x[q] * (2.0 * lam * x[q] + dx)
     if dq == 0.0:
         return lam
     return lam - num / dq
@@ -72,27 +52,49 @@ def _newton(lam, om, D, x, buf):
 
 @njit(cache=True)
 def _inverse_step(lam, om, D, x):
-    """u with Q(lam) u = Q'(lam) x, scaled to x at x's largest entry; x itself if the solve
-    fails or is not finite."""
-    nm = om.size
-    Q = np.empty((nm, nm), np.complex128)
-    rhs = np.empty(nm, np.complex128)
-    for q in range(nm):
+    """u with Q(lam) u = Q'(lam) x, scaled to x at x's largest entry; x itself at an exactly
+    zero pivot or a result not finite. Gaussian elimination with partial pivoting by hand:
+    numba's np.linalg.solve compiled LAPACK's complex wrappers and their error handling into
+    every exact kernel (the paper chain's first call 7.5 s longer)."""
+    n = om.size
+    Q = np.empty((n, n), np.complex128)
+    u = np.empty(n, np.complex128)
+    for q in range(n):
         acc = 2.0 * lam * x[q]
-        for p in range(nm):
+        for p in range(n):
             Q[q, p] = lam * D[q, p]
             acc += D[q, p] * x[p]
         Q[q, q] += lam * lam + om[q] * om[q]
-        rhs[q] = acc
-    try:
-        u = np.linalg.solve(Q, rhs)
-    except Exception:  # noqa: BLE001 - singular to machine precision: keep x
-        return x
+        u[q] = acc
+    for col in range(n):
+        piv = col
+        for i in range(col + 1, n):
+            if abs(Q[i, col]) > abs(Q[piv, col]):
+                piv = i
+        if Q[piv, col] == 0.0:
+            return x
+        if piv != col:
+            for j in range(col, n):
+                Q[col, j], Q[piv, j] = Q[piv, j], Q[col, j]
+            u[col], u[piv] = u[piv], u[col]
+        for i in range(col + 1, n):
+            f = Q[i, col] / Q[col, col]
+            if f != 0.0:
+                for j in range(col + 1, n):
+                    Q[i, j] -= f * Q[col, j]
+                u[i] -= f * u[col]
+    for i in range(n - 1, -1, -1):
+        acc = u[i]
+        for j in range(i + 1, n):
+            acc -= Q[i, j] * u[j]
+        u[i] = acc / Q[i, i]
     r = 0
-    for q in range(nm):
+    for q in range(n):
         if abs(x[q]) > abs(x[r]):
             r = q
-    if u[r] == 0.0 or not np.isfinite(u).all():
+        if not (abs(u[q].real) < math.inf and abs(u[q].imag) < math.inf):  # (NaN too)
+            return x
+    if u[r] == 0.0:
         return x
     return u * (x[r] / u[r])
 
@@ -106,9 +108,14 @@ def refine_pairs(wr, wi, Vr, S, om, D, sc):
     eigenvalue the vector is not determined and LAPACK's is kept."""
     nm = om.size
     K = wr.size
-    bound = EPS * _norm_inf(S)
+    norm = 0.0  # ||S|| (infinity norm)
+    for i in range(S.shape[0]):
+        row = 0.0
+        for j in range(S.shape[1]):
+            row += abs(S[i, j])
+        norm = max(norm, row)
+    bound = EPS * norm
     x = np.empty(nm, np.complex128)
-    buf = np.empty(nm, np.complex128)
     j = 0
     while j < K:
         pair = wi[j] != 0.0 and j + 1 < K
@@ -131,8 +138,8 @@ def refine_pairs(wr, wi, Vr, S, om, D, sc):
             b = complex(Vr[nm + q, j], Vr[nm + q, j + 1] if pair else 0.0)
             x[q] = a / sc[q] if abs(lam0) < sc[q] else b / lam0
         y = _inverse_step(lam0, om, D, x)
-        lam = _newton(lam0, om, D, y, buf)
-        lam = _newton(lam, om, D, y, buf)
+        lam = _newton(lam0, om, D, y)
+        lam = _newton(lam, om, D, y)
         moved = abs(lam - lam0)
         if not (math.isfinite(lam.real) and math.isfinite(lam.imag)) or moved > 64.0 * bound:
             j += step
