@@ -11,11 +11,12 @@ caught (``energy_account_open``) on 26 of 576 corner scenes of the declared rang
 
 Each such eigenpair (lam, x), x its modal displacement part, solves Q(lam) x = 0 with
 Q(lam) = lam^2 I + lam D + Omega^2, whose entries are of the size of the slow mode's own terms:
-evaluated there, the residual carries round-off of eps times those terms, not eps ||S||. One
-step of inverse iteration, Q(lam) u = Q'(lam) x (Q' = 2 lam I + D), with dgeev's lam sharpens
-the vector by the factor |lam error| / gap; then Newton on the Rayleigh functional of the
-complex-symmetric Q, lam <- lam - x^T Q(lam) x / x^T Q'(lam) x (twice; quadratic
-convergence), gives lam to round-off of its own size.
+evaluated there, the residual carries round-off of eps times those terms, not eps ||S||.
+Newton on the Rayleigh functional of the complex-symmetric Q, lam <- lam - x^T Q(lam) x /
+x^T Q'(lam) x (Q' = 2 lam I + D; twice), gives lam to round-off of its own size: its error is
+second order in the vector's (dgeev's, about eps ||S|| / gap), which is kept. (A step of
+inverse iteration for the vector first changed no COR beyond round-off on the corner and long
+stiff scenes, and its complex linear solve cost 2-3 s of compile time per exact kernel.)
 """
 
 from __future__ import annotations
@@ -51,61 +52,12 @@ def _newton(lam, om, D, x):
 
 
 @njit(cache=True)
-def _inverse_step(lam, om, D, x):
-    """u with Q(lam) u = Q'(lam) x, scaled to x at x's largest entry; x itself at an exactly
-    zero pivot or a result not finite. Gaussian elimination with partial pivoting by hand:
-    numba's np.linalg.solve compiled LAPACK's complex wrappers and their error handling into
-    every exact kernel (the paper chain's first call 7.5 s longer)."""
-    n = om.size
-    Q = np.empty((n, n), np.complex128)
-    u = np.empty(n, np.complex128)
-    for q in range(n):
-        acc = 2.0 * lam * x[q]
-        for p in range(n):
-            Q[q, p] = lam * D[q, p]
-            acc += D[q, p] * x[p]
-        Q[q, q] += lam * lam + om[q] * om[q]
-        u[q] = acc
-    for col in range(n):
-        piv = col
-        for i in range(col + 1, n):
-            if abs(Q[i, col]) > abs(Q[piv, col]):
-                piv = i
-        if Q[piv, col] == 0.0:
-            return x
-        if piv != col:
-            for j in range(col, n):
-                Q[col, j], Q[piv, j] = Q[piv, j], Q[col, j]
-            u[col], u[piv] = u[piv], u[col]
-        for i in range(col + 1, n):
-            f = Q[i, col] / Q[col, col]
-            if f != 0.0:
-                for j in range(col + 1, n):
-                    Q[i, j] -= f * Q[col, j]
-                u[i] -= f * u[col]
-    for i in range(n - 1, -1, -1):
-        acc = u[i]
-        for j in range(i + 1, n):
-            acc -= Q[i, j] * u[j]
-        u[i] = acc / Q[i, i]
-    r = 0
-    for q in range(n):
-        if abs(x[q]) > abs(x[r]):
-            r = q
-        if not (abs(u[q].real) < math.inf and abs(u[q].imag) < math.inf):  # (NaN too)
-            return x
-    if u[r] == 0.0:
-        return x
-    return u * (x[r] / u[r])
-
-
-@njit(cache=True)
 def refine_pairs(wr, wi, Vr, S, om, D, sc):
-    """Refine in place dgeev's eigenvalues (wr, wi) and real eigenvectors Vr (columns: a real
-    vector, or [Re v, Im v] of a pair) of the modal state matrix S of (sc q, q') where
-    eps ||S|| > REFINE_REL |lam|. A refinement that moves lam by more than 64 eps ||S|| (dgeev's
-    error is within a few), or towards another eigenvalue, is dropped: near a repeated
-    eigenvalue the vector is not determined and LAPACK's is kept."""
+    """Refine in place dgeev's eigenvalues (wr, wi) of the modal state matrix S of (sc q, q')
+    where eps ||S|| > REFINE_REL |lam|, and rebuild those eigenvectors' columns of Vr (a real
+    vector, or [Re v, Im v] of a pair) as (sc x, lam x) from their displacement part x. A
+    refinement that moves lam by more than 64 eps ||S|| (dgeev's error is within a few), or
+    towards another eigenvalue, is dropped: near a repeated eigenvalue LAPACK's pair is kept."""
     nm = om.size
     K = wr.size
     norm = 0.0  # ||S|| (infinity norm)
@@ -137,9 +89,8 @@ def refine_pairs(wr, wi, Vr, S, om, D, sc):
             a = complex(Vr[q, j], Vr[q, j + 1] if pair else 0.0)
             b = complex(Vr[nm + q, j], Vr[nm + q, j + 1] if pair else 0.0)
             x[q] = a / sc[q] if abs(lam0) < sc[q] else b / lam0
-        y = _inverse_step(lam0, om, D, x)
-        lam = _newton(lam0, om, D, y)
-        lam = _newton(lam, om, D, y)
+        lam = _newton(lam0, om, D, x)
+        lam = _newton(lam, om, D, x)
         moved = abs(lam - lam0)
         if not (math.isfinite(lam.real) and math.isfinite(lam.imag)) or moved > 64.0 * bound:
             j += step
@@ -153,8 +104,8 @@ def refine_pairs(wr, wi, Vr, S, om, D, sc):
             wr[j + 1] = lam.real
             wi[j + 1] = -lam.imag
         for q in range(nm):
-            a = sc[q] * y[q]
-            b = lam * y[q]
+            a = sc[q] * x[q]
+            b = lam * x[q]  # (the velocity part, lam x, with the refined lam)
             Vr[q, j] = a.real
             Vr[nm + q, j] = b.real
             if pair:
