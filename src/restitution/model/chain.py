@@ -397,7 +397,7 @@ class Chain:
 
             # A Kelvin-Voigt contact on linear links is solved exactly (piecewise linear): the
             # numerical methods' ranges apply only when one is asked for (numerical.packed).
-            exact_kv = links is None and contact is not None and contact["law"] == "kelvin_voigt"
+            exact_kv = self.kelvin_voigt
             speed = self.law_speed
             packed = pack_checked(
                 m, k, c, self.contact_law, self.link_laws, speed, numerical=not exact_kv
@@ -519,6 +519,16 @@ class Chain:
     def linear(self) -> bool:
         """Linear contact (rigid or a spring) and linear links: the exact methods apply."""
         return self.contact is None and self.links is None
+
+    @property
+    def kelvin_voigt(self) -> bool:
+        """A Kelvin-Voigt contact on linear links: piecewise linear, solved exactly
+        (``solvers.exact.kv_row``)."""
+        return (
+            self.links is None
+            and self.contact is not None
+            and self.contact["law"] == "kelvin_voigt"
+        )
 
     @property
     def paper_form(self) -> tuple | None:

@@ -66,7 +66,7 @@ def run_paper(alpha: float, beta: float, xi: float, n: int, max_events: int, his
 def kelvin_voigt(ch: Chain) -> bool:
     """A Kelvin-Voigt contact on linear links: the exact chain kernel's piecewise-linear
     contact (``kv_row``)."""
-    return ch.links is None and ch.contact is not None and ch.contact["law"] == "kelvin_voigt"
+    return ch.kelvin_voigt
 
 
 #: A link of two masses damped within this (relative) of critical, |xi - 1|, has a free mode too
