@@ -284,8 +284,9 @@ def test_beyond_the_numerical_spread_solved_exactly(m, k, c, contact):
 @pytest.mark.parametrize("dxi", [0.0, 3e-9, -3e-9])
 def test_critically_damped_link_of_two_masses(alpha, dxi):
     """xi = 1 on the link of two masses: the flight inside the penetration has a defective free
-    mode (ill_conditioned before, and for `precise`); now bracketed at xi = 1 -+ 1e-8 and
-    interpolated, within its estimate of the adaptive integrator (which has no modes)."""
+    mode (ill_conditioned before, and for `precise`); now extrapolated from runs with the
+    dashpots scaled off it (solvers.exact.bracketed), within its estimate of the adaptive
+    integrator (which has no modes)."""
     k = alpha / (1.0 + alpha)
     kw = dict(
         masses=[1.0, alpha],

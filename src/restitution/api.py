@@ -37,7 +37,7 @@ from restitution.model.units import user_time
 from restitution.solvers import exact
 from restitution.solvers import methods as M
 from restitution.solvers.result import (
-    CRITICAL_BRACKET,
+    BRACKETED,
     EXTRAPOLATED,
     RESULT_COLUMNS,
     STATUS,
@@ -195,7 +195,7 @@ def _solve_paper(alpha, beta, xi, n_masses, method, history, max_events):
     if not chosen.exact:
         return None  # a numerical method forced: the general path
     hist = np.zeros((max_events, L.N_HIST)) if history else exact.NO_HIST
-    out = exact.run_paper(a, b, x, n, max_events, hist)
+    out = exact.paper_row(a, b, x, n, max_events, hist)
     hist = hist if history else None
     return Result.from_row((a, b, x, n), out, chosen.name, hist, passive=True)
 
@@ -444,11 +444,11 @@ def _fill(cols: dict, idx: np.ndarray, out: np.ndarray, errors: dict, passive=Tr
     flags = np.nan_to_num(flag_col, nan=0.0).astype(np.int64)
     method.set(idx[(flags & M.FLAG_RIGID_LIMIT) != 0], "impulsive+rigid-limit")
     method.set(idx[(flags & M.FLAG_EXTRAPOLATED) != 0], EXTRAPOLATED)
-    method.set(idx[(flags & L.FLAG_CRITICAL_BRACKET) != 0], CRITICAL_BRACKET)
-    stick = idx[(flags & M.FLAG_STICKING) != 0]
-    for code in np.unique(method.codes[stick]):
-        rows = stick[method.codes[stick] == code]
-        method.set(rows, method.names[code] + "+sticking")
+    for bit, suffix in ((L.FLAG_CRITICAL_BRACKET, BRACKETED), (M.FLAG_STICKING, "+sticking")):
+        marked = idx[(flags & bit) != 0]
+        for code in np.unique(method.codes[marked]):
+            rows = marked[method.codes[marked] == code]
+            method.set(rows, method.names[code] + suffix)
 
 
 __all__ = ["LAW_KEYS", "solve", "solve_many", "validate_frame"]

@@ -107,6 +107,7 @@ from restitution.kernels.copies import put_row, put_rows
 from restitution.kernels.lapack import eig_real
 from restitution.kernels.layout import (
     FLAG_EXTRAPOLATED,
+    FLAG_NEAR_DEFECTIVE,
     FLAG_RIGID_LIMIT,
     FLAG_STICKING,
     FLAG_UNCHECKED,
@@ -180,6 +181,14 @@ from restitution.kernels.rigid2 import XI_NEGLIGIBLE, _next_contact0, _next_cont
 from restitution.kernels.roots import threshold_bisection
 
 COND_MAX = 1e8  # eigenvector condition number above which a closed form is not trusted
+# A phase whose eigenbasis has a condition number above COND_DEFECT with two eigenvalues within
+# DEFECT_REL of each other (relative) is flagged FLAG_NEAR_DEFECTIVE: a mode next to critical
+# damping, where the basis degenerates (cond ~ 1e-3 / |xi - xi_crit| on the paper chain at
+# alpha = 1e8, xi = 1: 8e7, an estimate of 9e-6 for a COR right to 1e-14, or ill_conditioned).
+# The exact runners then solve the scene with its dashpots scaled off that point
+# (solvers.exact.bracketed), where the basis is sound.
+COND_DEFECT = 1e4
+DEFECT_REL = 1e-3
 # Rounding of one phase's closed-form dissipation, relative to the initial energy, below which
 # its cancellation does not matter (1e5 phases stay 100 times inside ENERGY_TOL); above it a
 # cancelling phase is integrated by Gauss-Legendre, at a cost growing with its length.
@@ -610,6 +619,28 @@ def _total(m):
     return s + comp
 
 
+@njit(cache=True)
+def _near_defective(lam, cond):
+    """FLAG_NEAR_DEFECTIVE if a phase's basis (its kept eigenvalues lam: one per conjugate pair)
+    has cond > COND_DEFECT and two eigenvalues within DEFECT_REL of each other (a complex one
+    and its conjugate included), or could not be formed at all (cond = inf: at a defective
+    point the eigenvector matrix can be singular), else 0."""
+    if cond == math.inf:
+        return FLAG_NEAR_DEFECTIVE
+    if not cond > COND_DEFECT:
+        return 0
+    K = lam.size
+    for p in range(K):
+        a = abs(lam[p])
+        if a > 0.0 and 2.0 * abs(lam[p].imag) <= DEFECT_REL * a and lam[p].imag != 0.0:
+            return FLAG_NEAR_DEFECTIVE
+        for q in range(p + 1, K):
+            b = max(a, abs(lam[q]))
+            if b > 0.0 and abs(lam[q] - lam[p]) <= DEFECT_REL * b:
+                return FLAG_NEAR_DEFECTIVE
+    return 0
+
+
 # Not inlined: _run calls it three times, and every inlined copy (with its exception handling)
 # was typed and optimised again inside _run; a kernel of its own is compiled once (the paper
 # chain's first call 33-34 s -> 28.5 s, the same bits; 2026-11-28).
@@ -875,6 +906,7 @@ def _run(
     if n > 2 or kv:  # (two masses: the closed-form walk, except inside a KV penetration)
         lamF, UF, PF, condF = _safe_model(m, k, c, 0.0, 0.0, True)
         cond = max(cond, condF)
+        flags |= _near_defective(lamF, condF)
     else:
         lamF, UF, PF = _empty_model(n)
     A1F, A2F, BF = _diss_matrices(UF, lamF, c, 0)
@@ -890,6 +922,7 @@ def _run(
     if not rigid:
         lamC, UC, PC, condC = _safe_model(m, k, c, kc, cc if kv else 0.0, False)
         cond = max(cond, condC)
+        flags |= _near_defective(lamC, condC)
     else:
         lamC, UC, PC = _empty_model(n)
     A1C, A2C, BC = _diss_matrices(UC, lamC, cC, offC)
@@ -900,6 +933,7 @@ def _run(
         status = STATUS_ILL_CONDITIONED
         if cond == math.inf:  # no model at all: nothing to run
             out[OUT_STATUS] = status
+            out[OUT_FLAGS] = flags
             out[OUT_COR] = math.nan
             out[OUT_ERR] = math.inf
             return out, 0, closest
@@ -1241,6 +1275,7 @@ def _run(
                 A1S, A2S, BS = _diss_matrices(US, lamS, c, 1)
                 have_stick = True
                 cond = max(cond, condS)
+                flags |= _near_defective(lamS, condS)
                 if condS > COND_MAX:
                     status = STATUS_ILL_CONDITIONED
                     break

@@ -46,9 +46,13 @@ FLAG_EXTRAPOLATED = 4  # ... as its rigid limit corrected by two finite-stiffnes
 # check, so OUT_ERR is only the kernel's own bound and the row is no checked result. Optimisers
 # read its COR (identical, bit for bit, to the checked row's) and never show the row.
 FLAG_UNCHECKED = 8
-# A two-mass Kelvin-Voigt row whose link is critically damped (a defective free mode): solved
-# just below and above critical damping and interpolated (``solvers.exact._critical_kv``).
+# A row whose dashpots were scaled by 1 -+ d and 1 -+ 2 d around a near-defective phase (below)
+# and averaged (``solvers.exact.bracketed``): the method gains ``+critical-bracket``.
 FLAG_CRITICAL_BRACKET = 16
+# A phase's eigenbasis is near-defective: two of its eigenvalues within DEFECT_REL of each other
+# and a condition number above COND_DEFECT (``exact_chain``), as where a damped mode turns from
+# oscillating to creeping (critical damping). Its closed form loses about eps * cond.
+FLAG_NEAR_DEFECTIVE = 32
 
 # Statuses of a row that is not a finished result. Before a user sees such a row its COR,
 # duration and energies are voided (NaN, ``void_unfinished``); the count of contacts reached

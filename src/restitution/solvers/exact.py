@@ -69,28 +69,88 @@ def kelvin_voigt(ch: Chain) -> bool:
     return ch.kelvin_voigt
 
 
-#: A link of two masses damped within this (relative) of critical, |xi - 1|, has a free mode too
-#: close to defective for the modal closed form of the flight inside a Kelvin-Voigt penetration
-#: (at xi = 1 exactly its eigenbasis is singular: ill_conditioned, and so was `precise`); its
-#: error estimate grows like 2e-18 / |xi - 1| (2e-10 at 1e-8). Such a scene is solved at
-#: xi = 1 -+ XI_BRACKET and interpolated linearly (``_critical_kv``).
-XI_BRACKET = 1e-8
+#: Relative scalings d of every dashpot tried, in turn, around a scene flagged
+#: FLAG_NEAR_DEFECTIVE (``bracketed``): the first that leaves the four rows at 1 -+ d and
+#: 1 -+ 2 d sound and alike is used. The basis's condition falls like 1 / d (8e7 -> 1e2 on the
+#: paper chain at alpha = 1e8, xi = 1, d = 1e-5), the mean's error grows like d^2.
+DEFECT_STEPS = (1e-5, 1e-4, 1e-6, 1e-3)
+
+
+def _flags(out) -> int:
+    f = out[L.OUT_FLAGS]
+    return int(f) if f == f else 0
+
+
+def _alike(rows) -> bool:
+    """Every row finished ok, none near-defective itself, all with the same contacts."""
+    first = rows[0]
+    return all(
+        r[L.OUT_STATUS] == L.STATUS_OK
+        and not _flags(r) & L.FLAG_NEAR_DEFECTIVE
+        and r[L.OUT_NCOL] == first[L.OUT_NCOL]
+        and r[L.OUT_NEVENTS] == first[L.OUT_NEVENTS]
+        for r in rows
+    )
+
+
+def bracketed(row_at, out: np.ndarray, hist: np.ndarray) -> np.ndarray:
+    """The row ``out`` of a scene, or where the kernel flagged it FLAG_NEAR_DEFECTIVE (a damped
+    mode next to critical damping, whose eigenbasis degenerates: a loose estimate, or
+    ill_conditioned) the row extrapolated from rows with every dashpot scaled off that point.
+
+    ``row_at(s, h)`` is the scene's kernel row with its dashpots times 1 + s (history into h).
+    The COR is smooth in the damping there (only the basis is singular), so the mean m(d) of
+    the rows at 1 - d and 1 + d is off by f'' d^2 / 2 + O(d^4) (the odd terms cancel), and
+    (4 m(d) - m(2 d)) / 3 by O(d^4). The estimate is m(2 d) - m(d) (three times m(d)'s leading
+    error) plus 5/3 of the rows' largest own estimate (the weights' sum of moduli). Every number
+    of the row (COR, duration, energies, which still add up to 1, history entries) is combined
+    alike; flagged FLAG_CRITICAL_BRACKET. Used only where the four rows finished ok, none
+    near-defective, with the same contacts (else the next d of DEFECT_STEPS), and where the
+    result beats the row's own estimate (or the row did not finish); else ``out`` unchanged."""
+    if not _flags(out) & L.FLAG_NEAR_DEFECTIVE:
+        return out
+    done = out[L.OUT_STATUS] == L.STATUS_OK
+    for d in DEFECT_STEPS:
+        hs = [np.zeros_like(hist) for _ in range(4)]
+        rows = [row_at(-d, hs[0]), row_at(d, hs[1])]
+        if not _alike(rows):
+            continue
+        rows += [row_at(-2.0 * d, hs[2]), row_at(2.0 * d, hs[3])]
+        if not _alike(rows):
+            continue
+        near = 0.5 * (rows[0] + rows[1])
+        far = 0.5 * (rows[2] + rows[3])
+        new = rows[0].copy()
+        for f in (L.OUT_COR, L.OUT_TCOL, L.OUT_ETRANS, L.OUT_EVIB, L.OUT_EDISS):
+            new[f] = (4.0 * near[f] - far[f]) / 3.0
+        own = max(r[L.OUT_ERR] for r in rows)
+        new[L.OUT_ERR] = abs(far[L.OUT_COR] - near[L.OUT_COR]) + 5.0 / 3.0 * own
+        if done and not new[L.OUT_ERR] < out[L.OUT_ERR]:
+            return out
+        new[L.OUT_FLAGS] = _flags(rows[0]) | _flags(rows[1]) | L.FLAG_CRITICAL_BRACKET
+        n = min(int(new[L.OUT_NEVENTS]), hist.shape[0])
+        hist[:n] = (2.0 * (hs[0][:n] + hs[1][:n]) - 0.5 * (hs[2][:n] + hs[3][:n])) / 3.0
+        return new
+    return out
 
 
 def kv_row(ch: Chain, max_events: int, hist: np.ndarray):
     """Kernel row of a Kelvin-Voigt chain (``kelvin_voigt``): ``exact_chain.solve_chain_kv``
     with the contact's k and c in kernel units as the numerical methods pack them
-    (``laws.pack_chain``), from the chain's initial state if it has one; two masses whose link
-    is damped within XI_BRACKET of critical by ``_critical_kv``."""
+    (``laws.pack_chain``), from the chain's initial state if it has one (``bracketed``: next to
+    critical damping, its link and contact dashpots scaled together)."""
     from restitution.solvers.numerical import packed
 
     m, k, c, _ = ch.scaled()
     cp = packed(ch, numerical=False)[3]  # (exact: the numerical ranges do not apply)
     kc, cc = float(cp[2]), float(cp[3])
     y0 = ch.initial_state(ch.v0 / ch.omega, ch.v0)
-    if m.size == 2 and abs(c[0] / (2.0 * k[0]) - 1.0) < XI_BRACKET:
-        return _critical_kv(m, k, c, kc, cc, y0, max_events, hist)
-    return _kv_kernel(m, k, c, kc, cc, y0, max_events, hist)
+    out = _kv_kernel(m, k, c, kc, cc, y0, max_events, hist)
+    return bracketed(
+        lambda s, h: _kv_kernel(m, k, c * (1.0 + s), kc, cc * (1.0 + s), y0, max_events, h),
+        out,
+        hist,
+    )
 
 
 def _kv_kernel(m, k, c, kc, cc, y0, max_events, hist):
@@ -105,39 +165,6 @@ def _kv_kernel(m, k, c, kc, cc, y0, max_events, hist):
         return solve_chain_kv(m, k, c, kc, cc, max_events, hist)
 
 
-def _critical_kv(m, k, c, kc, cc, y0, max_events, hist):
-    """A two-mass Kelvin-Voigt row whose link is (nearly) critically damped: the rows at
-    xi = 1 -+ XI_BRACKET, interpolated linearly to the scene's xi (the COR, the contact
-    duration, the energies and every history entry; the energy fractions still add up to 1).
-    Its estimate is the two rows' COR difference (first order in XI_BRACKET, the
-    interpolation's error is second order) plus the larger of their estimates; flagged
-    FLAG_CRITICAL_BRACKET. Where the two rows differ in status or contacts, the kernel's own
-    row at the scene's xi."""
-    xi = c[0] / (2.0 * k[0])
-    rows = []
-    for side in (-1.0, 1.0):
-        cs = c.copy()
-        cs[0] = 2.0 * k[0] * (1.0 + side * XI_BRACKET)
-        h = np.zeros_like(hist)
-        rows.append((_kv_kernel(m, k, cs, kc, cc, y0, max_events, h), h))
-    (lo, hlo), (hi, hhi) = rows
-    same = (
-        all(lo[f] == hi[f] for f in (L.OUT_STATUS, L.OUT_NCOL, L.OUT_NEVENTS))
-        and lo[L.OUT_STATUS] == L.STATUS_OK
-    )
-    if not same:
-        return _kv_kernel(m, k, c, kc, cc, y0, max_events, hist)
-    w = (xi - (1.0 - XI_BRACKET)) / (2.0 * XI_BRACKET)  # weight of the upper row
-    out = lo.copy()
-    for f in (L.OUT_COR, L.OUT_TCOL, L.OUT_ETRANS, L.OUT_EVIB, L.OUT_EDISS):
-        out[f] = (1.0 - w) * lo[f] + w * hi[f]
-    out[L.OUT_ERR] = abs(hi[L.OUT_COR] - lo[L.OUT_COR]) + max(lo[L.OUT_ERR], hi[L.OUT_ERR])
-    out[L.OUT_FLAGS] = int(lo[L.OUT_FLAGS]) | int(hi[L.OUT_FLAGS]) | L.FLAG_CRITICAL_BRACKET
-    n = min(int(out[L.OUT_NEVENTS]), hist.shape[0])
-    hist[:n] = (1.0 - w) * hlo[:n] + w * hhi[:n]
-    return out
-
-
 def exact_row(ch: Chain, max_events: int, hist: np.ndarray, check: bool = True):
     """Kernel row of a linear chain, on the kernel ``linear_kernel`` names (a Kelvin-Voigt
     chain: ``kv_row``). ``check=False``: a general chain from the uniform approach is run
@@ -147,18 +174,36 @@ def exact_row(ch: Chain, max_events: int, hist: np.ndarray, check: bool = True):
         return kv_row(ch, max_events, hist)
     paper = ch.paper_form
     if paper is not None:
-        return run_paper(*paper, max_events, hist)
-    from restitution.kernels.exact_chain import solve_chain, solve_chain_state
-
+        return paper_row(*paper, max_events, hist)
     m, k, c, kc = ch.scaled()
     y0 = ch.initial_state(ch.v0 / ch.omega, ch.v0)  # (the kernels' units: V0 / omega, V0)
+    if not check:
+        return _chain_kernel(m, k, c, kc, y0, max_events, hist, False)
+    out = _chain_kernel(m, k, c, kc, y0, max_events, hist)
+    return bracketed(
+        lambda s, h: _chain_kernel(m, k, c * (1.0 + s), kc, y0, max_events, h), out, hist
+    )
+
+
+def _chain_kernel(m, k, c, kc, y0, max_events, hist, check=True):
+    """Row of the general kernel (from the state y0, if given, which is always checked)."""
+    from restitution.kernels.exact_chain import solve_chain, solve_chain_state
+
     if y0 is not None:  # a given initial state: the general kernel from it (paper_form is None)
         announce(solve_chain_state)
-        with blas.one_thread(ch.n_masses):
+        with blas.one_thread(m.size):
             return solve_chain_state(m, k, c, kc, y0, max_events, hist)
     announce(solve_chain)
-    with blas.one_thread(ch.n_masses):
+    with blas.one_thread(m.size):
         return solve_chain(m, k, c, kc, max_events, hist, check)
+
+
+def paper_row(alpha: float, beta: float, xi: float, n: int, max_events: int, hist):
+    """``run_paper``, ``bracketed`` in xi next to critical damping."""
+    out = run_paper(alpha, beta, xi, n, max_events, hist)
+    return bracketed(
+        lambda s, h: run_paper(alpha, beta, xi * (1.0 + s), n, max_events, h), out, hist
+    )
 
 
 def run(ch: Chain, opts) -> tuple:
@@ -235,7 +280,21 @@ def _paper_rows(table, idx: np.ndarray, max_events: int, bar, block: int):
             if err:
                 errors.update({int(sel[j]): msg for j, msg in err.items()})
             bar.update(len(sel))
-    return (np.full((0, L.N_OUT), np.nan) if out is None else out), errors
+    if out is None:
+        return np.full((0, L.N_OUT), np.nan), errors
+    _rebracket(
+        out,
+        lambda j, s, h: run_paper(alpha[j], beta[j], xi[j] * (1.0 + s), nm[j], max_events, h),
+    )
+    return out, errors
+
+
+def _rebracket(out: np.ndarray, row_at) -> None:
+    """``bracketed`` for the rows of a block that the kernel flagged near-defective, in place
+    (``row_at(j, s, h)``: row j's kernel row with its dashpots times 1 + s)."""
+    flags = np.nan_to_num(out[:, L.OUT_FLAGS], nan=0.0).astype(np.int64)
+    for j in np.flatnonzero(flags & L.FLAG_NEAR_DEFECTIVE):
+        out[j] = bracketed(lambda s, h, j=j: row_at(j, s, h), out[j], NO_HIST)
 
 
 def _general_rows(table, idx: np.ndarray, max_events: int, bar, block: int):
@@ -265,7 +324,16 @@ def general_block(m, k, c, n, kc, max_events: int, check: bool = True):
         )
 
     args = (m, k, c, n, kc, max_events, check)
-    return guarded(solve_chain_batch, args, np.arange(len(n)), single)
+    out, errors = guarded(solve_chain_batch, args, np.arange(len(n)), single)
+    if check:
+
+        def row_at(j, s, h):
+            a, b = np.ascontiguousarray, n[j]
+            cs = a(c[j, : b - 1]) * (1.0 + s)
+            return solve_chain(a(m[j, :b]), a(k[j, : b - 1]), cs, kc[j], max_events, h)
+
+        _rebracket(out, row_at)
+    return out, errors
 
 
 def _initial_rows(table, idx: np.ndarray, max_events: int, bar, block: int):

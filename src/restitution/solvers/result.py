@@ -323,7 +323,7 @@ def _history(hist: np.ndarray, scene, lengths_of_v0: bool) -> pd.DataFrame:
 
 
 EXTRAPOLATED = "piecewise+extrapolated"
-CRITICAL_BRACKET = "piecewise+critical-bracket"
+BRACKETED = "+critical-bracket"
 
 
 def label(name: str, out) -> str:
@@ -331,8 +331,8 @@ def label(name: str, out) -> str:
     sticking limit (bit 0 of OUT_FLAGS), ``impulsive+rigid-limit`` for a contact solved as
     its rigid limit, ``piecewise+extrapolated`` for that limit corrected to the contact's
     stiffness by two finite-stiffness runs (kernels.exact_chain._extrapolated), or
-    ``piecewise+critical-bracket`` for a critically damped two-mass Kelvin-Voigt scene
-    interpolated between two runs next to it (solvers.exact._critical_kv)."""
+    ``+critical-bracket`` for a scene next to critical damping solved as the mean of runs with
+    its dashpots scaled around it (solvers.exact.bracketed)."""
     flags_at = getattr(L, "OUT_FLAGS", None)
     if flags_at is not None and len(out) > flags_at and math.isfinite(out[flags_at]):
         f = int(out[flags_at])
@@ -341,7 +341,7 @@ def label(name: str, out) -> str:
         if f & L.FLAG_EXTRAPOLATED:
             name = EXTRAPOLATED
         if f & L.FLAG_CRITICAL_BRACKET:
-            name = CRITICAL_BRACKET
+            name += BRACKETED
         if f & L.FLAG_STICKING:
             name += "+sticking"
     return name
