@@ -308,3 +308,18 @@ def test_the_reference_method_refuses_it():
     with pytest.raises(SceneError, match="does not implement the 'hunt_crossley'"):
         restitution.solve(masses=[1.0, 2.0], springs=[1.0], contact={"law": HC, "k": 3.0,
                           "alpha": 0.1}, method="reference")  # fmt: skip
+
+
+def test_estimates_cover_round_off_of_light_masses():
+    """An elastic contact on m1 with two light masses: COR 1 - 2e-15, where the local error sums
+    are below round-off. Two settings' results must lie within their summed estimates (before
+    the round-off floor of ``numerical.roundoff_floor``: 2.3e-15 apart under 1.3e-15)."""
+    kw = dict(
+        masses=[1.0, 1e-4, 1e-4], springs=[1.0, 1.0], contact={"law": HC, "k": 0.1, "alpha": 0.0}
+    )
+    runs = [restitution.solve(**kw, method="adaptive", rtol=r) for r in (1e-8, 1e-10, 1e-12)]
+    assert all(r.status == "ok" and r.n_collisions == 1 for r in runs)
+    for a in runs:
+        assert a.error_estimate >= 64 * np.finfo(float).eps
+        for b in runs:
+            assert abs(a.cor - b.cor) <= a.error_estimate + b.error_estimate
