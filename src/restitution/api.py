@@ -19,6 +19,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from restitution.kernels.constants import MAX_EVENTS_DEFAULT
+
 if TYPE_CHECKING:  # imported where used (a single solve needs no pandas)
     import pandas as pd
 
@@ -73,7 +75,7 @@ def solve(
     velocities=None,
     stretches=None,
     history: bool = False,
-    max_events: int = 100_000,
+    max_events: int = MAX_EVENTS_DEFAULT,
     **law,
 ) -> Result:
     """COR of one scene.
@@ -299,7 +301,7 @@ def solve_many(
     method: str | None = None,
     rtol: float | None = None,
     step: float | None = None,
-    max_events: int = 100_000,
+    max_events: int = MAX_EVENTS_DEFAULT,
     progress: bool = False,
     keep=(),
 ) -> pd.DataFrame:

@@ -12,6 +12,8 @@ import sys
 import time
 from pathlib import Path
 
+from restitution.kernels.constants import MAX_EVENTS_DEFAULT
+
 EXIT_OK = 0  # every scene finished (status ok)
 EXIT_INTERNAL = 1  # an unexpected error (a bug: please report it with the traceback)
 EXIT_INPUT = 2  # bad input or an I/O error: nothing was solved or nothing was written
@@ -131,7 +133,7 @@ def _parser() -> argparse.ArgumentParser:
         metavar="METHOD",
         help="solver: %(choices)s (default: %(default)s)",
     )
-    cor.add_argument("--max-events", type=int, default=100_000, help="contact budget")
+    cor.add_argument("--max-events", type=int, default=MAX_EVENTS_DEFAULT, help="contact budget")
     law = cor.add_argument_group(
         "nonlinear laws and numerical methods in the paper's form (two masses)"
     )
@@ -161,7 +163,9 @@ def _parser() -> argparse.ArgumentParser:
     )
     batch.add_argument("input", type=Path, help="the scene table (.csv or .parquet)")
     batch.add_argument("-o", "--output", type=Path, required=True, help="OUT.csv or OUT.parquet")
-    batch.add_argument("--max-events", type=int, default=100_000, help="contact budget per row")
+    batch.add_argument(
+        "--max-events", type=int, default=MAX_EVENTS_DEFAULT, help="contact budget per row"
+    )
     batch.add_argument("--keep", default="", help="comma-separated columns carried through")
     batch.add_argument(
         "--progress",

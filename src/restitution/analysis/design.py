@@ -52,6 +52,7 @@ import numpy as np
 from scipy.optimize import brentq, differential_evolution, minimize, root_scalar
 
 from restitution.analysis.scaled import solve_scaled, solve_scaled_arrays
+from restitution.kernels.constants import MAX_EVENTS_DEFAULT
 from restitution.model.chain import RATIOS, check
 from restitution.model.ranges import SceneError, _real, _show
 
@@ -571,7 +572,7 @@ def _int_in(name: str, value, low: int, high: int) -> int:
 
 
 def _check(n_masses, beta, bounds, tolerance, vary, seed=1, popsize=15, maxiter=200,
-           max_events=100_000, polish=True, progress=None):  # fmt: skip
+           max_events=MAX_EVENTS_DEFAULT, polish=True, progress=None):  # fmt: skip
     """Every argument of the design entry points, before any work (SceneError, a ValueError,
     naming the argument and its range)."""
     _int_in("n_masses", n_masses, 2, MAX_MASSES)
@@ -824,7 +825,7 @@ def minimize_cor(
     seed: int = 1,
     popsize: int = 15,
     maxiter: int = 200,
-    max_events: int = 100_000,
+    max_events: int = MAX_EVENTS_DEFAULT,
     polish: bool = True,
     progress=print,
     warm_starts=(),
@@ -890,7 +891,7 @@ def best_uniform(
     seed: int = 1,
     popsize: int = 15,
     maxiter: int = 200,
-    max_events: int = 100_000,
+    max_events: int = MAX_EVENTS_DEFAULT,
     progress=print,
     warm_starts=(),
 ) -> Design:
@@ -925,7 +926,7 @@ def best_tapered(
     seed: int = 1,
     popsize: int = 15,
     maxiter: int = 200,
-    max_events: int = 100_000,
+    max_events: int = MAX_EVENTS_DEFAULT,
     progress=print,
     warm_starts=(),
 ) -> Design:

@@ -18,6 +18,7 @@ import numpy as np
 import pandas as pd
 
 from restitution.api import solve, solve_many
+from restitution.kernels.constants import MAX_EVENTS_DEFAULT
 
 
 def paper_form(masses, springs, k_contact):
@@ -31,7 +32,7 @@ def paper_form(masses, springs, k_contact):
     return None
 
 
-def solve_scaled(masses, springs, k_contact, *, history=False, max_events=100_000):
+def solve_scaled(masses, springs, k_contact, *, history=False, max_events=MAX_EVENTS_DEFAULT):
     """The Result of one chain in scaled units."""
     m = [float(x) for x in masses]
     k = [float(x) for x in springs]
@@ -42,7 +43,7 @@ def solve_scaled(masses, springs, k_contact, *, history=False, max_events=100_00
     return solve(masses=m, springs=k, k_contact=k_contact, history=history, max_events=max_events)
 
 
-def contact_times(masses, springs, k_contact, *, max_events=100_000, check=True):
+def contact_times(masses, springs, k_contact, *, max_events=MAX_EVENTS_DEFAULT, check=True):
     """(result, omega_t_start, omega_t_end): ``solve_scaled(..., history=True)``'s result and
     its history's contact times (kernel units), bit for bit, without the history's table
     (the design polish evaluates ~50,000 grazing conditions a design; the table was a fifth of
@@ -77,7 +78,7 @@ def contact_times(masses, springs, k_contact, *, max_events=100_000, check=True)
     return res, h["omega_t_start"].to_numpy(), h["omega_t_end"].to_numpy()
 
 
-def solve_scaled_many(chains, max_events=100_000):
+def solve_scaled_many(chains, max_events=MAX_EVENTS_DEFAULT):
     """COR and success (status ok) of many scaled chains ``[(masses, springs, k_contact), ...]``
     in one call to ``solve_many`` (the paper form when every chain is a paper scene)."""
     forms = [paper_form([float(x) for x in m], [float(x) for x in k], kc) for m, k, kc in chains]
@@ -95,7 +96,7 @@ def solve_scaled_many(chains, max_events=100_000):
     return res["cor"].to_numpy(), (res["status"] == "ok").to_numpy()
 
 
-def solve_scaled_arrays(masses, springs, k_contact, max_events=100_000, check=True):
+def solve_scaled_arrays(masses, springs, k_contact, max_events=MAX_EVENTS_DEFAULT, check=True):
     """``solve_scaled_many`` of chains of one length given as arrays: masses (S, N), springs
     (S, N - 1), k_contact (S,). The same (cor, ok), bit for bit, without DataFrames or Chains
     where that is possible (``_general_arrays``); else through ``solve_scaled_many``.

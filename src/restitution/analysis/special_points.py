@@ -39,6 +39,7 @@ from scipy.optimize import brentq
 
 from restitution.analysis.sweeps import interior_minima
 from restitution.jit import njit
+from restitution.kernels.constants import MAX_EVENTS_DEFAULT
 from restitution.kernels.parallel import row_blocks
 
 TWO_PI = 2.0 * math.pi
@@ -148,7 +149,7 @@ def _run_many(alpha, n_max):
     return out
 
 
-def rigid_reference(alpha, max_events: int = 100_000) -> pd.DataFrame:
+def rigid_reference(alpha, max_events: int = MAX_EVENTS_DEFAULT) -> pd.DataFrame:
     """Exact beta = 0 two-mass solution (independent of the kernels), vectorised over alpha.
 
     Returns a DataFrame with ``alpha, cor, n_collisions, omega_t_col`` and ``finished`` (False when
@@ -354,7 +355,7 @@ def rigid_solver(alphas):
     return ref["cor"].to_numpy(), ref["n_collisions"].to_numpy()
 
 
-def kernel_solver(beta: float, max_events: int = 100_000):
+def kernel_solver(beta: float, max_events: int = MAX_EVENTS_DEFAULT):
     """``count_changes`` adapter for :func:`restitution.solve_many` at stiffness ratio ``beta``."""
 
     def solve(alphas):

@@ -41,6 +41,8 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from restitution.kernels.constants import MAX_EVENTS_DEFAULT
+
 __all__ = [
     "HERTZ_I",
     "SpeedSweep",
@@ -179,7 +181,7 @@ def cor_against_speed(
     *,
     refine_steps: int = 30,
     rtol: float | None = None,
-    max_events: int = 100_000,
+    max_events: int = MAX_EVENTS_DEFAULT,
     logger: logging.Logger | None = None,
     label: str = "",
     progress: bool = False,

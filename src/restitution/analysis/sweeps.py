@@ -26,6 +26,8 @@ from collections.abc import Callable, Mapping, Sequence
 import numpy as np
 import pandas as pd
 
+from restitution.kernels.constants import MAX_EVENTS_DEFAULT
+
 __all__ = [
     "chunk",
     "interior_minima",
@@ -107,7 +109,7 @@ def solve_along(
     values,
     scene: Mapping | None = None,
     method: str = "auto",
-    max_events: int = 100_000,
+    max_events: int = MAX_EVENTS_DEFAULT,
     progress: bool = False,
 ) -> pd.DataFrame:
     """Solve paper scenes that differ only in ``column``: one row per value, in order.

@@ -6,6 +6,11 @@ decision taken for two kernels, lives here, so that changing it changes it every
 
 EPS = 2.0**-52  # unit round-off of float64 (2.220446049250313e-16)
 
+# The contact budget (max_events) of every entry point where none is given: solve, solve_many,
+# the CLI, the analyses; the chain kernel's work budget is sized for it (exact_chain.WORK_EVENTS).
+# Here, not in model.ranges, so that the CLI's --help reads it without importing numpy.
+MAX_EVENTS_DEFAULT = 100_000
+
 # The exact kernels' round-off bound per contact, in ulps: the floor of OUT_ERR of the
 # closed-form two-mass walk (rigid2) and of the chain kernel (times the eigenbasis condition).
 ROUNDOFF_ULPS = 64.0

@@ -98,6 +98,7 @@ from restitution.jit import njit
 from restitution.kernels.constants import (
     ENERGY_TOL,
     EPS,
+    MAX_EVENTS_DEFAULT,
     ROUNDOFF_ULPS,
     STICK_AFTER,
     V_STICK_CHAIN,
@@ -197,7 +198,7 @@ WORK_MAX = 2e7  # operations (modal term evaluations) per scene before STATUS_WO
 # A max_events above WORK_EVENTS (the API's default) raises the work budget in proportion: the
 # one knob a user has for how long a scene may run. Long chains need it: every locator step costs
 # a term per mode, so 512 masses at the rigid wall stop after about 150 contacts within WORK_MAX.
-WORK_EVENTS = 100_000
+WORK_EVENTS = MAX_EVENTS_DEFAULT
 # Very stiff contact springs (beta = k_12 / kc -> 0). The COR approaches the rigid wall's like
 # sqrt(beta): |COR(beta) - COR(0)| <= RIGID_LIMIT_C sqrt(beta), measured max 6.5 sqrt(beta) over
 # 125 random paper scenes (N = 2..5, alpha 0.1..100, xi 0..2) at beta = 1e-10..1e-6 (same count).

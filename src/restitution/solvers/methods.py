@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from restitution.kernels import layout as L
+from restitution.kernels.constants import MAX_EVENTS_DEFAULT
 from restitution.model.chain import Chain, SceneError, check
 from restitution.model.ranges import HISTORY_MAX_EVENTS, _show
 from restitution.model.units import kernel_time
@@ -53,7 +54,7 @@ class Options:
     """Settings of one solve (checked by ``options``)."""
 
     history: bool = False
-    max_events: int = 100_000
+    max_events: int = MAX_EVENTS_DEFAULT
     rtol: float = 1e-9
     step: float = 0.01
 
@@ -78,7 +79,7 @@ def check_events(max_events, history: bool) -> int:
     return n
 
 
-def options(history=False, max_events=100_000, rtol=1e-9, step=0.01) -> Options:
+def options(history=False, max_events=MAX_EVENTS_DEFAULT, rtol=1e-9, step=0.01) -> Options:
     history = check_history(history)
     return Options(
         history, check_events(max_events, history), check("rtol", rtol), check("step", step)

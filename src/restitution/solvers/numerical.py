@@ -37,7 +37,7 @@ import math
 import numpy as np
 
 from restitution.kernels import layout as LY
-from restitution.kernels.constants import EPS, ROUNDOFF_ULPS
+from restitution.kernels.constants import EPS, MAX_EVENTS_DEFAULT, ROUNDOFF_ULPS
 from restitution.model import laws
 from restitution.model.chain import Chain
 from restitution.model.laws import pack_chain
@@ -234,7 +234,7 @@ def solve_chain(
     method: str = "adaptive",
     rtol: float = 1e-9,
     step: float = 0.01,
-    max_events: int = 100_000,
+    max_events: int = MAX_EVENTS_DEFAULT,
     history: bool = False,
     *,
     max_work: int | None = None,
@@ -333,7 +333,7 @@ def solve_chains(
     method: str = "adaptive",
     rtol: float = 1e-9,
     step: float = 0.01,
-    max_events: int = 100_000,
+    max_events: int = MAX_EVENTS_DEFAULT,
     *,
     max_work: int | None = None,
 ) -> np.ndarray:
@@ -385,7 +385,7 @@ def solve_chains(
 def solve_reference_chain(
     ch: Chain,
     rtol: float = 1e-9,
-    max_events: int = 100_000,
+    max_events: int = MAX_EVENTS_DEFAULT,
     history: bool = False,
     *,
     energy_tol: float | None = None,
