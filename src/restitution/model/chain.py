@@ -275,6 +275,53 @@ def _law(kind: str, spec, where: str) -> dict:
     return {k: v for k, v in spec.items() if v is not None}
 
 
+def _contact_spec(contact, kc: float, given_kc: float) -> tuple[dict | None, float]:
+    """(contact law, k_contact) of a chain: the law checked by name (``_law``), its k against a
+    k_contact also given (``given_kc``, inf when not); the linear laws become k_contact alone
+    (contact None)."""
+    if contact is None:
+        return None, kc
+    contact = _law("contact", contact, "contact")
+    law = contact["law"]
+    k_law = contact.get("k")
+    if law == "rigid":
+        k_law = math.inf
+    if k_law is None:
+        raise SceneError(f"contact: the {law!r} law needs k (its stiffness)")
+    try:
+        k_law = check("k_contact", k_law)
+    except SceneError:
+        raise SceneError(
+            f"contact.k (the {law!r} law's stiffness) must be "
+            f"{RANGES['k_contact'].text}; got {_show(k_law)}"
+        ) from None
+    if law not in ("rigid", "linear") and not math.isfinite(k_law):
+        raise SceneError(
+            f"contact: the {law!r} law needs a finite k > 0 (in the paper's form: beta > 0)"
+        )
+    if given_kc != math.inf and kc != k_law:
+        raise SceneError(
+            f"k_contact = {kc!r} contradicts contact['k'] = {k_law!r}; give one of them"
+        )
+    if law in ("rigid", "linear"):
+        return None, k_law  # the linear laws are described by k_contact alone
+    return contact, k_law
+
+
+def _link_specs(links, n: int) -> tuple | None:
+    """The chain's link laws as a tuple of checked mappings, or None for all linear."""
+    if links is None:
+        return None
+    if not isinstance(links, (list, tuple, np.ndarray)) or len(links) != n - 1:
+        raise SceneError(
+            f"links must be a list of {n - 1} law mappings (one per link); got {_show(links)}"
+        )
+    links = tuple(_law("link", s, f"links[{i}]") for i, s in enumerate(links))
+    if all(s["law"] == "linear" and len(s) == 1 for s in links):
+        return None
+    return links
+
+
 def _assign(chain, **fields) -> None:
     """Set fields of a frozen Chain (while it is being built)."""
     for name, value in fields.items():
@@ -341,43 +388,8 @@ class Chain:
         v0 = check("v0", self.v0)
         vel, st, v0 = _initial_state(m, k, self.velocities, self.stretches, v0)
         _assign(self, velocities=vel, stretches=st)
-        contact = self.contact
-        if contact is not None:
-            contact = _law("contact", contact, "contact")
-            law = contact["law"]
-            k_law = contact.get("k")
-            if law == "rigid":
-                k_law = math.inf
-            if k_law is None:
-                raise SceneError(f"contact: the {law!r} law needs k (its stiffness)")
-            try:
-                k_law = check("k_contact", k_law)
-            except SceneError:
-                raise SceneError(
-                    f"contact.k (the {law!r} law's stiffness) must be "
-                    f"{RANGES['k_contact'].text}; got {_show(k_law)}"
-                ) from None
-            if law not in ("rigid", "linear") and not math.isfinite(k_law):
-                raise SceneError(
-                    f"contact: the {law!r} law needs a finite k > 0 (in the paper's form: beta > 0)"
-                )
-            if self.k_contact != math.inf and kc != k_law:
-                raise SceneError(
-                    f"k_contact = {kc!r} contradicts contact['k'] = {k_law!r}; give one of them"
-                )
-            kc = k_law
-            if law in ("rigid", "linear"):
-                contact = None  # the linear laws are described by k_contact alone
-        links = self.links
-        if links is not None:
-            if not isinstance(links, (list, tuple, np.ndarray)) or len(links) != len(m) - 1:
-                raise SceneError(
-                    f"links must be a list of {len(m) - 1} law mappings (one per link); "
-                    f"got {_show(links)}"
-                )
-            links = tuple(_law("link", s, f"links[{i}]") for i, s in enumerate(links))
-            if all(s["law"] == "linear" and len(s) == 1 for s in links):
-                links = None
+        contact, kc = _contact_spec(self.contact, kc, self.k_contact)
+        links = _link_specs(self.links, len(m))
         _assign(self, masses=m, springs=k, dashpots=c, k_contact=kc, v0=v0)
         _assign(self, contact=contact, links=links)
         for a in (m, k, c):
@@ -391,19 +403,44 @@ class Chain:
 
             stiff = laws.CONTACT_LAWS[contact["law"]][2].get("k") == (1, 2)
         _check_ratios(m, k, c, kc if stiff else math.inf)
-        if contact is not None or links is not None:
-            # The laws' own parameter checks (restitution.model.laws), before any work.
-            from restitution.model.laws import pack_checked
+        self._pack_laws()
 
-            # A Kelvin-Voigt contact on linear links is solved exactly (piecewise linear): the
-            # numerical methods' ranges apply only when one is asked for (numerical.packed).
-            exact_kv = self.kelvin_voigt
-            speed = self.law_speed
-            packed = pack_checked(
-                m, k, c, self.contact_law, self.link_laws, speed, numerical=not exact_kv
-            )
-            # kept for the runners: (speed, pack, whether the numerical ranges were checked)
-            object.__setattr__(self, "_packed", (speed, packed, not exact_kv))
+    def _pack_laws(self) -> None:
+        """The laws' own parameter checks (restitution.model.laws), before any work; the pack
+        is kept for the runners."""
+        if self.contact is None and self.links is None:
+            return
+        from restitution.model.laws import pack_checked
+
+        # A Kelvin-Voigt contact on linear links is solved exactly (piecewise linear): the
+        # numerical methods' ranges apply only when one is asked for (numerical.packed).
+        exact_kv = self.kelvin_voigt
+        speed = self.law_speed
+        packed = pack_checked(
+            self.masses,
+            self.springs,
+            self.dashpots,
+            self.contact_law,
+            self.link_laws,
+            speed,
+            numerical=not exact_kv,
+        )
+        # kept for the runners: (speed, pack, whether the numerical ranges were checked)
+        object.__setattr__(self, "_packed", (speed, packed, not exact_kv))
+
+    @classmethod
+    def _with_laws(cls, base: Chain, v0, contact, links) -> Chain:
+        """``base``, a checked linear chain from the uniform approach (``Chain.paper``), with an
+        approach speed and laws: only those are checked (``paper_with_laws``: a Chain built
+        again re-checked its arrays and ratios, a third of a nonlinear solve's set-up). The
+        contact law's k is base's k_contact (so its ratios stand)."""
+        contact, kc = _contact_spec(contact, base.k_contact, base.k_contact)
+        self = object.__new__(cls)
+        _assign(self, masses=base.masses, springs=base.springs, dashpots=base.dashpots)
+        _assign(self, k_contact=kc, v0=check("v0", v0), velocities=None, stretches=None)
+        _assign(self, contact=contact, links=_link_specs(links, base.n_masses), preset=None)
+        self._pack_laws()
+        return self
 
     # ------------------------------------------------------------------------------------------
     @classmethod
@@ -684,16 +721,7 @@ def paper_with_laws(alpha, beta, xi, n_masses, law: dict) -> tuple[Chain, dict]:
                 "corner": law.get("corner", CORNER_DEFAULT),
             }
         ] * (paper.n_masses - 1)
-    ch = Chain(
-        paper.masses,
-        paper.springs,
-        paper.dashpots,
-        paper.k_contact,
-        law.get("v0", 1.0),
-        spec_c,
-        links,
-    )
-    return ch, settings
+    return Chain._with_laws(paper, law.get("v0", 1.0), spec_c, links), settings
 
 
 def _ks_ratio(value) -> float:
