@@ -77,7 +77,7 @@ DEFECT_STEPS = (1e-5, 1e-4, 1e-6, 1e-3)
 
 
 def _flags(out) -> int:
-    f = out[L.OUT_FLAGS]
+    f = float(out[L.OUT_FLAGS])
     return int(f) if f == f else 0
 
 
@@ -201,6 +201,8 @@ def _chain_kernel(m, k, c, kc, y0, max_events, hist, check=True):
 def paper_row(alpha: float, beta: float, xi: float, n: int, max_events: int, hist):
     """``run_paper``, ``bracketed`` in xi next to critical damping."""
     out = run_paper(alpha, beta, xi, n, max_events, hist)
+    if not _flags(out) & L.FLAG_NEAR_DEFECTIVE:  # (the common case: no closure, timed per call)
+        return out
     return bracketed(
         lambda s, h: run_paper(alpha, beta, xi * (1.0 + s), n, max_events, h), out, hist
     )
