@@ -93,7 +93,7 @@ def _alike(rows) -> bool:
     )
 
 
-def bracketed(row_at, out: np.ndarray, hist: np.ndarray) -> np.ndarray:
+def bracketed(row_at, out: np.ndarray, hist: np.ndarray, steps=DEFECT_STEPS) -> np.ndarray:
     """The row ``out`` of a scene, or where the kernel flagged it FLAG_NEAR_DEFECTIVE (a damped
     mode next to critical damping, whose eigenbasis degenerates: a loose estimate, or
     ill_conditioned) the row extrapolated from rows with every dashpot scaled off that point.
@@ -105,12 +105,12 @@ def bracketed(row_at, out: np.ndarray, hist: np.ndarray) -> np.ndarray:
     error) plus 5/3 of the rows' largest own estimate (the weights' sum of moduli). Every number
     of the row (COR, duration, energies, which still add up to 1, history entries) is combined
     alike; flagged FLAG_CRITICAL_BRACKET. Used only where the four rows finished ok, none
-    near-defective, with the same contacts (else the next d of DEFECT_STEPS), and where the
+    near-defective, with the same contacts (else the next d of ``steps``), and where the
     result beats the row's own estimate (or the row did not finish); else ``out`` unchanged."""
     if not _flags(out) & L.FLAG_NEAR_DEFECTIVE:
         return out
     done = out[L.OUT_STATUS] == L.STATUS_OK
-    for d in DEFECT_STEPS:
+    for d in steps:
         hs = [np.zeros_like(hist) for _ in range(4)]
         rows = [row_at(-d, hs[0]), row_at(d, hs[1])]
         if not _alike(rows):
