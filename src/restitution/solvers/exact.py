@@ -93,10 +93,18 @@ def _alike(rows) -> bool:
     )
 
 
-def bracketed(row_at, out: np.ndarray, hist: np.ndarray, steps=DEFECT_STEPS) -> np.ndarray:
+def bracketed(row_at, out: np.ndarray, hist: np.ndarray) -> np.ndarray:
     """The row ``out`` of a scene, or where the kernel flagged it FLAG_NEAR_DEFECTIVE (a damped
     mode next to critical damping, whose eigenbasis degenerates: a loose estimate, or
-    ill_conditioned) the row extrapolated from rows with every dashpot scaled off that point.
+    ill_conditioned) ``off_critical`` from rows with every dashpot scaled off that point."""
+    if not _flags(out) & L.FLAG_NEAR_DEFECTIVE:
+        return out
+    return off_critical(row_at, out, hist)
+
+
+def off_critical(row_at, out: np.ndarray, hist: np.ndarray, steps=DEFECT_STEPS) -> np.ndarray:
+    """The row of a scene next to critical damping, extrapolated from rows with every dashpot
+    scaled off that point (``out``: the scene's own row, kept where that fails).
 
     ``row_at(s, h)`` is the scene's kernel row with its dashpots times 1 + s (history into h).
     The COR is smooth in the damping there (only the basis is singular), so the mean m(d) of
@@ -107,8 +115,6 @@ def bracketed(row_at, out: np.ndarray, hist: np.ndarray, steps=DEFECT_STEPS) -> 
     alike; flagged FLAG_CRITICAL_BRACKET. Used only where the four rows finished ok, none
     near-defective, with the same contacts (else the next d of ``steps``), and where the
     result beats the row's own estimate (or the row did not finish); else ``out`` unchanged."""
-    if not _flags(out) & L.FLAG_NEAR_DEFECTIVE:
-        return out
     done = out[L.OUT_STATUS] == L.STATUS_OK
     for d in steps:
         hs = [np.zeros_like(hist) for _ in range(4)]
@@ -203,7 +209,7 @@ def paper_row(alpha: float, beta: float, xi: float, n: int, max_events: int, his
     out = run_paper(alpha, beta, xi, n, max_events, hist)
     if not _flags(out) & L.FLAG_NEAR_DEFECTIVE:  # (the common case: no closure, timed per call)
         return out
-    return bracketed(
+    return off_critical(
         lambda s, h: run_paper(alpha, beta, xi * (1.0 + s), n, max_events, h), out, hist
     )
 
@@ -296,7 +302,7 @@ def _rebracket(out: np.ndarray, row_at) -> None:
     (``row_at(j, s, h)``: row j's kernel row with its dashpots times 1 + s)."""
     flags = np.nan_to_num(out[:, L.OUT_FLAGS], nan=0.0).astype(np.int64)
     for j in np.flatnonzero(flags & L.FLAG_NEAR_DEFECTIVE):
-        out[j] = bracketed(lambda s, h, j=j: row_at(j, s, h), out[j], NO_HIST)
+        out[j] = off_critical(lambda s, h, j=j: row_at(j, s, h), out[j], NO_HIST)
 
 
 def _general_rows(table, idx: np.ndarray, max_events: int, bar, block: int):

@@ -278,7 +278,7 @@ def _run_precise(ch: Chain, opts: Options):
     remainder of the energy account, not an independent integral (the two runs are the check).
     A damped scene whose run does not finish (at critical damping its eigenbasis is singular
     even in mpmath: the root search stalls) is extrapolated from runs with its dashpots scaled
-    by 1 -+ d, 1 -+ 2 d (``exact.bracketed``, d = PRECISE_BRACKET)."""
+    by 1 -+ d, 1 -+ 2 d (``exact.off_critical``, d = PRECISE_BRACKET)."""
     if opts.history:
         raise SceneError("history is not recorded by the 'precise' method; use history=False")
     c = ch.dashpots
@@ -286,14 +286,12 @@ def _run_precise(ch: Chain, opts: Options):
     out = _precise_row(ch, c, cc, opts)
     failed = out[L.OUT_STATUS] in (L.STATUS_NONCONVERGED, L.STATUS_ILL_CONDITIONED)
     if failed and (c.any() or cc > 0.0):
-        out[L.OUT_FLAGS] = L.FLAG_NEAR_DEFECTIVE
-        out = exact.bracketed(
+        out = exact.off_critical(
             lambda s, h: _precise_row(ch, c * (1.0 + s), cc * (1.0 + s), opts),
             out,
             exact.NO_HIST,
             steps=(PRECISE_BRACKET,),
         )
-        out[L.OUT_FLAGS] = int(out[L.OUT_FLAGS]) & ~L.FLAG_NEAR_DEFECTIVE
     return out, None
 
 
