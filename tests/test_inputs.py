@@ -226,6 +226,27 @@ def test_law_parameters_without_their_law_are_refused(law, law_value, params):
             restitution.solve_many(frame)
 
 
+@pytest.mark.parametrize(
+    "scene, name",
+    [
+        (dict(PLASTIC, eta=-1.0), "eta"),
+        (dict(PLASTIC, dr=2.0), "dr"),
+        (dict(PLASTIC, eta=0.1, dr=0.0), "dr"),
+        (dict(SCISSOR, L=-1.0), "L"),
+        (dict(SCISSOR, L=1e7), "L"),
+        (dict(SCISSOR, theta0=2.0), "theta0"),
+        (dict(SCISSOR, corner=-1.0), "corner"),
+        (dict(SCISSOR, ks_ratio=5.0), "ks_ratio"),
+    ],
+)
+def test_paper_form_law_errors_name_the_keyword(scene, name):
+    """The paper form's law keywords are named as the user gave them, not by the law's place in
+    the chain it builds ("links[0].L", "contact: eta")."""
+    with pytest.raises(SceneError) as e:
+        restitution.solve(**scene)
+    assert str(e.value).startswith(f"{name} "), str(e.value)
+
+
 # A chain whose first link is not the unit: m1 = 2, omega**2 = k (1/m1 + 1/m2) = 25/6, so a law
 # parameter's kernel value differs from the one given.
 UNITS = dict(masses=[2.0, 3.0], springs=[5.0])

@@ -24,6 +24,7 @@ scalar form (``check``) and a vectorised form for table columns (``check_column`
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
@@ -721,7 +722,14 @@ def paper_with_laws(alpha, beta, xi, n_masses, law: dict) -> tuple[Chain, dict]:
                 "corner": law.get("corner", CORNER_DEFAULT),
             }
         ] * (paper.n_masses - 1)
-    return Chain._with_laws(paper, law.get("v0", 1.0), spec_c, links), settings
+    try:
+        return Chain._with_laws(paper, law.get("v0", 1.0), spec_c, links), settings
+    except SceneError as e:  # the paper form names its keywords, not the law's place in a chain
+        raise SceneError(_PLACE.sub("", str(e))) from None
+
+
+# "contact: ", "contact.", "links[0]: ", "links[0]." at the start of a law's message
+_PLACE = re.compile(r"^(?:contact|links\[\d+\])(?::\s|\.)")
 
 
 def _ks_ratio(value) -> float:
