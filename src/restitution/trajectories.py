@@ -4,7 +4,10 @@
 the requested times, in the scene's own units, from the same event sequence the solver finds:
 
 * linear chains from their exact kernels (closed form per phase; ``attrs["method"]`` is
-  ``"impulsive"`` or ``"piecewise"``);
+  ``"impulsive"`` or ``"piecewise"``); next to critical damping, where the modal basis
+  degenerates (``solvers.exact.near_defective``), by the adaptive method at CRITICAL_RTOL
+  within the numerical ranges, else from runs with the dashpots scaled off that point
+  (``_bracketed``, ``"+critical-bracket"``);
 * every other scene (Hertz, plastic contact, scissor links; the Kelvin-Voigt contact too, which
   ``solve`` takes exactly) from the solver's own adaptive run
   (``restitution.kernels.stepping.sample_scene``: the same DOP853 steps and events as the run
@@ -23,6 +26,7 @@ after the reversal). A finite contact law adds a row at each contact start and e
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Mapping
 
 import numpy as np
@@ -85,19 +89,21 @@ _CHAIN_KEYS = (
 )
 
 
-def _sample(ch: Chain, wt: np.ndarray, max_events: int):
-    """(u, v, f, impacts) in kernel units (omega*t, V0/omega, V0, m1 V0 omega, m1 V0)."""
+def _sample(ch: Chain, wt: np.ndarray, max_events: int, s: float = 0.0):
+    """(u, v, f, impacts) in kernel units (omega*t, V0/omega, V0, m1 V0 omega, m1 V0), with
+    every dashpot scaled by 1 + s (``_bracketed``)."""
     with blas.one_thread(ch.n_masses):
-        return _sample_kernels(ch, wt, max_events)
+        return _sample_kernels(ch, wt, max_events, s)
 
 
-def _sample_kernels(ch: Chain, wt: np.ndarray, max_events: int):
+def _sample_kernels(ch: Chain, wt: np.ndarray, max_events: int, s: float = 0.0):
     paper = ch.paper_form
     if exact.linear_kernel(paper) != exact.GENERAL:  # the kernels solve() runs, their sampler
         from restitution.api import solve
         from restitution.kernels.paper_chain import sample_linear
 
         alpha, beta, xi, n = paper
+        xi = xi * (1.0 + s)
         u, v = sample_linear(alpha, beta, xi, n, wt, max_events=max_events)
         kc = ch.scaled()[3]
         f = np.zeros(len(wt)) if ch.rigid else kc * np.maximum(-u[:, 0], 0.0)
@@ -109,10 +115,109 @@ def _sample_kernels(ch: Chain, wt: np.ndarray, max_events: int):
     from restitution.kernels.exact_chain import sample_chain, sample_chain_state
 
     m, k, c, kc = ch.scaled()
+    c = c * (1.0 + s)
     y0 = ch.initial_state(ch.v0 / ch.omega, ch.v0)  # (the kernels' units, as exact.exact_row)
     if y0 is not None:
         return sample_chain_state(m, k, c, kc, y0, wt, max_events)
     return sample_chain(m, k, c, kc, wt, max_events)
+
+
+def _exact_parts(ch: Chain, wt: np.ndarray, max_events: int) -> tuple:
+    """The exact sampler's (u, v, f) at wt, the impacts (time, impulse) within [min wt, max wt]
+    and the states (u, v) at them (after the reversal)."""
+    u, v, f, impacts = _sample(ch, wt, max_events)
+    impacts = np.asarray(impacts, dtype=float).reshape(-1, 2)
+    inside = impacts[_within(impacts, wt)]
+    return (u, v, f, inside, *_impact_states(ch, inside[:, 0], max_events))
+
+
+def _within(impacts, wt) -> np.ndarray:
+    """Which impacts (rows time, impulse) fall within the times asked for."""
+    return (impacts[:, 0] >= wt.min()) & (impacts[:, 0] <= wt.max())
+
+
+def _impact_states(ch: Chain, times, max_events: int, s: float = 0.0) -> tuple:
+    """(u, v) at the impact times (after the reversal), dashpots scaled by 1 + s."""
+    if not len(times):
+        return np.zeros((0, ch.n_masses)), np.zeros((0, ch.n_masses))
+    u, v, _, _ = _sample(ch, np.ascontiguousarray(times), max_events, s)
+    return u, v
+
+
+# A sample of the bracketed runs (``_bracketed``) is extrapolated where the four runs are smooth
+# in the dashpot scale s there: their difference g(2d) - 2 g(d) + 2 g(-d) - g(-2d), which is
+# 2 g''' d**3 for a smooth g, within SMOOTH_TOL of the values' size (at least 1: V0 / omega,
+# V0). Elsewhere an event of one run falls between the others': next to an impact (a jump in
+# velocity) each run is sampled as far from its own impact instead; where that is not smooth
+# either, the sample is the run at 1 + d's, one motion off by d in the damping.
+SMOOTH_TOL = 1e-8
+
+
+def _bracketed(ch: Chain, wt: np.ndarray, max_events: int) -> tuple | None:
+    """``_exact_parts`` of a scene next to critical damping, extrapolated from runs with every
+    dashpot scaled by 1 -+ d and 1 -+ 2 d as ``solvers.exact.off_critical`` does for the row:
+    (4 m(d) - m(2 d)) / 3 of the means m, sample by sample and impact by impact (each run's own
+    impacts by their index, those whose extrapolated time is within the times asked for). The
+    first d of ``exact.DEFECT_STEPS`` whose runs are not near-defective themselves, finite, and
+    have as many impacts; None if none is."""
+    for d in exact.DEFECT_STEPS:
+        scales = (-d, d, -2.0 * d, 2.0 * d)
+        if any(exact.near_defective(_off_critical(ch, s), max_events) for s in scales):
+            continue
+        runs = [_sample(ch, wt, max_events, s) for s in scales]  # (u, v, f, impacts)
+        if any(not (np.isfinite(r[0]).all() and np.isfinite(r[1]).all()) for r in runs):
+            continue
+        if len({np.asarray(r[3]).reshape(-1, 2).shape[0] for r in runs}) != 1:
+            continue
+
+        def combined(g):
+            return (2.0 * (g[0] + g[1]) - 0.5 * (g[2] + g[3])) / 3.0  # (4 m(d) - m(2 d)) / 3
+
+        u, v, f = (combined([r[j] for r in runs]) for j in range(3))
+        impacts = [np.asarray(r[3], dtype=float).reshape(-1, 2) for r in runs]
+        inside = combined(impacts)
+        pick = _within(inside, wt)
+        by_run = list(zip(impacts, scales, strict=True))
+        at = [_impact_states(ch, imp[pick, 0], max_events, s) for imp, s in by_run]
+        ui, vi = (combined([a[j] for a in at]) for j in range(2))
+        rough = _rough(runs)
+        if rough.any() and len(inside):
+            # next to an impact: each run sampled at the same time from its own impact (its
+            # time shifts with the damping, by about 1e-4 after 200 impacts at d = 1e-5)
+            idx = np.flatnonzero(rough)
+            k = np.abs(wt[idx, None] - inside[None, :, 0]).argmin(axis=1)
+            tau = wt[idx] - inside[k, 0]
+            near = [_sample(ch, np.ascontiguousarray(np.maximum(imp[k, 0] + tau, 0.0)),
+                            max_events, s) for imp, s in by_run]  # fmt: skip
+            for x, j in ((u, 0), (v, 1), (f, 2)):
+                x[idx] = combined([r[j] for r in near])
+            rough[idx] = _rough(near)
+        for x, j in ((u, 0), (v, 1), (f, 2)):
+            x[rough] = runs[1][j][rough]
+        return u, v, f, inside[pick], ui, vi
+    return None
+
+
+def _rough(runs) -> np.ndarray:
+    """The samples at which the runs at s = -d, d, -2 d, 2 d are not smooth in s (SMOOTH_TOL)."""
+    rough = np.zeros(len(runs[0][0]), dtype=bool)
+    for j in (0, 1):  # positions and velocities
+        g = [r[j] for r in runs]
+        third = np.abs(g[3] - 2.0 * g[1] + 2.0 * g[0] - g[2])
+        size = np.maximum(np.maximum.reduce([np.abs(x) for x in g]), 1.0)
+        rough |= (third > SMOOTH_TOL * size).any(axis=1)
+    return rough
+
+
+def _off_critical(ch: Chain, s: float) -> Chain:
+    """``ch`` with every dashpot scaled by 1 + s (a paper scene stays one)."""
+    if ch.preset is not None:
+        alpha, beta, xi, n = ch.paper_form
+        return Chain.paper(alpha, beta, xi * (1.0 + s), n)
+    return Chain(
+        ch.masses, ch.springs, ch.dashpots * (1.0 + s), ch.k_contact,
+        ch.v0 if ch.velocities is None else 1.0, None, None, ch.velocities, ch.stretches,
+    )  # fmt: skip
 
 
 def _times(times) -> np.ndarray:
@@ -282,8 +387,9 @@ def trajectory(
         wall's impulse. Rows are sorted by time; requested times have ``event == "sample"``; the
         adaptive method adds ``"contact_start"`` / ``"contact_end"`` rows at the contacts of a
         finite contact law. ``attrs["method"]`` names the method that produced the samples
-        (``"impulsive"`` or ``"piecewise"``: exact closed form; ``"adaptive"``: DOP853 at
-        ``attrs["rtol"]``, NaN for the exact ones); ``attrs["scaled"]`` is True when the scene's
+        (``"impulsive"`` or ``"piecewise"``: exact closed form, with ``"+critical-bracket"``
+        next to critical damping; ``"adaptive"``: DOP853 at ``attrs["rtol"]``, NaN for the
+        exact ones; the module docstring); ``attrs["scaled"]`` is True when the scene's
         units are the kernels' (m_1 = 1, omega = 1, V0 = 1: the paper's scenes).
     """
     ch, settings = _scene(scene, dict(keywords))
@@ -308,21 +414,56 @@ def trajectory(
             f"rtol: not used by trajectory of this scene (a linear chain, solved exactly by "
             f"{chosen.name!r})"
         )
-    u, v, f, impacts = _sample(ch, np.ascontiguousarray(wt), max_events)
+    wt = np.ascontiguousarray(wt, dtype=np.float64)
+    method, parts = chosen.name, None
+    if exact.near_defective(ch, max_events):  # next to critical damping (_near_critical)
+        out = _near_critical(ch, t, wt, max_events)
+        if out is not None:
+            return out
+        parts = _bracketed(ch, wt, max_events)
+        if parts is None:
+            warnings.warn(
+                "trajectory: this linear scene is next to critical damping, where the exact "
+                "sampler's modal basis is ill-conditioned, and neither the adaptive method nor "
+                "runs with the dashpots scaled off that point could take it: its samples may "
+                "be off in their 8th digit and beyond",
+                RuntimeWarning,
+                stacklevel=2,
+            )
+        else:
+            method += "+critical-bracket"
+    u, v, f, inside, ui, vi = _exact_parts(ch, wt, max_events) if parts is None else parts
     n = ch.n_masses
     out = _frame(t, wt, u, v, f, np.zeros(len(t)), ["sample"] * len(t), n, w, m1, v0)
-    impacts = np.asarray(impacts).reshape(-1, 2)
-    lo, hi = wt.min(), wt.max()
-    inside = impacts[(impacts[:, 0] >= lo) & (impacts[:, 0] <= hi)]
     if len(inside):
-        ui, vi, _, _ = _sample(ch, np.ascontiguousarray(inside[:, 0]), max_events)
         rows = _frame(user_time(inside[:, 0], w), inside[:, 0], ui, vi, np.zeros(len(inside)),
                       inside[:, 1], ["impact"] * len(inside), n, w, m1, v0)  # fmt: skip
         out = pd.concat([out, rows], ignore_index=True)
         out = out.sort_values("t", kind="stable", ignore_index=True)
     if math.isnan(out["u_1"].iloc[0]):
         raise SceneError("the sampler returned NaN: the scene could not be solved")
-    out.attrs.update(method=chosen.name, rtol=math.nan, scaled=_scaled(ch))
+    out.attrs.update(method=method, rtol=math.nan, scaled=_scaled(ch))
+    return out
+
+
+# The tolerance of a linear scene's trajectory next to critical damping (``_near_critical``).
+CRITICAL_RTOL = 1e-12
+
+
+def _near_critical(ch: Chain, t, wt, max_events: int) -> pd.DataFrame | None:
+    """The trajectory of a linear chain whose exact kernel flags a phase near-defective (a damped
+    mode next to critical damping, docs/accuracy.md#critical-damping), whose modal basis is
+    ill-conditioned there (samples 2e-8 off on a six-mass chain, a rigid-wall chain at alpha =
+    1e8 through the wall): the adaptive method's at CRITICAL_RTOL, where the chain is within the
+    numerical methods' ranges and the run reaches every time asked; else None (``_bracketed``)."""
+    from restitution.solvers.numerical import packed
+
+    try:
+        packed(ch)  # (the numerical methods' ranges)
+        out = _adaptive_frame(ch, t, wt, CRITICAL_RTOL, max_events)
+    except SceneError:
+        return None
+    out.attrs.update(method="adaptive", rtol=CRITICAL_RTOL, scaled=_scaled(ch))
     return out
 
 

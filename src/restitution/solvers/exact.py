@@ -214,6 +214,22 @@ def paper_row(alpha: float, beta: float, xi: float, n: int, max_events: int, his
     )
 
 
+def near_defective(ch: Chain, max_events: int) -> bool:
+    """True where the exact kernel flags a phase of the linear chain ``ch`` FLAG_NEAR_DEFECTIVE
+    (a damped mode next to critical damping): a row is then extrapolated (``bracketed``), but a
+    sample of the motion from that basis is only as good as its condition."""
+    if ch.contact is not None:
+        return False  # (a Kelvin-Voigt chain: the trajectory integrates it anyway)
+    if not ch.dashpots.any():
+        return False  # no damping, no critically damped mode (and no run of the kernel)
+    # the general kernel without its replica check (a third of the paper kernel's checked row
+    # on 64 masses); the models, and so the flag, are the same
+    m, k, c, kc = ch.scaled()
+    y0 = ch.initial_state(ch.v0 / ch.omega, ch.v0)
+    out = _chain_kernel(m, k, c, kc, y0, max_events, np.zeros((0, L.N_HIST)), False)
+    return bool(_flags(out) & L.FLAG_NEAR_DEFECTIVE)
+
+
 def run(ch: Chain, opts) -> tuple:
     """The single runner of the exact methods: (kernel row, history or None)."""
     hist = np.zeros((opts.max_events if opts.history else 0, L.N_HIST))
