@@ -143,3 +143,39 @@ def test_samples_next_to_impacts_bracketed_from_each_runs_own_impact():
     for q in "uv":
         assert 5.0 < diff[1e-6][q] / diff[1e-7][q] < 20.0, diff
     assert diff[1e-7]["u"] < 1e-7 and diff[1e-7]["v"] < 1e-5  # (4.9e-8 and 3.9e-6 measured)
+
+
+def test_a_sequence_cut_by_max_events_is_not_sampled_beyond_it():
+    """The exact sampler flies on through the wall after the last contact it was allowed
+    (m_1 through it, silently): a time past the end of contact max_events is
+    refused, naming max_events; times up to it are the motion of the full sequence."""
+    r = restitution.solve(alpha=300.0, n_masses=17, max_events=100)
+    assert r.status == "event_budget_exhausted"
+    reached = float(restitution.solve(alpha=300.0, n_masses=17, max_events=100, history=True)
+                    .history["omega_t_end"].iloc[-1])  # fmt: skip
+    with pytest.raises(restitution.SceneError, match="max_events = 100"):
+        restitution.trajectory(alpha=300.0, n_masses=17, max_events=100, times=[0.0, 1.5 * reached])
+    times = np.linspace(0.0, reached, 30)
+    cut = restitution.trajectory(alpha=300.0, n_masses=17, max_events=100, times=times)
+    full = restitution.trajectory(alpha=300.0, n_masses=17, max_events=10_000, times=times)
+    assert cut.attrs["status"] == "event_budget_exhausted" and full.attrs["status"] == "ok"
+    cols = [c for c in full.columns if c.startswith(("u_", "v_"))]
+    s = cut["event"] == "sample"
+    assert np.array_equal(cut.loc[s, cols].to_numpy(), full.loc[full["event"] == "sample", cols])
+
+
+def test_an_unresolvable_sequence_is_sampled_with_a_warning():
+    """A rigid-wall chain whose sequence round-off decides (ill_conditioned: its replicas
+    differ by more than 1e-4; method='precise' finds 171 contacts, adaptive at rtol 1e-12 172):
+    the samples come with a RuntimeWarning and attrs['status'] says so."""
+    kw = dict(
+        masses=[0.17792474157755944, 0.020958875578220237, 13.57560399153016],
+        springs=[1.9383711173749685, 0.020386627318823892],
+        dashpots=[0.002773097349168684, 0.0],
+    )
+    assert restitution.solve(**kw).status == "ill_conditioned"
+    with pytest.warns(RuntimeWarning, match="ill_conditioned"):
+        frame = restitution.trajectory(**kw, times=np.linspace(0.0, 50.0, 11))
+    assert frame.attrs["status"] == "ill_conditioned"
+    ok = restitution.trajectory(alpha=2.0, beta=0.1, times=[0.0, 1.0])
+    assert ok.attrs["status"] == "ok"

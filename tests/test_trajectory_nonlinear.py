@@ -177,7 +177,7 @@ def test_hertz_chain_against_solve_ivp(scene):
     ch = Chain(**scene)
     times, r = _times(ch)
     frame = trajectory(ch, times, rtol=RTOL)
-    assert frame.attrs == {"method": "adaptive", "rtol": RTOL, "scaled": False}
+    assert frame.attrs == {"method": "adaptive", "rtol": RTOL, "scaled": False, "status": "ok"}
     assert r.n_collisions >= 2  # several contacts and free flights in the range
     law = ("hertz", scene["contact"]["k"])
     ref, events = _reference(scene["masses"], _linear(scene["springs"]), law,
@@ -352,7 +352,7 @@ def test_settings_are_checked():
     with pytest.raises(SceneError, match="step"):
         trajectory(alpha=2.0, beta=0.1, contact="plastic", times=[1.0], step=0.01)
     f = trajectory(alpha=2.0, beta=0.1, contact="plastic", times=[1.0], rtol=1e-8)
-    assert f.attrs == {"method": "adaptive", "rtol": 1e-8, "scaled": True}
+    assert f.attrs == {"method": "adaptive", "rtol": 1e-8, "scaled": True, "status": "ok"}
     g = trajectory(alpha=2.0, beta=0.1, times=[1.0])
     assert g.attrs["method"] == "piecewise" and math.isnan(g.attrs["rtol"])
 

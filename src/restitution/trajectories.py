@@ -32,6 +32,7 @@ from collections.abc import Mapping
 import numpy as np
 import pandas as pd
 
+from restitution.kernels import layout as LY
 from restitution.model.chain import Chain, SceneError, check
 from restitution.model.ranges import _real, _show
 from restitution.model.units import (
@@ -261,7 +262,6 @@ def _sample_adaptive(ch: Chain, wt: np.ndarray, rtol: float, max_events: int):
     omega = 1, the scene's speed unit), the contact events (times, kinds), the history and the
     result row. The run is the one ``solve`` returns for this rtol: its finer run
     (``numerical._finer``: rtol/100), or where that one does not finish the setting's own."""
-    from restitution.kernels import layout as LY
     from restitution.kernels import stepping
     from restitution.solvers.numerical import _default_etol, _finer, _work_budget, packed
 
@@ -301,7 +301,6 @@ def _frame(t, wt, u, v, f, impulse, event, n, w, m1, v0) -> pd.DataFrame:
 
 
 def _adaptive_frame(ch: Chain, t, wt, rtol: float, max_events: int) -> pd.DataFrame:
-    from restitution.kernels import layout as LY
     from restitution.solvers.result import MESSAGES, status_name
 
     n, w, m1 = ch.n_masses, ch.omega, float(ch.masses[0])
@@ -390,7 +389,13 @@ def trajectory(
         (``"impulsive"`` or ``"piecewise"``: exact closed form, with ``"+critical-bracket"``
         next to critical damping; ``"adaptive"``: DOP853 at ``attrs["rtol"]``, NaN for the
         exact ones; the module docstring); ``attrs["scaled"]`` is True when the scene's
-        units are the kernels' (m_1 = 1, omega = 1, V0 = 1: the paper's scenes).
+        units are the kernels' (m_1 = 1, omega = 1, V0 = 1: the paper's scenes);
+        ``attrs["status"]`` is the scene's status as ``solve`` gives it: "ok", or for a
+        linear scene also "ill_conditioned" and the like (with a RuntimeWarning: the samples
+        follow an event sequence double precision cannot vouch for) or
+        "event_budget_exhausted" (then every time must lie before the end of contact
+        ``max_events``: SceneError otherwise). A nonlinear scene whose run does not finish
+        is a SceneError.
     """
     ch, settings = _scene(scene, dict(keywords))
     if rtol is not None and "rtol" in settings:
@@ -407,7 +412,7 @@ def trajectory(
         rtol = Options.rtol if rtol is None else check("rtol", rtol)
         out = _adaptive_frame(ch, t, np.ascontiguousarray(wt, dtype=np.float64), rtol,
                               max_events)  # fmt: skip
-        out.attrs.update(method=chosen.name, rtol=rtol, scaled=_scaled(ch))
+        out.attrs.update(method=chosen.name, rtol=rtol, scaled=_scaled(ch), status="ok")
         return out
     if rtol is not None:
         raise SceneError(
@@ -416,7 +421,10 @@ def trajectory(
         )
     wt = np.ascontiguousarray(wt, dtype=np.float64)
     method, parts = chosen.name, None
-    if exact.near_defective(ch, max_events):  # next to critical damping (_near_critical)
+    # the scene's checked row (as solve's): its status, and the flag of a near-defective basis
+    row = exact.exact_row(ch, max_events, np.zeros((0, LY.N_HIST)))
+    flags = int(row[LY.OUT_FLAGS]) if row[LY.OUT_FLAGS] == row[LY.OUT_FLAGS] else 0
+    if flags & (LY.FLAG_NEAR_DEFECTIVE | LY.FLAG_CRITICAL_BRACKET):  # (_near_critical)
         out = _near_critical(ch, t, wt, max_events)
         if out is not None:
             return out
@@ -432,6 +440,7 @@ def trajectory(
             )
         else:
             method += "+critical-bracket"
+    status = _exact_status(row, wt, w, max_events)
     u, v, f, inside, ui, vi = _exact_parts(ch, wt, max_events) if parts is None else parts
     n = ch.n_masses
     out = _frame(t, wt, u, v, f, np.zeros(len(t)), ["sample"] * len(t), n, w, m1, v0)
@@ -442,8 +451,35 @@ def trajectory(
         out = out.sort_values("t", kind="stable", ignore_index=True)
     if math.isnan(out["u_1"].iloc[0]):
         raise SceneError("the sampler returned NaN: the scene could not be solved")
-    out.attrs.update(method=method, rtol=math.nan, scaled=_scaled(ch))
+    out.attrs.update(method=method, rtol=math.nan, scaled=_scaled(ch), status=status)
     return out
+
+
+def _exact_status(row, wt, w: float, max_events: int) -> str:
+    """The status of the exact sampler's scene from its checked row: a sequence cut by
+    max_events is followed only to the end of its last contact (the sampler would fly on through
+    the wall after it), so a later time is a SceneError; any other unfinished status a
+    RuntimeWarning (the samples come from the same event sequence)."""
+    from restitution.solvers.result import MESSAGES, status_name
+
+    status = status_name(row[LY.OUT_STATUS])
+    if status == "event_budget_exhausted":
+        reached = float(row[LY.OUT_TCOL])
+        if not wt.max() <= reached:
+            raise SceneError(
+                f"max_events: this scene needs more than max_events = {max_events} contacts, "
+                f"so its motion is known only up to t = {user_time(reached, w):.6g} (the end of "
+                f"contact {max_events}); raise max_events or ask for times up to that"
+            )
+    elif status not in ("ok", "permanent_contact"):
+        warnings.warn(
+            f"trajectory: the exact solution of this scene ended with status {status!r} "
+            f"({MESSAGES.get(status, status)}); the samples come from that event sequence, the "
+            "later ones the least trustworthy",
+            RuntimeWarning,
+            stacklevel=3,
+        )
+    return status
 
 
 # The tolerance of a linear scene's trajectory next to critical damping (``_near_critical``).
@@ -463,7 +499,7 @@ def _near_critical(ch: Chain, t, wt, max_events: int) -> pd.DataFrame | None:
         out = _adaptive_frame(ch, t, wt, CRITICAL_RTOL, max_events)
     except SceneError:
         return None
-    out.attrs.update(method="adaptive", rtol=CRITICAL_RTOL, scaled=_scaled(ch))
+    out.attrs.update(method="adaptive", rtol=CRITICAL_RTOL, scaled=_scaled(ch), status="ok")
     return out
 
 
