@@ -179,3 +179,21 @@ def test_an_unresolvable_sequence_is_sampled_with_a_warning():
     assert frame.attrs["status"] == "ill_conditioned"
     ok = restitution.trajectory(alpha=2.0, beta=0.1, times=[0.0, 1.0])
     assert ok.attrs["status"] == "ok"
+
+
+def test_an_adaptive_sequence_cut_by_max_events_is_sampled_up_to_the_cut():
+    """The adaptive sampler's side of the same rule: times up to the end of contact max_events
+    are the full run's samples; a later time is a SceneError naming max_events (before, any
+    time was refused with the run's status)."""
+    kw = dict(masses=[1.0, 50.0, 50.0], springs=[1.0, 1.0], contact={"law": "hertz", "k": 50.0})
+    h = restitution.solve(**kw, max_events=3, history=True).history
+    reached = float(h["omega_t_end"].iloc[-1]) / restitution.Chain(**kw).omega
+    times = np.linspace(0.0, reached, 12)
+    cut = restitution.trajectory(**kw, max_events=3, times=times)
+    full = restitution.trajectory(**kw, times=times)
+    assert cut.attrs["status"] == "event_budget_exhausted" and full.attrs["status"] == "ok"
+    cols = [c for c in full.columns if c.startswith(("u_", "v_"))]
+    a, b = cut[cut["event"] == "sample"], full[full["event"] == "sample"]
+    assert np.array_equal(a[cols].to_numpy(), b[cols].to_numpy())
+    with pytest.raises(restitution.SceneError, match="max_events = 3"):
+        restitution.trajectory(**kw, max_events=3, times=[0.0, 2.0 * reached])

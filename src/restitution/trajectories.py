@@ -277,8 +277,8 @@ def _sample_adaptive(ch: Chain, wt: np.ndarray, rtol: float, max_events: int):
                 budget, np.ascontiguousarray(wt[order]), hist,
                 ch.initial_state(1.0 / ch.omega, 1.0),  # (None: the uniform approach)
             )  # fmt: skip
-        if out[LY.OUT_STATUS] == LY.STATUS_OK:
-            break
+        if out[LY.OUT_STATUS] in (LY.STATUS_OK, LY.STATUS_EVENT_BUDGET):
+            break  # (a cut sequence: the setting's own run is cut too)
     y = np.empty_like(ys)
     y[order] = ys
     f = np.empty_like(fs)
@@ -306,7 +306,9 @@ def _adaptive_frame(ch: Chain, t, wt, rtol: float, max_events: int) -> pd.DataFr
     n, w, m1 = ch.n_masses, ch.omega, float(ch.masses[0])
     y, f, (evt, evk), hist, out = _sample_adaptive(ch, wt, rtol, max_events)
     status = status_name(out[LY.OUT_STATUS])
-    if status != "ok":
+    if status == "event_budget_exhausted":
+        _within_cut(out, wt, w, max_events)
+    elif status != "ok":
         raise SceneError(
             f"the adaptive run of this scene ended with status {status!r}: "
             f"{MESSAGES.get(status, status)}"
@@ -351,6 +353,7 @@ def _adaptive_frame(ch: Chain, t, wt, rtol: float, max_events: int) -> pd.DataFr
     frame = pd.concat(parts, ignore_index=True) if len(parts) > 1 else parts[0]
     if len(parts) > 1:
         frame = frame.sort_values("t", kind="stable", ignore_index=True)
+    frame.attrs["status"] = status
     return frame
 
 
@@ -390,12 +393,12 @@ def trajectory(
         next to critical damping; ``"adaptive"``: DOP853 at ``attrs["rtol"]``, NaN for the
         exact ones; the module docstring); ``attrs["scaled"]`` is True when the scene's
         units are the kernels' (m_1 = 1, omega = 1, V0 = 1: the paper's scenes);
-        ``attrs["status"]`` is the scene's status as ``solve`` gives it: "ok", or for a
-        linear scene also "ill_conditioned" and the like (with a RuntimeWarning: the samples
-        follow an event sequence double precision cannot vouch for) or
+        ``attrs["status"]`` is the scene's status as ``solve`` gives it: "ok";
         "event_budget_exhausted" (then every time must lie before the end of contact
-        ``max_events``: SceneError otherwise). A nonlinear scene whose run does not finish
-        is a SceneError.
+        ``max_events``: SceneError otherwise); for a linear scene also "ill_conditioned" and
+        the like (with a RuntimeWarning: the samples follow an event sequence double
+        precision cannot vouch for), where an adaptive run that does not finish is a
+        SceneError.
     """
     ch, settings = _scene(scene, dict(keywords))
     if rtol is not None and "rtol" in settings:
@@ -412,7 +415,7 @@ def trajectory(
         rtol = Options.rtol if rtol is None else check("rtol", rtol)
         out = _adaptive_frame(ch, t, np.ascontiguousarray(wt, dtype=np.float64), rtol,
                               max_events)  # fmt: skip
-        out.attrs.update(method=chosen.name, rtol=rtol, scaled=_scaled(ch), status="ok")
+        out.attrs.update(method=chosen.name, rtol=rtol, scaled=_scaled(ch))
         return out
     if rtol is not None:
         raise SceneError(
@@ -455,6 +458,18 @@ def trajectory(
     return out
 
 
+def _within_cut(row, wt, w: float, max_events: int) -> None:
+    """SceneError unless every kernel time wt is before the end of the last contact of a
+    sequence cut by max_events (row: its kernel row; OUT_TCOL is that end)."""
+    reached = float(row[LY.OUT_TCOL])
+    if not wt.max() <= reached:
+        raise SceneError(
+            f"max_events: this scene needs more than max_events = {max_events} contacts, "
+            f"so its motion is known only up to t = {user_time(reached, w):.6g} (the end of "
+            f"contact {max_events}); raise max_events or ask for times up to that"
+        )
+
+
 def _exact_status(row, wt, w: float, max_events: int) -> str:
     """The status of the exact sampler's scene from its checked row: a sequence cut by
     max_events is followed only to the end of its last contact (the sampler would fly on through
@@ -464,13 +479,7 @@ def _exact_status(row, wt, w: float, max_events: int) -> str:
 
     status = status_name(row[LY.OUT_STATUS])
     if status == "event_budget_exhausted":
-        reached = float(row[LY.OUT_TCOL])
-        if not wt.max() <= reached:
-            raise SceneError(
-                f"max_events: this scene needs more than max_events = {max_events} contacts, "
-                f"so its motion is known only up to t = {user_time(reached, w):.6g} (the end of "
-                f"contact {max_events}); raise max_events or ask for times up to that"
-            )
+        _within_cut(row, wt, w, max_events)
     elif status not in ("ok", "permanent_contact"):
         warnings.warn(
             f"trajectory: the exact solution of this scene ended with status {status!r} "
@@ -499,7 +508,7 @@ def _near_critical(ch: Chain, t, wt, max_events: int) -> pd.DataFrame | None:
         out = _adaptive_frame(ch, t, wt, CRITICAL_RTOL, max_events)
     except SceneError:
         return None
-    out.attrs.update(method="adaptive", rtol=CRITICAL_RTOL, scaled=_scaled(ch), status="ok")
+    out.attrs.update(method="adaptive", rtol=CRITICAL_RTOL, scaled=_scaled(ch))
     return out
 
 
