@@ -5,7 +5,8 @@ the requested times, in the scene's own units, from the same event sequence the 
 
 * linear chains from their exact kernels (closed form per phase; ``attrs["method"]`` is
   ``"impulsive"`` or ``"piecewise"``); next to critical damping, where the modal basis
-  degenerates (``solvers.exact.near_defective``), by the adaptive method at CRITICAL_RTOL
+  degenerates (the scene's checked row, as ``solve``'s, is flagged near-defective), by the
+  adaptive method at CRITICAL_RTOL
   within the numerical ranges, else from runs with the dashpots scaled off that point
   (``_bracketed``, ``"+critical-bracket"``);
 * every other scene (Hertz, plastic contact, scissor links; the Kelvin-Voigt contact too, which
