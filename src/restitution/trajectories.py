@@ -352,8 +352,7 @@ def _adaptive_frame(ch: Chain, t, wt, rtol: float, max_events: int) -> pd.DataFr
             )  # fmt: skip
         )
     frame = pd.concat(parts, ignore_index=True) if len(parts) > 1 else parts[0]
-    if len(parts) > 1:
-        frame = frame.sort_values("t", kind="stable", ignore_index=True)
+    frame = frame.sort_values("t", kind="stable", ignore_index=True)  # (times in any order)
     frame.attrs["status"] = status
     return frame
 
@@ -452,8 +451,8 @@ def trajectory(
         rows = _frame(user_time(inside[:, 0], w), inside[:, 0], ui, vi, np.zeros(len(inside)),
                       inside[:, 1], ["impact"] * len(inside), n, w, m1, v0)  # fmt: skip
         out = pd.concat([out, rows], ignore_index=True)
-        out = out.sort_values("t", kind="stable", ignore_index=True)
-    if math.isnan(out["u_1"].iloc[0]):
+    out = out.sort_values("t", kind="stable", ignore_index=True)  # (times in any order)
+    if out.filter(regex="^[uv]_").isna().to_numpy().any():  # (any sample, not only the first)
         raise SceneError("the sampler returned NaN: the scene could not be solved")
     out.attrs.update(method=method, rtol=math.nan, scaled=_scaled(ch), status=status)
     return out
