@@ -6,9 +6,8 @@ the requested times, in the scene's own units, from the same event sequence the 
 * linear chains from their exact kernels (closed form per phase; ``attrs["method"]`` is
   ``"impulsive"`` or ``"piecewise"``); next to critical damping, where the modal basis
   degenerates (the scene's checked row, as ``solve``'s, is flagged near-defective), by the
-  adaptive method at CRITICAL_RTOL
-  within the numerical ranges, else from runs with the dashpots scaled off that point
-  (``_bracketed``, ``"+critical-bracket"``);
+  adaptive method at CRITICAL_RTOL within the numerical ranges, else from runs with the
+  dashpots scaled off that point (``_bracketed``, ``"+critical-bracket"``);
 * every other scene (Hertz, plastic contact, scissor links; the Kelvin-Voigt contact too, which
   ``solve`` takes exactly) from the solver's own adaptive run
   (``restitution.kernels.stepping.sample_scene``: the same DOP853 steps and events as the run
@@ -134,7 +133,7 @@ def _exact_parts(ch: Chain, wt: np.ndarray, max_events: int) -> tuple:
 
 
 def _within(impacts, wt) -> np.ndarray:
-    """Which impacts (rows time, impulse) fall within the times asked for."""
+    """Which impacts (rows of time, impulse) fall within the times asked for."""
     return (impacts[:, 0] >= wt.min()) & (impacts[:, 0] <= wt.max())
 
 
@@ -426,8 +425,7 @@ def trajectory(
     method, parts = chosen.name, None
     # the scene's checked row (as solve's): its status, and the flag of a near-defective basis
     row = exact.exact_row(ch, max_events, np.zeros((0, LY.N_HIST)))
-    flags = int(row[LY.OUT_FLAGS]) if row[LY.OUT_FLAGS] == row[LY.OUT_FLAGS] else 0
-    if flags & (LY.FLAG_NEAR_DEFECTIVE | LY.FLAG_CRITICAL_BRACKET):  # (_near_critical)
+    if exact._flags(row) & (LY.FLAG_NEAR_DEFECTIVE | LY.FLAG_CRITICAL_BRACKET):  # _near_critical
         out = _near_critical(ch, t, wt, max_events)
         if out is not None:
             return out
