@@ -152,11 +152,12 @@ def test_split_warm_start_keeps_the_shorter_designs_cor(tmp_path):
     assert min(splits) < 0.1 * min(ends)
     row = {"family": "masses_springs", "n_masses": 4, "masses": masses, "springs": springs}
     write_table(pd.DataFrame([row]), tmp_path / "ms4.parquet")
-    starts, sources = script.warm_starts([tmp_path / "ms4.parquet"], 5, 0.01, 100.0)
+    (given,) = script.known_designs([tmp_path / "ms4.parquet"]).values()
+    starts, sources = script.warm_starts([given], 5, 0.01, 100.0)
     assert sources[2:] == [f"masses_springs N=4 split at m_{j}" for j in (2, 3, 4)]
     for m, k in starts:
         assert len(m) == 5 and len(k) == 4 and m.min() >= 0.01 and k.max() <= 100.0
-    starts, sources = script.warm_starts([tmp_path / "ms4.parquet"], 5, 0.03, 100.0)
+    starts, sources = script.warm_starts([given], 5, 0.03, 100.0)
     assert len(starts) == 2 + 2  # m_3 / 2 = 0.02 would leave the bounds: no split there
 
 

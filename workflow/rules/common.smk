@@ -83,7 +83,7 @@ if RUN != "paper" and workflow.overwrite_workdir is None:
 # ---------------------------------------------------------------------------------------------
 # One console line per job. The profiles quiet the reason (`quiet: [reason]`); then each job's
 # message is JOB_MESSAGE (targets: TARGET_MESSAGE) and snakemake prints "Job 12: design_fig8b,
-# log logs/design/masses_N4.log" instead of the input/output/wildcards block (40 lines with the
+# log logs/design/all/masses.log" instead of the input/output/wildcards block (40 lines with the
 # code inputs). The log is where a long job reports its progress (tail -f it). A failing job
 # still gets the full block and its log. Any --quiet that leaves the reason out, e.g.
 # `snakemake -n all --quiet host`, brings back the full blocks with their reasons.
@@ -316,18 +316,29 @@ CONTAINS = {
 }
 
 
-def _designed(family, n):
-    """Whether `all` or `extra` runs this design (a warm start must be a design of the run)."""
-    return any(n in DESIGNS[group].get(family, []) for group in ("all", "extra"))
+def design_tables(group):
+    """The family tables of one group of designs (`all` or `extra`), one per family it lists."""
+    return [
+        f"results/design/{group}/{f}.parquet" for f, ns in DESIGNS[group].items() if ns
+    ]
 
 
-def design_warm_starts(wildcards):
-    """Tables of the warm starts of one design: the families it contains at N, itself at N - 1."""
-    family, n = wildcards.family, int(wildcards.n)
-    wanted = [(f, n) for f in CONTAINS.get(family, [])]
+def design_warm_tables(wildcards):
+    """The tables holding the warm starts of one family's designs: the families it contains at
+    each of its N, and itself at N - 1 where its own job does not design that N (`all` first
+    where both groups design one)."""
+    family, group = wildcards.family, wildcards.group
+    ns = DESIGNS[group][family]
+    wanted = [(f, n) for n in ns for f in CONTAINS.get(family, [])]
     if family in CONTAINS:
-        wanted.append((family, n - 1))
-    return [f"results/design/{f}_N{m}.parquet" for f, m in wanted if _designed(f, m)]
+        wanted += [(family, n - 1) for n in ns if n - 1 not in ns]
+    tables = []
+    for f, n in wanted:
+        for source in ("all", "extra"):
+            if n in DESIGNS[source].get(f, []):
+                tables.append(f"results/design/{source}/{f}.parquet")
+                break
+    return sorted(set(tables))
 
 
 # Benchmarks (rules/benchmarks.smk).

@@ -115,36 +115,42 @@ rule fig8a:
 # Fig. 8(b): minimum-COR designs against N
 # ---------------------------------------------------------------------------------------------
 rule design_fig8b:
-    """One design: the minimum-COR chain of one family and one N from a warm and a cold start,
-    re-checked by a fresh solve."""
+    """The minimum-COR chains of one family for every N its group (`all` or `extra` in config
+    fig8.design) lists, smallest N first: each from a warm and a cold start, re-checked by a
+    fresh solve."""
     input:
-        warm=design_warm_starts,
+        warm=design_warm_tables,
         code=script_code("design_fig8b.py"),
     output:
-        table="results/design/{family}_N{n}.parquet",
+        table="results/design/{group}/{family}.parquet",
     log:
-        "logs/design/{family}_N{n}.log",
+        "logs/design/{group}/{family}.log",
     benchmark:
-        "logs/benchmarks/design/{family}_N{n}.tsv"
+        "logs/benchmarks/design/{group}/{family}.tsv"
     wildcard_constraints:
+        group="all|extra",
         family="uniform|tapered_decreasing|tapered_increasing|masses|masses_springs|robust",
-        n=r"\d+",
-    # The designs are the longest chain of jobs (masses N = 2..8, then masses+springs N = 3..8,
-    # each warm-started from the one before): run them before the other ready jobs, which then
-    # fill the core the chain leaves free.
+    # One job a family, not one a design: a family's designs are a chain anyway (each N
+    # warm-started from N - 1), and every job pays about 1 s to start (Python, the package,
+    # scipy.optimize, numba's cache), which one design of a short chain barely exceeds (41 jobs
+    # of one design summed 165 s, 2026-12-07). The designs are the longest chain of jobs
+    # (masses, then masses+springs): run them before the other ready jobs, which then fill the
+    # core the chain leaves free.
     priority: 1
     conda:
         "../envs/restitution.yaml"
     threads: 1
     resources:
         mem_mb=1000,
-        runtime=30,
+        runtime=60,
     params:
         design={
             k: v
             for k, v in config["fig8"]["design"].items()
             if k not in ("all", "extra")
         },
+        ns=lambda wildcards: sorted(DESIGNS[wildcards.group][wildcards.family]),
+        contains=lambda wildcards: CONTAINS.get(wildcards.family, []),
     message:
         JOB_MESSAGE
     script:
@@ -154,11 +160,7 @@ rule design_fig8b:
 rule design_fig8b_collect:
     """All designs of `all` in one table."""
     input:
-        tables=[
-            f"results/design/{family}_N{n}.parquet"
-            for family, ns in config["fig8"]["design"]["all"].items()
-            for n in ns
-        ],
+        tables=design_tables("all"),
         code=script_code("design_fig8b_collect.py"),
     output:
         table=report(
@@ -183,11 +185,7 @@ rule design_fig8b_collect:
 rule design_extra_collect:
     """The costly designs `all` leaves out (config fig8.design.extra), in one table."""
     input:
-        tables=[
-            f"results/design/{family}_N{n}.parquet"
-            for family, ns in config["fig8"]["design"]["extra"].items()
-            for n in ns
-        ],
+        tables=design_tables("extra"),
         code=script_code("design_fig8b_collect.py"),
     output:
         table="results/design/designs_extra.parquet",

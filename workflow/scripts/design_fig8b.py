@@ -1,4 +1,5 @@
-"""Fig. 8(b) design, one job: the minimum-COR chain of one family and one N.
+"""Fig. 8(b) designs, one job a family: its minimum-COR chains for every N of its group (the
+config's ``fig8.design.all`` or ``extra``), smallest N first, into one table.
 
 Families (``restitution.analysis.design``): ``uniform`` (the paper's Fig. 6 chain, best alpha),
 ``tapered_decreasing`` / ``tapered_increasing`` (geometric masses, best ratio), ``masses`` (every
@@ -24,6 +25,7 @@ The row is the better of the two; ``cor_warm`` and ``cor_cold`` (robust: their w
 """
 
 import math
+import time
 
 import numpy as np
 import pandas as pd
@@ -46,17 +48,14 @@ def split(masses, springs, j: int, stiff: float):
     return np.array(m[:j] + [m[j] / 2, m[j] / 2] + m[j + 1 :]), np.array(k[:j] + [stiff] + k[j:])
 
 
-def warm_starts(tables, n: int, light: float, stiff: float = math.inf) -> tuple:
-    """([(masses, springs)], [source]) of the warm-start tables: a design of this N as it is;
-    one of N - 1 extended twice, by a mass equal to its last and by a light end mass ``light``
+def warm_starts(rows, n: int, light: float, stiff: float = math.inf) -> tuple:
+    """([(masses, springs)], [source]) of the warm-start designs (table rows): one of this N as
+    it is; one of N - 1 extended twice, by a mass equal to its last and by a light end mass ``light``
     (the lower bound: nearly the N - 1 chain, so the search can start from that chain's COR),
     and, for a design with free springs, split at each mass whose halves stay within the bounds
     (``split`` with the upper bound ``stiff``)."""
-    from restitution.tables.io import read_table
-
     starts, sources = [], []
-    for path in tables:
-        row = read_table(path).iloc[0]
+    for row in rows:
         name = f"{row['family']} N={int(row['n_masses'])}"
         if int(row["n_masses"]) == n:
             starts.append(extend(row["masses"], row["springs"], n))
@@ -109,19 +108,33 @@ def recheck(row: dict) -> float:
     return restitution.solve(masses=list(m), springs=list(k), k_contact=kc).cor
 
 
-def main(params, output_path, family: str, n: int, logger, tables=()) -> pd.DataFrame:
-    from restitution.tables.io import write_table
+def known_designs(tables) -> dict:
+    """{(family, N): row} of the designs in ``tables`` (the first table holding one wins)."""
+    from restitution.tables.io import read_table
 
+    known = {}
+    for path in tables:
+        for _, row in read_table(path).iterrows():
+            known.setdefault((row["family"], int(row["n_masses"])), row)
+    return known
+
+
+def one_design(params, family: str, n: int, logger, known: dict) -> dict:
+    """The row of one design: warm and cold starts, the better one, re-solved."""
     d = dict(params.design)
-    starts, sources = warm_starts(tables, n, float(d["bounds"][0]), float(d["bounds"][1]))
+    wanted = [(f, n) for f in params.contains]
+    if params.contains:  # a family that contains others also starts from its own N - 1
+        wanted.append((family, n - 1))
+    given = [known[key] for key in wanted if key in known]
+    starts, sources = warm_starts(given, n, float(d["bounds"][0]), float(d["bounds"][1]))
     rows = {}
-    for start, seed, given in (("warm", d["seed"], starts), ("cold", d["restart_seed"], [])):
-        result = run(family, n, d, seed, given, progress=logger.info)
+    for start, seed, warm in (("warm", d["seed"], starts), ("cold", d["restart_seed"], [])):
+        result = run(family, n, d, seed, warm, progress=logger.info)
         row = result.row()
         row["family"] = family
         rows[start] = row
         logger.info("%s N=%d, %s start (seed %d, %d warm starts): objective %.12g, %s", family, n,
-                    start, seed, len(given), objective(row), row["active"])  # fmt: skip
+                    start, seed, len(warm), objective(row), row["active"])  # fmt: skip
     warm, cold = objective(rows["warm"]), objective(rows["cold"])
     best = "cold" if cold < warm else "warm"
     row = dict(rows[best])
@@ -137,8 +150,25 @@ def main(params, output_path, family: str, n: int, logger, tables=()) -> pd.Data
                 "%s; %d solver calls", family, n, row["cor"], row["cor_resolved"], warm, cold,
                 row["method"], row["bounds_hit"] or "no bound near", row["active"],
                 row["evaluations"])  # fmt: skip
-    table = pd.DataFrame([row])
-    write_table(table, output_path, config={"fig8": {"design": d}, "family": family, "n": n})
+    return row
+
+
+def main(params, output_path, family: str, logger, tables=()) -> pd.DataFrame:
+    """Every design of ``family`` at ``params.ns`` (ascending: each may warm-start the next),
+    written to ``output_path`` only when all are done."""
+    from restitution.tables.io import write_table
+
+    known = known_designs(tables)
+    out = []
+    for n in sorted(params.ns):
+        start = time.perf_counter()
+        row = one_design(params, family, n, logger, known)
+        logger.info("%s N=%d: %.2f s", family, n, time.perf_counter() - start)
+        known[(family, n)] = pd.Series(row)
+        out.append(row)
+    table = pd.DataFrame(out)
+    config = {"fig8": {"design": dict(params.design)}, "family": family, "n": list(params.ns)}
+    write_table(table, output_path, config=config)
     return table
 
 
@@ -146,12 +176,11 @@ if __name__ == "__main__":
     from _common import Timer, setup
 
     log = setup(snakemake)  # noqa: F821 (injected by Snakemake)
-    with Timer(log, "design"):
+    with Timer(log, "designs"):
         main(
             snakemake.params,  # noqa: F821
             snakemake.output.table,  # noqa: F821
             family=snakemake.wildcards.family,  # noqa: F821
-            n=int(snakemake.wildcards.n),  # noqa: F821
             logger=log,
             tables=list(snakemake.input.warm),  # noqa: F821
         )
