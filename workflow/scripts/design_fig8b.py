@@ -49,11 +49,11 @@ def split(masses, springs, j: int, stiff: float):
 
 
 def warm_starts(rows, n: int, light: float, stiff: float = math.inf) -> tuple:
-    """([(masses, springs)], [source]) of the warm-start designs (table rows): one of this N as
-    it is; one of N - 1 extended twice, by a mass equal to its last and by a light end mass ``light``
-    (the lower bound: nearly the N - 1 chain, so the search can start from that chain's COR),
-    and, for a design with free springs, split at each mass whose halves stay within the bounds
-    (``split`` with the upper bound ``stiff``)."""
+    """([(masses, springs)], [source]) of the warm-start designs (table rows): one of this N
+    as it is; one of N - 1 extended twice, by a mass equal to its last and by a light end mass
+    ``light`` (the lower bound: nearly the N - 1 chain, so the search can start from that
+    chain's COR), and, for a design with free springs, split at each mass whose halves stay
+    within the bounds (``split`` with the upper bound ``stiff``)."""
     starts, sources = [], []
     for row in rows:
         name = f"{row['family']} N={int(row['n_masses'])}"
