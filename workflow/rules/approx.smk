@@ -55,7 +55,7 @@ rule approx_finite_beta:
         "logs/benchmarks/approx/finite_beta.tsv"
     conda:
         "../envs/restitution.yaml"
-    threads: 2
+    threads: 1
     resources:
         mem_mb=1000,
         runtime=30,
@@ -109,7 +109,7 @@ rule approx_fit:
         "logs/benchmarks/approx/fit.tsv"
     conda:
         "../envs/restitution.yaml"
-    threads: 2
+    threads: 1
     resources:
         mem_mb=1000,
         runtime=20,

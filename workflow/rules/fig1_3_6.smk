@@ -26,7 +26,7 @@ rule simulate_fig3a:
         "logs/benchmarks/fig3/simulate_fig3a.tsv"
     conda:
         "../envs/restitution.yaml"
-    threads: 2
+    threads: 1
     resources:
         mem_mb=1000,
         runtime=10,

@@ -25,7 +25,7 @@ rule simulate_fig4b:
         "logs/benchmarks/fig4/simulate_b.tsv"
     conda:
         "../envs/restitution.yaml"
-    threads: 2
+    threads: 1
     resources:
         mem_mb=1000,
         runtime=20,
@@ -62,7 +62,7 @@ rule simulate_fig4c:
         "logs/benchmarks/fig4/simulate_c.tsv"
     conda:
         "../envs/restitution.yaml"
-    threads: 2
+    threads: 1
     resources:
         mem_mb=1000,
         runtime=20,
@@ -99,7 +99,7 @@ rule simulate_fig4d:
         "logs/benchmarks/fig4/simulate_d.tsv"
     conda:
         "../envs/restitution.yaml"
-    threads: 2
+    threads: 1
     resources:
         mem_mb=1000,
         runtime=20,
@@ -141,7 +141,7 @@ rule simulate_fig5b:
         "logs/benchmarks/fig5/simulate_b.tsv"
     conda:
         "../envs/restitution.yaml"
-    threads: 2
+    threads: 1
     resources:
         mem_mb=1000,
         runtime=20,

@@ -43,7 +43,7 @@ rule simulate_fig7:
         chunk=r"\d+",
     conda:
         "../envs/restitution.yaml"
-    threads: 2
+    threads: 1
     resources:
         mem_mb=1000,
         runtime=20,

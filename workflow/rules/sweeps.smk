@@ -15,7 +15,7 @@ rule simulate_fig2a:
         "logs/benchmarks/fig2a/simulate/beta~{beta}/chunk_{chunk}.tsv"
     conda:
         "../envs/restitution.yaml"
-    threads: 2
+    threads: 1
     resources:
         mem_mb=1000,
         runtime=20,
