@@ -328,3 +328,27 @@ def test_scaling_times_solve_ivp_at_matched_accuracy():
     # An unreachable match returns the tightest rtol tried, not matched.
     rtol, err, _, matched = matched_setting(10.0, 0.0, exact, "DOP853", [1e-3], 1e-15, 30.0)
     assert not matched and rtol == 1e-3 and err > 1e-15
+
+
+def test_rule_timings_marks_cpu_sums_of_sparsely_sampled_jobs(tmp_path):
+    """Snakemake samples a job's CPU every 0.5 s for 15 s, then every 30 s: a longer job's CPU
+    time is as of its last sample, so its group's CPU sum is shown as a lower bound."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(
+        "rule_timings", REPO / "benchmarks" / "rule_timings.py"
+    )
+    rt = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(rt)
+    head = "s\th:m:s\tmax_rss\tmax_vms\tmax_uss\tmax_pss\tio_in\tio_out\tmean_load\tcpu_time\n"
+    jobs = {"design/all/masses.tsv": (42.7, 14.7), "fig2a/beta~0/chunk_0.tsv": (0.9, 0.7),
+            "fig2a/beta~1/chunk_0.tsv": (1.1, 0.8)}  # fmt: skip
+    for name, (wall, cpu) in jobs.items():
+        path = tmp_path / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(head + f"{wall}\t0:00:01\t300\t0\t0\t0\t0\t0\t50\t{cpu}\n")
+    lines = rt.table(rt.load(tmp_path)).splitlines()
+    rows = {line.split("|")[1].strip(): line.split("|")[5].strip() for line in lines[2:]}
+    assert rows["`design/all/masses`"] == ">= 14.7"
+    assert rows["`fig2a/*/*`"] == "1.5"
+    assert rows["**all jobs**"] == ">= 16.2"
