@@ -364,3 +364,33 @@ def test_safe_side_step_from_a_root_at_zero():
     y = design._to_safe_side(g, 0.0, np.zeros(2), 1)
     assert y is not None and y[0] == 0.0
     assert 3e-13 <= y[1] <= 6e-13 + 1e-18 and len(calls) <= 24
+
+
+def test_family_job_designs_its_n_in_turn_each_warm_started_from_the_last(tmp_path):
+    """One job designs a family's N smallest first: N warm-starts from the contained family's
+    table (given) and from its own N - 1 (designed in the same job), in the order the per-design
+    jobs had (contained families first); the table is written once, with every N."""
+    import logging
+    from types import SimpleNamespace
+
+    from conftest import load_script
+    from restitution.tables.io import read_table
+
+    script = load_script("design_fig8b")
+    d = {"beta": 0.0, "bounds": [0.01, 100.0], "tolerance": 0.01, "seed": 1, "restart_seed": 2,
+         "popsize": 3, "maxiter": 3, "robust_popsize": 2, "robust_maxiter": 2,
+         "max_events": 10000}  # fmt: skip
+    log = logging.getLogger("test")
+    uniform = SimpleNamespace(design=d, ns=[3, 2], contains=[])
+    script.main(uniform, tmp_path / "uniform.parquet", "uniform", log)
+    masses = SimpleNamespace(design=d, ns=[2, 3], contains=["uniform", "tapered_decreasing"])
+    script.main(masses, tmp_path / "masses.parquet", "masses", log, [tmp_path / "uniform.parquet"])
+    u, m = read_table(tmp_path / "uniform.parquet"), read_table(tmp_path / "masses.parquet")
+    assert list(u["n_masses"]) == [2, 3] and list(m["n_masses"]) == [2, 3]
+    assert list(u["warm_from"]) == ["", ""]
+    assert list(m["warm_from"]) == [
+        "uniform N=2",
+        "uniform N=3; masses N=2 + last mass repeated; masses N=2 + end mass 0.01",
+    ]
+    assert (m["cor"].to_numpy() <= u["cor"].to_numpy() + 1e-15).all()
+    assert (m["status"] == "ok").all()
