@@ -44,6 +44,10 @@ NOT_A_PARAMETER = {
     "model": "selects the schematic drawn (Fig. 1 or 6(a))",
     "max_not_ok_fraction": "a pass/fail threshold of the run, not an input of the figure",
     "paper": "the paper's printed values a Snakemake-rendered caption quotes (not an input)",
+    "ns": "the chain lengths one design job computes (fig8.design.all): Fig. 8(b)'s caption states "
+    "those of the designs it draws, from the designs table (data.n_range)",
+    "contains": "the families whose designs warm-start a family's (CONTAINS, rules/common.smk): "
+    "fixed by the families, not a configuration value",
 }
 
 # Runs in a subprocess: Snakemake's API changes the working directory and its logging.
@@ -65,6 +69,8 @@ def flatten(value, path):
     if isinstance(value, dict):
         for key, sub in value.items():
             yield from flatten(sub, (*path, str(key)))
+    elif callable(value):  # a param of the job's wildcards: no one value for the rule
+        yield path, "<a function of the wildcards>"
     else:
         yield path, value
 

@@ -69,10 +69,10 @@ def test_contact_phase_critical_damping_sampled_by_adaptive(alpha, beta, n):
     ref = _ivp_linear(m, k, xi * np.asarray(c), kc, times)
     s = frame[frame["event"] == "sample"]
     cols = [f"u_{i + 1}" for i in range(n)] + [f"v_{i + 1}" for i in range(n)]
+    # (The exact sampler alone, on the degenerate basis, was 1.9e-8 off here at n = 6 and 4.5e-9
+    # at n = 4 on an AMD EPYC, 6e-12 at n = 6 on an Intel Xeon: its round-off depends on the CPU's
+    # code, so the routing above, not that difference, is what this test holds.)
     assert np.abs(s[cols].to_numpy() - ref).max() < 1e-10
-    if n == 6:  # what the exact sampler alone gives there (2e-8 measured)
-        u, v, *_ = _exact_parts(restitution.Chain.paper(alpha, beta, xi, n), times, 10_000)
-        assert np.abs(np.hstack([u, v]) - ref).max() > 1e-9
 
 
 def _xi_quadratic(beta, n, times):
