@@ -366,7 +366,7 @@ def test_safe_side_step_from_a_root_at_zero():
     assert 3e-13 <= y[1] <= 6e-13 + 1e-18 and len(calls) <= 24
 
 
-def test_family_job_designs_its_n_in_turn_each_warm_started_from_the_last(tmp_path):
+def test_family_job_designs_its_n_in_turn_each_warm_started_from_the_last(tmp_path, capsys):
     """One job designs a family's N smallest first: N warm-starts from the contained family's
     table (given) and from its own N - 1 (designed in the same job), in the order the per-design
     jobs had (contained families first); the table is written once, with every N."""
@@ -382,7 +382,8 @@ def test_family_job_designs_its_n_in_turn_each_warm_started_from_the_last(tmp_pa
          "max_events": 10000}  # fmt: skip
     log = logging.getLogger("test")
     uniform = SimpleNamespace(design=d, ns=[3, 2], contains=[])
-    script.main(uniform, tmp_path / "uniform.parquet", "uniform", log)
+    script.main(uniform, tmp_path / "uniform.parquet", "uniform", log, progress=True)
+    assert "design uniform" in capsys.readouterr().err  # the bar over its N
     masses = SimpleNamespace(design=d, ns=[2, 3], contains=["uniform", "tapered_decreasing"])
     script.main(masses, tmp_path / "masses.parquet", "masses", log, [tmp_path / "uniform.parquet"])
     u, m = read_table(tmp_path / "uniform.parquet"), read_table(tmp_path / "masses.parquet")

@@ -153,14 +153,22 @@ def one_design(params, family: str, n: int, logger, known: dict) -> dict:
     return row
 
 
-def main(params, output_path, family: str, logger, tables=()) -> pd.DataFrame:
+def main(params, output_path, family: str, logger, tables=(), progress=False) -> pd.DataFrame:
     """Every design of ``family`` at ``params.ns`` (ascending: each may warm-start the next),
-    written to ``output_path`` only when all are done."""
+    written to ``output_path`` only when all are done; ``progress``: a bar over the N (a
+    family's job runs up to a minute, its log has the details)."""
     from restitution.tables.io import write_table
 
     known = known_designs(tables)
     out = []
-    for n in sorted(params.ns):
+    ns = sorted(params.ns)
+    if progress:
+        from tqdm.auto import tqdm
+
+        ns = tqdm(ns, desc=f"design {family}", unit="N")
+    for n in ns:
+        if progress:
+            ns.set_postfix(N=n)
         start = time.perf_counter()
         row = one_design(params, family, n, logger, known)
         logger.info("%s N=%d: %.2f s", family, n, time.perf_counter() - start)
@@ -173,7 +181,7 @@ def main(params, output_path, family: str, logger, tables=()) -> pd.DataFrame:
 
 
 if __name__ == "__main__":
-    from _common import Timer, setup
+    from _common import Timer, setup, show_progress
 
     log = setup(snakemake)  # noqa: F821 (injected by Snakemake)
     with Timer(log, "designs"):
@@ -183,4 +191,5 @@ if __name__ == "__main__":
             family=snakemake.wildcards.family,  # noqa: F821
             logger=log,
             tables=list(snakemake.input.warm),  # noqa: F821
+            progress=show_progress(),
         )
