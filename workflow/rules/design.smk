@@ -134,9 +134,9 @@ rule design_fig8b:
     # robust chains are a chain anyway (each N warm-started from N - 1), and every job pays
     # about 1 s to start (Python, the package, scipy.optimize, numba's cache), which one design
     # of a short chain barely exceeds (41 jobs of one design summed 165 s, 2026-12-07; the
-    # uniform and tapered families, one parameter, 2-7 s a family in one job). The designs are the longest chain of jobs
-    # (masses, then masses+springs): run them before the other ready jobs, which then fill the
-    # core the chain leaves free.
+    # uniform and tapered families, one parameter, take 2-7 s a family in one job). The designs
+    # are the longest chain of jobs (masses, then masses+springs): run them before the other
+    # ready jobs, which then fill the core the chain leaves free.
     priority: 1
     conda:
         "../envs/restitution.yaml"
