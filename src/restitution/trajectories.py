@@ -90,14 +90,15 @@ _CHAIN_KEYS = (
 )
 
 
-def _sample(ch: Chain, wt: np.ndarray, max_events: int, s: float = 0.0):
+def _sample(ch: Chain, wt: np.ndarray, max_events: int, s: float = 0.0, impacts: bool = True):
     """(u, v, f, impacts) in kernel units (omega*t, V0/omega, V0, m1 V0 omega, m1 V0), with
-    every dashpot scaled by 1 + s (``_bracketed``)."""
+    every dashpot scaled by 1 + s (``_bracketed``). ``impacts`` False: the rigid paper chain's
+    impacts are not computed (a checked solve with its history), the fourth item is empty."""
     with blas.one_thread(ch.n_masses):
-        return _sample_kernels(ch, wt, max_events, s)
+        return _sample_kernels(ch, wt, max_events, s, impacts)
 
 
-def _sample_kernels(ch: Chain, wt: np.ndarray, max_events: int, s: float = 0.0):
+def _sample_kernels(ch: Chain, wt: np.ndarray, max_events: int, s: float, impacts: bool):
     paper = ch.paper_form
     if exact.linear_kernel(paper) != exact.GENERAL:  # the kernels solve() runs, their sampler
         from restitution.api import solve
@@ -108,11 +109,11 @@ def _sample_kernels(ch: Chain, wt: np.ndarray, max_events: int, s: float = 0.0):
         u, v = sample_linear(alpha, beta, xi, n, wt, max_events=max_events)
         kc = ch.scaled()[3]
         f = np.zeros(len(wt)) if ch.rigid else kc * np.maximum(-u[:, 0], 0.0)
-        impacts = np.empty((0, 2))
-        if ch.rigid:
+        hits = np.empty((0, 2))
+        if ch.rigid and impacts:
             h = solve(alpha, beta, xi, n, history=True, max_events=max_events).history
-            impacts = h[["omega_t_start", "impulse"]].to_numpy()
-        return u, v, f, impacts
+            hits = h[["omega_t_start", "impulse"]].to_numpy()
+        return u, v, f, hits
     from restitution.kernels.exact_chain import sample_chain, sample_chain_state
 
     m, k, c, kc = ch.scaled()
@@ -141,7 +142,7 @@ def _impact_states(ch: Chain, times, max_events: int, s: float = 0.0) -> tuple:
     """(u, v) at the impact times (after the reversal), dashpots scaled by 1 + s."""
     if not len(times):
         return np.zeros((0, ch.n_masses)), np.zeros((0, ch.n_masses))
-    u, v, _, _ = _sample(ch, np.ascontiguousarray(times), max_events, s)
+    u, v, _, _ = _sample(ch, np.ascontiguousarray(times), max_events, s, impacts=False)
     return u, v
 
 
@@ -189,7 +190,7 @@ def _bracketed(ch: Chain, wt: np.ndarray, max_events: int) -> tuple | None:
             k = np.abs(wt[idx, None] - inside[None, :, 0]).argmin(axis=1)
             tau = wt[idx] - inside[k, 0]
             near = [_sample(ch, np.ascontiguousarray(np.maximum(imp[k, 0] + tau, 0.0)),
-                            max_events, s) for imp, s in by_run]  # fmt: skip
+                            max_events, s, impacts=False) for imp, s in by_run]  # fmt: skip
             for x, j in ((u, 0), (v, 1), (f, 2)):
                 x[idx] = combined([r[j] for r in near])
             rough[idx] = _rough(near)
