@@ -120,3 +120,22 @@ def test_rows_are_sorted_by_time_whatever_the_order_asked(scene):
     ordered = trajectory(**scene, times=sorted(asked))
     o = ordered[ordered["event"] == "sample"]
     assert np.array_equal(s.filter(regex="^[uv]_").to_numpy(), o.filter(regex="^[uv]_").to_numpy())
+
+
+def test_rigid_paper_chain_trajectory_reuses_its_checked_rows_history(monkeypatch):
+    """The impacts come from the history of the checked row the trajectory computes for its
+    status: no second checked solve for them, nor for the states at the impacts; the impact
+    rows are those of solve(history=True)."""
+    import restitution.api as api
+
+    times = np.linspace(0.0, 30.0, 61)
+    expected = restitution.solve(300.0, 0.0, 0.01, 3, history=True).history
+    calls = []
+    real = api.solve
+    monkeypatch.setattr(api, "solve", lambda *a, **k: calls.append(a) or real(*a, **k))
+    frame = restitution.trajectory(alpha=300.0, beta=0.0, xi=0.01, n_masses=3, times=times)
+    assert calls == []
+    impacts = frame[frame["event"] == "impact"]
+    inside = expected[expected["omega_t_start"] <= 30.0]
+    assert len(impacts) == len(inside) > 3
+    assert np.array_equal(impacts["t"].to_numpy(), inside["t_start"].to_numpy())

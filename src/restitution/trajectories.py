@@ -98,6 +98,12 @@ def _sample(ch: Chain, wt: np.ndarray, max_events: int, s: float = 0.0, impacts:
         return _sample_kernels(ch, wt, max_events, s, impacts)
 
 
+def _rigid_paper(ch: Chain) -> bool:
+    """A rigid-wall chain in the paper's form, sampled by the paper kernels' sampler, whose
+    impacts come from a history (``_sample_kernels``)."""
+    return ch.rigid and exact.linear_kernel(ch.paper_form) != exact.GENERAL
+
+
 def _sample_kernels(ch: Chain, wt: np.ndarray, max_events: int, s: float, impacts: bool):
     paper = ch.paper_form
     if exact.linear_kernel(paper) != exact.GENERAL:  # the kernels solve() runs, their sampler
@@ -124,11 +130,12 @@ def _sample_kernels(ch: Chain, wt: np.ndarray, max_events: int, s: float, impact
     return sample_chain(m, k, c, kc, wt, max_events)
 
 
-def _exact_parts(ch: Chain, wt: np.ndarray, max_events: int) -> tuple:
+def _exact_parts(ch: Chain, wt: np.ndarray, max_events: int, impacts=None) -> tuple:
     """The exact sampler's (u, v, f) at wt, the impacts (time, impulse) within [min wt, max wt]
-    and the states (u, v) at them (after the reversal)."""
-    u, v, f, impacts = _sample(ch, wt, max_events)
-    impacts = np.asarray(impacts, dtype=float).reshape(-1, 2)
+    and the states (u, v) at them (after the reversal). ``impacts``: a rigid paper chain's
+    (time, impulse) rows, when its checked row was computed with its history already."""
+    u, v, f, found = _sample(ch, wt, max_events, impacts=impacts is None)
+    impacts = np.asarray(found if impacts is None else impacts, dtype=float).reshape(-1, 2)
     inside = impacts[_within(impacts, wt)]
     return (u, v, f, inside, *_impact_states(ch, inside[:, 0], max_events))
 
@@ -424,8 +431,10 @@ def trajectory(
         )
     wt = np.ascontiguousarray(wt, dtype=np.float64)
     method, parts = chosen.name, None
-    # the scene's checked row (as solve's): its status, and the flag of a near-defective basis
-    row = exact.exact_row(ch, max_events, np.zeros((0, LY.N_HIST)))
+    # the scene's checked row (as solve's): its status, and the flag of a near-defective basis;
+    # a rigid paper chain's with its history, whose impacts the exact sampler then reuses
+    hist = np.zeros((max_events if _rigid_paper(ch) else 0, LY.N_HIST))
+    row = exact.exact_row(ch, max_events, hist)
     if exact._flags(row) & (LY.FLAG_NEAR_DEFECTIVE | LY.FLAG_CRITICAL_BRACKET):  # _near_critical
         out = _near_critical(ch, t, wt, max_events)
         if out is not None:
@@ -443,7 +452,12 @@ def trajectory(
         else:
             method += "+critical-bracket"
     status = _exact_status(row, wt, w, max_events)
-    u, v, f, inside, ui, vi = _exact_parts(ch, wt, max_events) if parts is None else parts
+    if parts is None:
+        hits = None
+        if len(hist):
+            hits = hist[: min(int(row[LY.OUT_NEVENTS]), len(hist))][:, [LY.H_TSTART, LY.H_IMPULSE]]
+        parts = _exact_parts(ch, wt, max_events, hits)
+    u, v, f, inside, ui, vi = parts
     n = ch.n_masses
     out = _frame(t, wt, u, v, f, np.zeros(len(t)), ["sample"] * len(t), n, w, m1, v0)
     if len(inside):
