@@ -96,7 +96,9 @@ REFERENCE = {
     "rigid4_flat": (0.6412318453507874, 3, 5.6e-17, {1, 2}),
 }
 
-RTOLS = (1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13)
+# down to the loosest declared rtol: there a flight's steps are the step cap's, not the error
+# control's (numerical._check_cap)
+RTOLS = (1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13)
 
 
 def _solve(name, rtol):

@@ -271,19 +271,26 @@ def _sample_adaptive(ch: Chain, wt: np.ndarray, rtol: float, max_events: int):
     result row. The run is the one ``solve`` returns for this rtol: its finer run
     (``numerical._finer``: rtol/100), or where that one does not finish the setting's own."""
     from restitution.kernels import stepping
-    from restitution.solvers.numerical import _default_etol, _finer, _work_budget, packed
+    from restitution.solvers.numerical import (
+        _check_cap,
+        _default_etol,
+        _finer,
+        _work_budget,
+        packed,
+    )
 
     ms, lk, cs, cp, _, _ = packed(ch)
     order = np.argsort(wt, kind="stable")
     etol = _default_etol("adaptive", rtol, 0.0)
     budget = _work_budget("adaptive")  # (as solve runs them)
-    for tol in (_finer(rtol), rtol):
+    for tol, cap in ((_finer(rtol), stepping.HMAX_FREE), (rtol, _check_cap(rtol))):
         hist = np.zeros((max_events, LY.N_HIST))
         with blas.one_thread(ch.n_masses):
             out, ys, fs, evt, evk = stepping.sample_scene(
                 ms, lk, cs, cp, float(ch.v0), tol, etol, max_events,
                 budget, np.ascontiguousarray(wt[order]), hist,
                 ch.initial_state(1.0 / ch.omega, 1.0),  # (None: the uniform approach)
+                cap,
             )  # fmt: skip
         if out[LY.OUT_STATUS] in (LY.STATUS_OK, LY.STATUS_EVENT_BUDGET):
             break  # (a cut sequence: the setting's own run is cut too)

@@ -581,7 +581,7 @@ def input_ok(m, lk, c, cp, v0):
 @njit(cache=True, error_model="numpy")
 def solve_scene(
     m, lk, c, cp, v0, method, rtol, step_frac, etol, max_events, max_work, hist, acct,
-    free_closed=True, y0=None,
+    free_closed=True, y0=None, cap=HMAX_FREE,
 ):  # fmt: skip
     """COR of one chain with any contact and link laws; ``out`` as kernels/layout.py.
 
@@ -598,6 +598,9 @@ def solve_scene(
     atol): the scene starts with a contact if v1 < 0, in free flight if v1 > 0; the COR is the
     centre of mass's velocity after over before, the energies fractions of the initial
     kinetic + link energy (``_energies``).
+
+    ``cap``: the adaptive method's largest step of an integrated free flight, in units of
+    1/w_free (HMAX_FREE; the check run of ``restitution.solvers.numerical`` takes a larger one).
     """
     out = np.full(N_OUT, np.nan)
     out[OUT_STATUS] = STATUS_INVALID
@@ -634,7 +637,7 @@ def solve_scene(
         err = 0.0
     else:
         status, ncol, tcol, err = _adaptive(
-            y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free_closed, free0
+            y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free_closed, free0, cap
         )
     out[OUT_NCOL] = ncol
     out[OUT_NEVENTS] = ncol
@@ -697,8 +700,9 @@ def contact_first_step(w_cont, rtol):
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _adaptive(
-    y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free_closed, free0=False
-):
+    y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, free_closed, free0=False,
+    cap=HMAX_FREE,
+):  # fmt: skip
     """The adaptive run from y (a contact at t = 0, or with ``free0`` a free flight first)."""
     n = m.shape[0]
     closed = free_closed and n == 2 and lk[0, SP_KIND] == S_LINEAR
@@ -726,7 +730,7 @@ def _adaptive(
         w_cont = w_free
     hc = contact_first_step(w_cont, rtol)
     hf = 0.05 / w_free
-    hmax_free = HMAX_FREE / w_free
+    hmax_free = cap / w_free
     h = hc
     p_in = _momentum(y, m)
     xmax_c = 0.0
@@ -968,8 +972,8 @@ def _verlet(y, ysep, m, lk, c, cp, mem, step_frac, max_events, work, hist, v0, f
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _scene_rows(m, lk, c, n, cp, v0, method, rtol, step_frac, etol, max_events, max_work, out,
-                order, start, stop):  # fmt: skip
+def _scene_rows(m, lk, c, n, cp, v0, method, rtol, step_frac, etol, max_events, max_work, cap,
+                out, order, start, stop):  # fmt: skip
     """``solve_scene`` of the padded rows order[start:stop] into ``out`` (kernels.parallel)."""
     hist = np.zeros((0, 6))
     for j in range(start, stop):
@@ -981,11 +985,13 @@ def _scene_rows(m, lk, c, n, cp, v0, method, rtol, step_frac, etol, max_events, 
         acct = np.zeros(N_ACCT)
         out[i] = solve_scene(
             m[i, :k], lk[i, : k - 1], c[i, : k - 1], cp[i], v0[i], method, rtol, step_frac,
-            etol, max_events, max_work, hist, acct, True,
+            etol, max_events, max_work, hist, acct, True, None, cap,
         )  # fmt: skip
 
 
-def solve_scene_batch(m, lk, c, n, cp, v0, method, rtol, step_frac, etol, max_events, max_work):
+def solve_scene_batch(
+    m, lk, c, n, cp, v0, method, rtol, step_frac, etol, max_events, max_work, cap=HMAX_FREE
+):
     """``solve_scene`` over padded rows: m (rows, nmax), lk (rows, nmax-1, N_SP),
     c (rows, nmax-1), n (rows,) int64 masses per row, cp (rows, N_CP), v0 (rows,), on numba's
     threads (kernels.parallel).
@@ -999,7 +1005,7 @@ def solve_scene_batch(m, lk, c, n, cp, v0, method, rtol, step_frac, etol, max_ev
     out[:, OUT_STATUS] = STATUS_NOT_RUN
     over_threads(
         _scene_rows, n.size, m, lk, c, n, cp, v0, int(method), float(rtol), float(step_frac),
-        float(etol), int(max_events), float(max_work), out,
+        float(etol), int(max_events), float(max_work), float(cap), out,
     )  # fmt: skip
     return out
 
@@ -1091,7 +1097,7 @@ def _sigma_entry_sampled(y, t, m, lk, c, cp, mem, rtol, atol, work, err_acc, ts,
 @njit(cache=True, error_model="numpy", inline="always")
 def _adaptive_sampled(
     y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, ts, si, Ys, Fs,
-    evt, evk, cnt, max_work, free0=False,
+    evt, evk, cnt, max_work, free0=False, cap=HMAX_FREE,
 ):  # fmt: skip
     """``_adaptive`` (free_closed = True) with the samples and the contact events recorded;
     after the last contact the free flight goes on until the last sample (its own work budget
@@ -1120,7 +1126,7 @@ def _adaptive_sampled(
         w_cont = w_free
     hc = contact_first_step(w_cont, rtol)
     hf = 0.05 / w_free
-    hmax_free = HMAX_FREE / w_free
+    hmax_free = cap / w_free
     h = hc
     p_in = _momentum(y, m)
     xmax_c = 0.0
@@ -1309,7 +1315,9 @@ def _adaptive_sampled(
 
 
 @njit(cache=True, error_model="numpy")
-def sample_scene(m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist, y0=None):
+def sample_scene(
+    m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist, y0=None, cap=HMAX_FREE
+):
     """The adaptive method's run of one chain (``solve_scene`` with method 0 and
     free_closed = True: the same result row, bit for bit) with its states at the sorted times
     ``ts`` (kernel units, >= 0).
@@ -1319,17 +1327,17 @@ def sample_scene(m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist, y
     (times and kinds EV_START / EV_END / EV_IMPACT; at most 2 max_events of them). A sample at
     an event's time (the same float) is the state there after the event's switch: the start of
     the contact, the separation, the reversal of an impact; so a second run with the event
-    times among the samples gives the states at the events. ``y0``: a given initial state, as
-    in ``solve_scene``.
+    times among the samples gives the states at the events. ``y0``: a given initial state, ``cap``
+    the free flights' step cap, as in ``solve_scene``.
     """
     n = m.shape[0]
     ny = 2 * n + 2
     ns = ts.shape[0]
     Ys = np.full((ns, ny), np.nan)
     Fs = np.full(ns, np.nan)
-    cap = 2 * max_events
-    evt = np.full(cap, np.nan)
-    evk = np.zeros(cap, dtype=np.int64)
+    n_ev = 2 * max_events
+    evt = np.full(n_ev, np.nan)
+    evk = np.zeros(n_ev, dtype=np.int64)
     cnt = np.zeros(1, dtype=np.int64)
     acct = np.zeros(N_ACCT)
     out = np.full(N_OUT, np.nan)
@@ -1367,7 +1375,7 @@ def sample_scene(m, lk, c, cp, v0, rtol, etol, max_events, max_work, ts, hist, y
         sample_here(y, 0.0, cp, mem, ts, si, Ys, Fs)
     status, ncol, tcol, err = _adaptive_sampled(
         y, ysep, m, lk, c, cp, mem, rtol, max_events, work, hist, v0, ts, si, Ys, Fs,
-        evt, evk, cnt, max_work, free0,
+        evt, evk, cnt, max_work, free0, cap,
     )  # fmt: skip
     out[OUT_NCOL] = ncol
     out[OUT_NEVENTS] = ncol

@@ -107,6 +107,20 @@ def _finer(rtol: float) -> float:
     return max(rtol / ADAPTIVE_GAP, FINEST_RTOL)
 
 
+# The two adaptive runs differ in their free flights' step cap too (stepping.HMAX_FREE, in units
+# of 1/w_free, for the run returned): the run at the setting's rtol takes steps up to
+# (rtol / _finer(rtol))**(1/8) times longer, the ratio of DOP853's steps between the two rtol.
+# Where a flight's steps were the cap's, not the error control's (a flight on soft links, whose
+# stiffest slope sets w_free), the two runs took the same steps and their COR change said
+# nothing about the cap's truncation error, which the summed local errors of the momentum do
+# not see either (a free flight keeps the momentum): two masses at a rigid wall on the paper's
+# scissor link (alpha = 2, rtol 1e-2) gave the same COR at rtol 1e-2 and 1e-4 to 1e-15, an
+# estimate of 2.8e-14 and an error of 1.9e-8 (2026-12-07). The returned run is unchanged.
+def _check_cap(rtol: float) -> float:
+    """The free-flight step cap of the adaptive method's run at the setting ``rtol``."""
+    return _kernels().HMAX_FREE * (rtol / _finer(rtol)) ** 0.125
+
+
 # Verlet's convergence in the step is erratic (contacts fall between steps): |cor(h) - cor(h/2)|
 # alone was up to 93 times below the actual error of cor(h/2) on 120 random linear-contact
 # chains (against the exact kernels); 2 max(|cor(h) - cor(h/2)|, |cor(h/2) - cor(h/4)|) up to
@@ -190,10 +204,15 @@ def _replica_check(out, ms, lk, cs, cp, v0, y0, settings) -> None:
         return
     st = _kernels()
     rows = np.zeros((0, LY.N_HIST))
+    cap = st.HMAX_FREE  # (no integrated flight here; the returned run's)
+
+    def acct():
+        return np.zeros(st.N_ACCT)
+
     reps = [
         st.solve_scene(
-            *_replica_scene(ms, lk, cs, r), cp, v0, *settings, rows, np.zeros(st.N_ACCT), True, y0
-        )  # fmt: skip
+            *_replica_scene(ms, lk, cs, r), cp, v0, *settings, rows, acct(), True, y0, cap
+        )
         for r in range(REPLICAS)
     ]
     combine(out, np.array(reps))
@@ -269,20 +288,21 @@ def solve_chain(
     # a given initial state in the stepping kernels' units: speeds as given, lengths * omega
     y0 = ch.initial_state(1.0 / ch.omega, 1.0)
 
-    def run(tol, stp, rows, acc):
+    def run(tol, stp, rows, acc, cap=st.HMAX_FREE):
         return st.solve_scene(
-            ms, lk, cs, cp, v0, code, tol, stp, etol, max_events, work, rows, acc, free_closed, y0
-        )
+            ms, lk, cs, cp, v0, code, tol, stp, etol, max_events, work, rows, acc, free_closed,
+            y0, cap,
+        )  # fmt: skip
 
     if method == "verlet":
         coarse = run(rtol, step, no_rows, np.zeros(st.N_ACCT))
         out = run(rtol, step / 2, hist, acct)
         _verlet_estimate(out, coarse, run(rtol, step / 4, no_rows, np.zeros(st.N_ACCT)))
     else:
-        check = run(rtol, step, no_rows, np.zeros(st.N_ACCT))
+        check = run(rtol, step, no_rows, np.zeros(st.N_ACCT), _check_cap(rtol))
         out = run(_finer(rtol), step, hist, acct)
         if _fall_back(out, check):  # the finer run failed: the setting's own, no estimate
-            out = run(rtol, step, hist, acct)
+            out = run(rtol, step, hist, acct, _check_cap(rtol))
             out[LY.OUT_ERR] = math.inf
         else:
             # the estimate sized for the setting's run, as before the finer run was returned:
@@ -359,15 +379,17 @@ def solve_chains(
     work = _work_budget(method, max_work)
     code = st.METHOD_VERLET if method == "verlet" else st.METHOD_ADAPTIVE
 
-    def run(tol, stp):
-        return st.solve_scene_batch(m, lk, c, n, cp, v0, code, tol, stp, etol, max_events, work)
+    def run(tol, stp, cap=st.HMAX_FREE):
+        return st.solve_scene_batch(
+            m, lk, c, n, cp, v0, code, tol, stp, etol, max_events, work, cap
+        )
 
     if method == "verlet":
         coarse, out, fine = run(rtol, step), run(rtol, step / 2), run(rtol, step / 4)
         for row, c_, f in zip(out, coarse, fine, strict=True):
             _verlet_estimate(row, c_, f)
     else:
-        check, out = run(rtol, step), run(_finer(rtol), step)
+        check, out = run(rtol, step, _check_cap(rtol)), run(_finer(rtol), step)
         for j, (row, other) in enumerate(zip(out, check, strict=True)):
             if _fall_back(row, other):
                 out[j] = other
