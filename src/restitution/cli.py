@@ -17,14 +17,14 @@ from restitution.kernels.constants import MAX_EVENTS_DEFAULT
 EXIT_OK = 0  # every scene finished (status ok)
 EXIT_INTERNAL = 1  # an unexpected error (a bug: please report it with the traceback)
 EXIT_INPUT = 2  # bad input or an I/O error: nothing was solved or nothing was written
-EXIT_NOT_OK = 3  # the results were written, but some scene did not finish (see its status)
+EXIT_NOT_OK = 3  # the results were written, but some scene is not ok (see its status)
 EXIT_SIGNAL = 128  # + the signal number when interrupted (130 for Ctrl-C, 143 for SIGTERM)
 
 EXIT_CODES = f"""exit codes:
   {EXIT_OK}    every scene finished (status ok)
   {EXIT_INTERNAL}    unexpected internal error (please report it)
   {EXIT_INPUT}    bad input or I/O error (message on stderr; nothing written)
-  {EXIT_NOT_OK}    results written, but some scene did not finish (see its status)
+  {EXIT_NOT_OK}    results written, but some scene is not ok (see its status)
   130  interrupted (Ctrl-C); no partial output is left
   143  terminated (SIGTERM); no partial output is left"""
 

@@ -196,7 +196,6 @@ def caption_data(table: pd.DataFrame, limits: pd.DataFrame, changes: pd.DataFram
         n_refined=int(table["refined"].sum()),
         n_not_ok=int((table["status"] != "ok").sum()),
         not_ok_statuses=", ".join(f"{k}: {v}" for k, v in statuses.items()) or "none",
-        n_inf_error=int((~np.isfinite(ok["error_estimate"])).sum()),
         max_error=_exp(finite["error_estimate"].max()),
         methods=", ".join(sorted(ok["method"].unique())),
         rigid_methods=", ".join(sorted(limits["rigid_method"].unique())),

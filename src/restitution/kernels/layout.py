@@ -37,6 +37,9 @@ STATUS_PERMANENT_CONTACT = 5  # m1 never leaves the wall (proven): cor = 0, omeg
 STATUS_WORK_BUDGET = 6  # the scene's work budget (operations, not time) ran out: NOT finished
 STATUS_INVALID = 7  # parameters outside what the kernel handles (NaN, inf, non-positive mass...)
 STATUS_NOT_RUN = 8  # a batch row the kernel never finished (rows start with it, NaN elsewhere)
+# the sequence finished, but the run of the method's other setting that checks it did not: no
+# error estimate (inf); set by restitution.solvers.numerical, never by a kernel
+STATUS_UNCHECKED = 9
 
 # Bits of out[OUT_FLAGS].
 FLAG_STICKING = 1  # a Zeno chatter was continued by its sticking limit (method impulsive+sticking)
@@ -58,7 +61,8 @@ FLAG_NEAR_DEFECTIVE = 32
 # duration and energies are voided (NaN, ``void_unfinished``); the count of contacts reached
 # stays. Not in the list: energy_account_open keeps its numbers (the plastic law with eta > 1 is
 # not passive, and the flag says the account is open, not that the run stopped), and
-# permanent_contact is a finished result (cor = 0, omega_t_col = inf).
+# permanent_contact is a finished result (cor = 0, omega_t_col = inf), and so is an unchecked
+# one (its COR is the finished run's, without an error estimate).
 UNFINISHED = (
     STATUS_EVENT_BUDGET,
     STATUS_ILL_CONDITIONED,

@@ -16,9 +16,10 @@ at least rtol, for ``reference``. All three return their finer run (``verlet`` h
 rtol/100, ``reference`` rtol/10: local extrapolation, the accuracy of the run the estimate already
 paid for); the estimate stays the one sized for the setting's run (the adaptive floor the larger
 of the two runs' local-error sums). Where only the finer run failed, the setting's own run is
-returned with an infinite estimate. The checks run finer, not coarser: DOP853's errors at rtol
-and 10 rtol were of one size and sign on long sequences (98 contacts: 2.2e-8 and 1.8e-8), so
-their difference fell below the error, while the finer run's error is a tenth of it; the
+returned with the status ``unchecked`` and an infinite estimate (so is a row whose check run
+alone failed): an ``ok`` row is a checked one. The checks run finer, not coarser: DOP853's
+errors at rtol and 10 rtol were of one size and sign on long sequences (98 contacts: 2.2e-8 and
+1.8e-8), so their difference fell below the error, while the finer run's error is a tenth of it; the
 reference's plastic contacts at rtol >= 1e-8 were sized by its max_step (1/50 of a period), not
 rtol (the same 2.47e-8 off at rtol 1e-6, 1e-7 and 1e-8), so its check at 10 rtol had left 7 of
 80 random plastic rows outside the estimate at rtol 1e-8 (up to 2.5 times). The adaptive check
@@ -132,13 +133,20 @@ def _check_cap(rtol: float) -> float:
 VERLET_SAFETY = 16.0
 
 
+def _unchecked(out) -> None:
+    """Mark a finished row whose check run did not finish: status ``unchecked``, no estimate
+    (inf). It is not ``ok``: an ok row is a checked result."""
+    out[LY.OUT_ERR] = math.inf
+    out[LY.OUT_STATUS] = LY.STATUS_UNCHECKED
+
+
 def _verlet_estimate(out, coarse, fine) -> None:
     """Verlet's error estimate for out = cor(h/2): VERLET_SAFETY * max(|cor(h) - cor(h/2)|,
-    |cor(h/2) - cor(h/4)|); infinite when only a check run failed."""
+    |cor(h/2) - cor(h/4)|); ``unchecked`` when only a check run failed."""
     if out[LY.OUT_STATUS] != LY.STATUS_OK:
         return
     if coarse[LY.OUT_STATUS] != LY.STATUS_OK or fine[LY.OUT_STATUS] != LY.STATUS_OK:
-        out[LY.OUT_ERR] = math.inf
+        _unchecked(out)
         return
     change = max(abs(out[LY.OUT_COR] - coarse[LY.OUT_COR]), abs(out[LY.OUT_COR] - fine[LY.OUT_COR]))
     out[LY.OUT_ERR] = VERLET_SAFETY * change
@@ -151,12 +159,12 @@ ADAPTIVE_SAFETY = 4.0
 
 def _two_setting_estimate(out, check, safety=1.0, both_floors=False) -> None:
     """out's error estimate: at least ``safety`` x |COR change| against the check setting (and,
-    with ``both_floors``, at least the check run's own estimate too); infinite (no estimate)
-    when only the check run failed."""
+    with ``both_floors``, at least the check run's own estimate too); ``unchecked`` when only
+    the check run failed."""
     if out[LY.OUT_STATUS] != LY.STATUS_OK:
         return
     if check[LY.OUT_STATUS] != LY.STATUS_OK:
-        out[LY.OUT_ERR] = math.inf
+        _unchecked(out)
     else:
         change = abs(out[LY.OUT_COR] - check[LY.OUT_COR])
         floor = max(out[LY.OUT_ERR], check[LY.OUT_ERR]) if both_floors else out[LY.OUT_ERR]
@@ -303,7 +311,7 @@ def solve_chain(
         out = run(_finer(rtol), step, hist, acct)
         if _fall_back(out, check):  # the finer run failed: the setting's own, no estimate
             out = run(rtol, step, hist, acct, _check_cap(rtol))
-            out[LY.OUT_ERR] = math.inf
+            _unchecked(out)
         else:
             # the estimate sized for the setting's run, as before the finer run was returned:
             # its floor is the larger local-error sum (on one random linear chain the finer
@@ -393,7 +401,7 @@ def solve_chains(
         for j, (row, other) in enumerate(zip(out, check, strict=True)):
             if _fall_back(row, other):
                 out[j] = other
-                out[j, LY.OUT_ERR] = math.inf
+                _unchecked(out[j])
             else:
                 _two_setting_estimate(row, other, ADAPTIVE_SAFETY, both_floors=True)
         settings = (code, _finer(rtol), step, etol, max_events, work)
@@ -441,7 +449,7 @@ def solve_reference_chain(
         out, hist = run(finer, acct)
         if _fall_back(out, check):  # the finer run failed: the setting's own, no estimate
             out, hist = run(rtol, acct)
-            out[LY.OUT_ERR] = math.inf
+            _unchecked(out)
         else:
             _two_setting_estimate(out, check, both_floors=True)
     else:

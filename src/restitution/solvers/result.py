@@ -28,6 +28,7 @@ _STATUS_NAMES = (
     ("STATUS_WORK_BUDGET", "work_budget_exhausted"),
     ("STATUS_INVALID", "invalid_parameters"),
     ("STATUS_NOT_RUN", "not_run"),
+    ("STATUS_UNCHECKED", "unchecked"),
 )
 STATUS = {getattr(L, attr): name for attr, name in _STATUS_NAMES if hasattr(L, attr)}
 
@@ -54,6 +55,9 @@ MESSAGES = {
     "(mpmath: seconds to minutes per scene).",
     "invalid_parameters": "The kernel refused parameters outside the range it handles.",
     "not_run": "The kernel did not finish this row.",
+    "unchecked": "The contact sequence finished, but the method's second run, at the other "
+    "setting that checks it, did not (its budget ran out): the COR has no error estimate "
+    "(error_estimate inf). Raise max_events, or try another rtol (step for verlet).",
     "kernel_error": "The kernel raised an error on this row (its message is logged); no result.",
 }
 
