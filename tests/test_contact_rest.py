@@ -100,10 +100,18 @@ def test_m1_pulled_off_at_rest_leaves_the_wall():
     """A guarded contact whose separation comes with m1 moving into the wall within the band
     (v1 = -7.7e-7 at rtol 1e-4, t = 34.9) while the link pulls it off: m1 leaves at rest. It
     touched again at once before, 12,679 contacts until the budget ran out."""
+    # At rtol 1e-4 the returned run (rtol 1e-6) leaves at rest and finishes, but the check run at
+    # 1e-4 still breaks the creep into touches until its budget runs out (29,269 contacts): the
+    # row is unchecked (until 2026-12-07 it was ok with an infinite estimate, which this test's
+    # bound passed whatever the COR). From 1e-5 both runs finish.
     r = R.solve(**PULLED_OFF, method="adaptive", rtol=1e-4)
-    assert r.status == "ok"
-    assert r.n_collisions < 10
-    assert abs(r.cor - PULLED_OFF_COR) <= r.error_estimate
+    assert r.status == "unchecked" and r.n_collisions < 10
+    assert abs(r.cor - PULLED_OFF_COR) <= 1e-8  # (1.7e-10 off the reference)
+    for rtol in (1e-5, 1e-6):
+        r = R.solve(**PULLED_OFF, method="adaptive", rtol=rtol)
+        assert r.status == "ok"
+        assert r.n_collisions < 10
+        assert abs(r.cor - PULLED_OFF_COR) <= r.error_estimate
 
 
 def test_m1_pushed_in_at_rest_keeps_its_state():
