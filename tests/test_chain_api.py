@@ -174,6 +174,63 @@ def test_paper_and_general_forms_do_not_mix():
         solve(alpha=1.0, masses=[1.0, 2.0], springs=[1.0])
 
 
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        (dict(alpha=2.0, k_contact=5.0), "k_contact"),
+        (dict(alpha=2.0, k_contact=math.inf), "k_contact"),
+        (dict(alpha=2.0, dashpots=[1.0]), "dashpots"),
+        (dict(masses=[1.0, 0.5], springs=[1.0], beta=0.1), "beta"),
+        (dict(masses=[1.0, 0.5], springs=[1.0], xi=0.1), "xi"),
+        (dict(masses=[1.0, 0.5], springs=[1.0], n_masses=2), "n_masses"),
+        (dict(masses=[1.0, 0.5], springs=[1.0], beta=math.nan), "beta"),
+        (dict(masses=[1.0, 0.5], springs=[1.0], xi="x"), "xi"),
+        (dict(masses=[1.0, 0.5], springs=[1.0], beta=None), "beta"),
+    ],
+)
+def test_a_parameter_of_the_other_form_is_refused_not_ignored(kwargs, name):
+    """(Each of these returned the other form's result, status ok, the parameter unread.)"""
+    with pytest.raises(SceneError, match=rf"not both; got {name}\b"):
+        solve(**kwargs)
+
+
+CHAIN = Chain([1.0, 2.0], [1.0], contact={"law": "hertz", "k": 50.0})
+
+
+@pytest.mark.parametrize(
+    "kwargs",
+    [
+        dict(v0=100.0),
+        dict(k_contact=5.0),
+        dict(dashpots=[0.1]),
+        dict(masses=[1.0, 2.0]),
+        dict(springs=[1.0]),
+        dict(contact={"law": "rigid"}),
+        dict(links=[{"law": "linear"}]),
+        dict(velocities=[1.0, 1.0]),
+        dict(stretches=[0.1]),
+        dict(beta=0.1),
+        dict(xi=0.0),
+        dict(n_masses=2),
+    ],
+)
+def test_scene_parameters_with_a_chain_are_refused_not_ignored(kwargs):
+    """A Chain carries its whole scene: solve(chain, v0=100) solved it at the Chain's v0."""
+    (name,) = kwargs
+    with pytest.raises(SceneError, match=rf"unknown keyword\(s\) {name} with a Chain"):
+        solve(CHAIN, **kwargs)
+
+
+def test_a_chain_takes_the_settings_and_the_defaults_keep_their_meaning():
+    r = solve(CHAIN, method="adaptive", rtol=1e-8, max_events=1000)
+    assert r.status == "ok" and r.method == "adaptive"
+    assert solve(CHAIN).cor == solve(masses=[1.0, 2.0], springs=[1.0], contact=CHAIN.contact).cor
+    # not given: the paper form's beta 0, xi 0, n_masses 2; the general form's rigid wall
+    assert solve(2.0).cor == solve(2.0, 0.0, 0.0, 2).cor
+    rigid = solve(masses=[1.0, 2.0], springs=[1.0])
+    assert rigid.method == "impulsive" and rigid.cor == solve(Chain([1.0, 2.0], [1.0])).cor
+
+
 def test_solver_table_dispatch_and_forced_methods():
     rigid = Chain([1.0, 2.0, 1.0], [1.0, 1.0])
     spring = Chain([1.0, 2.0, 1.0], [1.0, 1.0], k_contact=50.0)

@@ -438,6 +438,14 @@ CLI_BAD = [
     (["--masses", "1,2", "--springs", "1", "--links", '[{"law": 3}]'], r"links\[0\]"),
     (["--masses", "1,2", "--springs", "1", "--v0", "1e-7"], "v0"),
     (["--alpha", "0.5", "--n-masses", "513"], "n_masses"),
+    # an option of the other form is refused, not ignored (each exited 0 without reading it)
+    (["--alpha", "2", "--k-contact", "5"], "--k-contact"),
+    (["--alpha", "2", "--dashpots", "5"], "--dashpots"),
+    (["--alpha", "2", "--contact-law", '{"law": "hertz", "k": 50}'], "--contact-law"),
+    (["--alpha", "2", "--links", '[{"law": "linear"}]'], "--links"),
+    (["--masses", "1,2", "--springs", "1", "--beta", "0.5"], "--beta"),
+    (["--masses", "1,2", "--springs", "1", "--xi", "0.1"], "--xi"),
+    (["--masses", "1,2", "--springs", "1", "--n-masses", "2"], "--n-masses"),
 ]
 
 
