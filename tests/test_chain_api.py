@@ -159,6 +159,19 @@ def test_paper_preset_is_the_paper_scene(alpha, beta, xi, n):
         (dict(masses=[1.0, 2.0], springs=[1.0], v0=0.0), r"v0 must be in \[1e-6, 1e6\]"),
         (dict(masses=[1.0, 2.0], springs=[1.0], contact={"law": "soft"}), "contact law must be"),
         (dict(masses=[1.0, 2.0], springs=[1.0], contact={"law": "hertz"}), "needs k"),
+        # unknown keys of the linear laws (they were dropped: c=3 solved without a dashpot)
+        (
+            dict(masses=[1.0, 2.0], springs=[1.0], contact={"law": "linear", "k": 5.0, "c": 3.0}),
+            r"unknown parameter\(s\) c for the 'linear' law; allowed: k",
+        ),  # fmt: skip
+        (
+            dict(masses=[1.0, 2.0], springs=[1.0], contact={"law": "linear", "k": 5.0, "foo": 1}),
+            r"unknown parameter\(s\) foo",
+        ),  # fmt: skip
+        (
+            dict(masses=[1.0, 2.0], springs=[1.0], contact={"law": "rigid", "k": 5.0}),
+            r"unknown parameter\(s\) k for the 'rigid' law; allowed: none",
+        ),  # fmt: skip
         (dict(masses=[1.0, 2.0], springs=[1.0], links=[{"law": "x"}]), r"links\[0\].*law must"),
         (dict(masses=[1.0, 2.0], springs=[1.0], links=[]), "links must be a list of 1"),
         (dict(masses=[1.0, 2.0]), "needs masses=.* and springs="),

@@ -446,6 +446,7 @@ CLI_BAD = [
     (["--masses", "1,2", "--springs", "1", "--beta", "0.5"], "--beta"),
     (["--masses", "1,2", "--springs", "1", "--xi", "0.1"], "--xi"),
     (["--masses", "1,2", "--springs", "1", "--n-masses", "2"], "--n-masses"),
+    (["--masses", "1,2", "--springs", "1", "--contact-law", '{"law": "rigid", "k": 5}'], "'rigid'"),
 ]
 
 

@@ -105,6 +105,17 @@ def test_paper_and_general_columns_do_not_mix():
         solve_many(pd.DataFrame({"masses": [[1.0, 2.0]], "springs": [[1.0]], "xi": [0.1]}))
 
 
+@pytest.mark.parametrize(
+    "cell, unknown",
+    [('{"law": "linear", "k": 5, "c": 3.0}', "c"), ({"law": "rigid", "k": 5.0}, "k")],
+)
+def test_unknown_keys_of_a_linear_contact_cell_are_refused(cell, unknown):
+    """(They were dropped: the linear contact's c=3 gave the undamped contact's COR, ok.)"""
+    frame = pd.DataFrame({"masses": ["1;2", "1;2"], "springs": ["1", "1"], "contact": [None, cell]})
+    with pytest.raises(SceneError, match=rf"unknown parameter\(s\) {unknown} .*\(row 1\)"):
+        solve_many(frame)
+
+
 # ----------------------------------------------------------------------------------------------
 # Per-row settings
 # ----------------------------------------------------------------------------------------------

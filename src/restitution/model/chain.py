@@ -284,6 +284,10 @@ def _contact_spec(contact, kc: float, given_kc: float) -> tuple[dict | None, flo
         return None, kc
     contact = _law("contact", contact, "contact")
     law = contact["law"]
+    if law in ("rigid", "linear"):  # (the other laws' keys are checked when they are packed)
+        from restitution.model import laws
+
+        laws._spec("contact", contact, laws.CONTACT_LAWS, {}, "contact")  # no unknown keys
     k_law = contact.get("k")
     if law == "rigid":
         k_law = math.inf
