@@ -105,6 +105,13 @@ def test_paper_and_general_columns_do_not_mix():
         solve_many(pd.DataFrame({"masses": [[1.0, 2.0]], "springs": [[1.0]], "xi": [0.1]}))
 
 
+@pytest.mark.parametrize("column, cell", [("velocities", "5;-3"), ("stretches", [0.5])])
+def test_an_initial_state_column_does_not_go_with_alpha(column, cell):
+    """(A paper-form table solved the uniform approach, ok, the column unread.)"""
+    with pytest.raises(SceneError, match=rf"columns \['{column}'\] belong to the general form"):
+        solve_many(pd.DataFrame({"alpha": [2.0], column: [cell]}))
+
+
 @pytest.mark.parametrize(
     "cell, unknown",
     [('{"law": "linear", "k": 5, "c": 3.0}', "c"), ({"law": "rigid", "k": 5.0}, "k")],

@@ -39,6 +39,9 @@ LEGACY_LAWS = ("contact", "eta", "dr", "structure", "L", "ks_ratio", "theta0", "
 SETTINGS = ("method", "rtol", "step")
 COLUMNS = tuple(dict.fromkeys((*PAPER, *GENERAL, *LEGACY_LAWS, *SETTINGS)))
 DEFAULTS = {"beta": 0.0, "xi": 0.0, "n_masses": 2}
+# The columns of one form only (v0 and contact belong to both): with the other form's an error.
+GENERAL_ONLY = tuple(c for c in GENERAL if c not in LEGACY_LAWS)
+PAPER_ONLY = (*PAPER, *(c for c in LEGACY_LAWS if c not in GENERAL))
 
 
 def _row(frame, i) -> str:
@@ -175,9 +178,7 @@ class SceneTable:
     def _paper_plan(self, method: np.ndarray) -> pd.DataFrame:
         frame = self.frame
         n = len(frame)
-        illegal = [
-            c for c in ("masses", "springs", "dashpots", "k_contact", "links") if c in self.columns
-        ]
+        illegal = [c for c in GENERAL_ONLY if c in self.columns]
         if illegal:
             raise SceneError(f"columns {illegal} belong to the general form, not with 'alpha'")
         plan = {}
@@ -253,8 +254,7 @@ class SceneTable:
     def _general_columns(self) -> tuple[np.ndarray, np.ndarray]:
         """The checked k_contact and v0 columns of a general table (defaults inf and 1)."""
         frame = self.frame
-        illegal = [c for c in (*PAPER, "eta", "dr", "structure", "L", "ks_ratio", "theta0",
-                               "corner") if c in self.columns]  # fmt: skip
+        illegal = [c for c in PAPER_ONLY if c in self.columns]
         if illegal:
             raise SceneError(
                 f"columns {illegal} belong to the paper's form; a general chain gives its laws "
