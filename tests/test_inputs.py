@@ -162,8 +162,34 @@ WRONG = st.sampled_from(
         -(10**400),
         pd.NA,
         object(),
+        np.array("0.5"),
+        np.array("0.5", dtype=object),
+        np.array(True),
     ]
 )
+
+
+# Text, booleans and complex numbers inside 0-d numpy arrays: float() parsed np.array("0.5")
+# as 0.5 and read np.array(True) as 1.
+ZERO_D = [np.array("0.5"), np.array(b"0.5"), np.array("0.5", dtype=object), np.array(True),
+          np.array(0.5 + 0j)]  # fmt: skip
+
+
+@pytest.mark.parametrize("value", ZERO_D, ids=repr)
+def test_text_in_a_0d_array_is_not_a_number(value):
+    with pytest.raises(SceneError, match=r"beta must be in \[0, 1e6\]"):
+        restitution.solve(alpha=2.0, beta=value)
+    with pytest.raises(SceneError, match=r"masses must be a list of numbers.*masses\[1\]"):
+        restitution.solve(masses=[1.0, value], springs=[1.0])
+    frame = pd.DataFrame({"alpha": [2.0, 2.0], "beta": [0.5, value]})
+    with pytest.raises(SceneError, match=r"beta must be .*row 1"):
+        restitution.solve_many(frame)
+
+
+def test_numbers_in_0d_arrays_are_read():
+    for value in (np.array(0.5), np.array(0.5, dtype=object), np.array(np.float32(0.5))):
+        assert restitution.solve(alpha=2.0, beta=value).cor == restitution.solve(2.0, 0.5).cor
+    assert restitution.solve(alpha=2.0, n_masses=np.array(3)).n_collisions >= 1
 
 
 @settings(max_examples=120, **PROFILE)
