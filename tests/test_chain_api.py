@@ -234,6 +234,31 @@ def test_scene_parameters_with_a_chain_are_refused_not_ignored(kwargs):
         solve(CHAIN, **kwargs)
 
 
+@pytest.mark.parametrize(
+    "kwargs, name, method",
+    [
+        (dict(alpha=2.0, rtol=1e-6), "rtol", "impulsive"),
+        (dict(alpha=2.0, beta=0.5, step=0.1), "step", "piecewise"),
+        (dict(alpha=2.0, beta=0.5, method="verlet", rtol=1e-6), "rtol", "verlet"),
+        (dict(alpha=2.0, beta=0.5, method="adaptive", step=0.1), "step", "adaptive"),
+        (dict(alpha=2.0, beta=0.5, method="precise", rtol=1e-6), "rtol", "precise"),
+        (dict(masses=[1.0, 2.0], springs=[1.0], rtol=1e-6), "rtol", "impulsive"),
+        (dict(alpha=Chain([1.0, 2.0], [1.0], k_contact=5.0), step=0.1), "step", "piecewise"),
+    ],
+)
+def test_a_setting_the_method_does_not_read_is_refused(kwargs, name, method):
+    """(Each was accepted and did nothing, where a table refused it.)"""
+    with pytest.raises(SceneError, match=rf"{name} would do nothing: the method {method!r}"):
+        solve(**kwargs)
+
+
+def test_the_settings_a_method_reads_are_taken():
+    loose = solve(alpha=2.0, beta=0.5, method="adaptive", rtol=1e-4)
+    assert loose.cor != solve(alpha=2.0, beta=0.5, method="adaptive", rtol=1e-11).cor
+    coarse = solve(alpha=2.0, beta=0.5, method="verlet", step=0.1)
+    assert coarse.cor != solve(alpha=2.0, beta=0.5, method="verlet", step=0.01).cor
+
+
 def test_a_chain_takes_the_settings_and_the_defaults_keep_their_meaning():
     r = solve(CHAIN, method="adaptive", rtol=1e-8, max_events=1000)
     assert r.status == "ok" and r.method == "adaptive"

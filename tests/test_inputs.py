@@ -472,6 +472,8 @@ CLI_BAD = [
     (["--masses", "1,2", "--springs", "1", "--beta", "0.5"], "--beta"),
     (["--masses", "1,2", "--springs", "1", "--xi", "0.1"], "--xi"),
     (["--masses", "1,2", "--springs", "1", "--n-masses", "2"], "--n-masses"),
+    (["--alpha", "2", "--rtol", "1e-5"], "rtol would do nothing"),
+    (["--alpha", "2", "--beta", "0.5", "--method", "verlet", "--rtol", "1e-5"], "rtol"),
     (["--masses", "1,2", "--springs", "1", "--contact-law", '{"law": "rigid", "k": 5}'], "'rigid'"),
 ]
 

@@ -146,10 +146,21 @@ def test_per_row_rtol_is_honoured_on_numerical_rows():
 
 def test_per_row_settings_on_exact_rows_are_refused():
     frame = pd.DataFrame({"alpha": [2.0, 3.0], "rtol": [np.nan, 1e-6]})
-    with pytest.raises(SceneError, match=r"rtol is a setting of the numerical methods; row 1"):
+    with pytest.raises(SceneError, match=r"rtol would do nothing: the method 'impulsive'.*row 1"):
         solve_many(frame)
     with pytest.raises(SceneError, match=r"rtol must be in \[1e-14, 1e-2\]"):
         solve_many(frame.assign(rtol=[np.nan, 5.0], method="adaptive"))
+
+
+def test_a_setting_the_rows_method_does_not_read_is_refused():
+    """step on an adaptive row, rtol on a verlet row: accepted and unread before."""
+    frame = pd.DataFrame({"alpha": [2.0, 2.0], "beta": 0.5, "method": ["verlet", "adaptive"]})
+    with pytest.raises(SceneError, match=r"step would do nothing: the method 'adaptive' .*row 1"):
+        solve_many(frame.assign(step=[0.01, 0.1]))
+    with pytest.raises(SceneError, match=r"rtol would do nothing: the method 'verlet' .*row 0"):
+        solve_many(frame.assign(rtol=[1e-6, 1e-6]))
+    out = solve_many(frame.assign(step=[0.01, np.nan], rtol=[np.nan, 1e-8]))
+    assert list(out["status"]) == ["ok", "ok"]
 
 
 # ----------------------------------------------------------------------------------------------

@@ -93,6 +93,10 @@ def solve(
 ) -> Result:
     """COR of one scene.
 
+    A parameter of the other form, or any scene parameter given with a Chain (which carries its
+    whole scene), is refused (SceneError), never ignored; so is a setting (rtol, step) that the
+    method solving the scene does not read.
+
     Parameters
     ----------
     alpha : float or Chain
@@ -123,9 +127,6 @@ def solve(
         Paper form only: the nonlinear laws and numerical settings (contact, eta, dr, structure,
         L, ks_ratio,
         theta0, corner, rtol, step).
-
-    A parameter of the other form, or any scene parameter given with a Chain (which carries its
-    whole scene), is refused (SceneError), never ignored.
 
     Examples
     --------
@@ -201,6 +202,7 @@ def solve(
         ch, settings = paper_with_laws(alpha, beta, xi, n_masses, law)
     opts = M.options(history, max_events, **settings)
     chosen = M.choose(ch, method)
+    M.check_settings(chosen, settings)
     return _run(ch, chosen, opts)
 
 

@@ -44,7 +44,7 @@ from restitution.model.units import (
     user_time,
 )
 from restitution.solvers import blas, exact
-from restitution.solvers.methods import METHODS, Options, check_events, choose
+from restitution.solvers.methods import METHODS, Options, check_events, check_settings, choose
 
 
 def _scene(scene, keywords: dict) -> tuple[Chain, dict]:
@@ -425,10 +425,7 @@ def trajectory(
         out.attrs.update(method=chosen.name, rtol=rtol, scaled=_scaled(ch))
         return out
     if rtol is not None:
-        raise SceneError(
-            f"rtol: not used by trajectory of this scene (a linear chain, solved exactly by "
-            f"{chosen.name!r})"
-        )
+        check_settings(chosen, ("rtol",))  # raises: the exact samplers read no rtol
     wt = np.ascontiguousarray(wt, dtype=np.float64)
     method, parts = chosen.name, None
     # the scene's checked row (as solve's): its status, and the flag of a near-defective basis;

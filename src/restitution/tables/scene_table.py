@@ -11,8 +11,9 @@ Rules (the same for ``solve_many`` and ``restitution batch``):
 * list cells (``masses``, ``springs``, ``dashpots``) are lists or ``;``-separated text (spaces
   inside a cell are fine); law cells (``contact``, ``links``) are mappings / lists of mappings
   (parquet structs) or their JSON text;
-* per-row settings ``rtol`` and ``step`` are honoured for rows solved by a numerical method and
-  refused on rows solved exactly (where they would silently do nothing).
+* per-row settings ``rtol`` and ``step`` are honoured for rows solved by a method that reads
+  them (``rtol``: adaptive, reference; ``step``: verlet) and refused on any other row (where
+  they would silently do nothing).
 """
 
 from __future__ import annotations
@@ -334,18 +335,19 @@ class SceneTable:
         self.method_codes[rows] = self.method_names.index(name)
 
     def _check_settings(self) -> None:
+        """A setting cell on a row whose method does not read it is refused
+        (``methods.check_settings``: it would do nothing)."""
         if not self.settings_cols:
             return
-        exact = np.isin(self.plan["method"], [n for n, m in M.METHODS.items() if m.exact])
         for name, (_, given) in self.settings_cols.items():
-            wrong = given & exact
+            deaf = [c for c, m in enumerate(self.method_names) if name not in M.METHODS[m].settings]
+            wrong = given & np.isin(self.method_codes, deaf)
             if wrong.any():
                 i = int(np.flatnonzero(wrong)[0])
-                raise SceneError(
-                    f"{name} is a setting of the numerical methods; {_row(self.frame, i)} is "
-                    f"solved by the exact method {self.plan['method'][i]!r}, where it would do "
-                    "nothing (leave the cell empty)"
-                )
+                try:
+                    M.check_settings(M.METHODS[self.plan["method"][i]], (name,))
+                except SceneError as e:
+                    raise SceneError(f"{e} ({_row(self.frame, i)}, column {name!r})") from None
 
     # ------------------------------------------------------------------------------------------
     def scaled(self, rows: np.ndarray) -> tuple:
