@@ -191,6 +191,22 @@ def test_list_columns_round_trip_through_the_cli(tmp_path):
     assert read_table(again)["cor"].tolist() == parquet_in["cor"].tolist()
 
 
+def test_a_bad_csv_cell_is_named_not_the_columns_first(tmp_path, capsys):
+    """One text cell made pandas read the whole column as text, and the error named its first
+    cell, a good number ('2.0' (row 0))."""
+    from restitution import cli
+
+    path = _csv(tmp_path / "in.csv", "alpha,beta\n2.0,0.1\n0.5,0.2\nfoo,0.3\n")
+    assert cli.main(["batch", str(path), "-o", str(tmp_path / "o.csv")]) == cli.EXIT_INPUT
+    err = capsys.readouterr().err
+    assert "alpha must be in [1e-8, 1e8]; got 'foo' (row 2)" in err
+    path = _csv(tmp_path / "in.csv", "alpha,beta\n2.0,0.1\n0.5,x\n")
+    with pytest.raises(SceneError, match=r"beta must be .*; got 'x' \(row 1\)"):
+        solve_many(read_table(path))
+    # the numbers of such a column are read as the numbers they are
+    assert read_table(path)["beta"].tolist() == [0.1, "x"]
+
+
 def test_output_may_not_be_the_input(tmp_path):
     src = write_table(pd.DataFrame({"alpha": [1.0]}), tmp_path / "in.csv")
     before = src.read_bytes()
