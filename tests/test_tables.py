@@ -225,8 +225,13 @@ def test_output_may_not_be_the_input(tmp_path):
 
 def test_missing_input_and_bad_output_directory_are_one_line(tmp_path):
     p = _run("batch", tmp_path / "nope.csv", "-o", tmp_path / "out.csv")
-    assert p.returncode == 2 and "no such results file" in p.stderr
+    assert p.returncode == 2 and "nope.csv: no such scene table" in p.stderr  # (not "results")
     assert p.stderr.count("\n") == 1
+    (tmp_path / "dir.csv").mkdir()
+    p = _run("batch", tmp_path / "dir.csv", "-o", tmp_path / "out.csv")
+    assert p.returncode == 2 and "dir.csv: is a directory, not a scene table" in p.stderr
+    with pytest.raises(TableError, match="nope.parquet: no such results file"):
+        read_table(tmp_path / "nope.parquet")
     src = write_table(pd.DataFrame({"alpha": [1.0]}), tmp_path / "in.csv")
     blocker = tmp_path / "file"
     blocker.write_text("not a directory")

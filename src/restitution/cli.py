@@ -325,7 +325,7 @@ def _batch(args) -> int:
             "the scenes with their results; choose another output"
         )
     start = time.perf_counter()
-    frame = read_table(args.input)
+    frame = read_table(args.input, what="scene table")
     keep = [c.strip() for c in args.keep.split(",") if c.strip()]
     progress = sys.stderr.isatty() if args.progress is None else args.progress
     progress = progress and not args.quiet

@@ -235,14 +235,18 @@ def write_table(frame: pd.DataFrame, path, *, config=None, extra: dict | None = 
     return path
 
 
-def read_table(path, *, require_provenance: bool = False, columns=()) -> pd.DataFrame:
+def read_table(
+    path, *, require_provenance: bool = False, columns=(), what: str = "results file"
+) -> pd.DataFrame:
     """Read a .parquet or .csv table; raise TableError naming the file when it is unusable.
 
     ``columns``: names the table must have (a readable file of another kind is refused by name).
+    ``what``: the kind of table, as a missing file's message names it (e.g. "scene table").
     """
     path = Path(path)
     if not path.is_file():
-        raise TableError(f"{path}: no such results file")
+        raise TableError(f"{path}: is a directory, not a {what}" if path.is_dir()
+                         else f"{path}: no such {what}")  # fmt: skip
     try:
         if path.suffix == ".csv":
             return _require(path, _read_csv(path), columns)
