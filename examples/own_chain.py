@@ -11,6 +11,7 @@ Any consistent units work; these are SI. Writes OUT/result.json and OUT/trajecto
 import argparse
 import json
 import math
+import sys
 import tempfile
 from pathlib import Path
 
@@ -31,21 +32,34 @@ parser.add_argument("--k-contact", type=float, default=5e4)  # N/m; inf = rigid 
 parser.add_argument("--v0", type=float, default=1.5)  # m/s, the approach speed
 parser.add_argument("--no-plot", action="store_true", help="skip the trajectory plot")
 args = parser.parse_args()
-out = Path(args.out or tempfile.mkdtemp(prefix="restitution-chain-"))
-out.mkdir(parents=True, exist_ok=True)
+
+
+def fail(message: str):
+    """One line on stderr and exit code 2 (bad input), as the command line `restitution` does."""
+    print(f"{parser.prog}: error: {message}", file=sys.stderr)
+    raise SystemExit(2)
+
+
+if args.out is not None and Path(args.out).exists() and not Path(args.out).is_dir():
+    fail(f"OUT {args.out} exists and is not a folder; give a folder for the outputs")
 dashpots = args.dashpots
 if dashpots is None:
     own = args.masses != EXAMPLE["masses"]
     dashpots = [0.0] * (len(args.masses) - 1) if own else EXAMPLE["dashpots"]
 
 # One call: the scene is checked (clear errors for bad values), solved exactly where it can be.
-result = restitution.solve(
-    masses=args.masses,
-    springs=args.springs,
-    dashpots=dashpots,
-    k_contact=args.k_contact,  # math.inf: a rigid wall
-    v0=args.v0,
-)
+try:
+    result = restitution.solve(
+        masses=args.masses,
+        springs=args.springs,
+        dashpots=dashpots,
+        k_contact=args.k_contact,  # math.inf: a rigid wall
+        v0=args.v0,
+    )
+except restitution.SceneError as error:  # a bad value: its message names it and its range
+    fail(str(error))
+out = Path(args.out or tempfile.mkdtemp(prefix="restitution-chain-"))
+out.mkdir(parents=True, exist_ok=True)
 summary = {
     "cor": result.cor,  # centre-of-mass velocity after the last separation / v0
     "n_collisions": result.n_collisions,  # separate contact intervals

@@ -21,8 +21,13 @@ from restitution.tables.io import read_provenance, write_table
 
 parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
 parser.add_argument("out", nargs="?", help="folder for the outputs (default: a new temp dir)")
-parser.add_argument("--n-alpha", type=int, default=201, help="alpha values, log-spaced 0.1..10")
+parser.add_argument("--n-alpha", type=int, default=201,
+                    help="alpha values, log-spaced 0.1..10 (at least 2: a curve)")  # fmt: skip
 args = parser.parse_args()
+if args.n_alpha < 2:  # (0 wrote an empty table; 1 point draws no curve)
+    parser.error(f"--n-alpha must be at least 2 (the points of each curve); got {args.n_alpha}")
+if args.out is not None and Path(args.out).exists() and not Path(args.out).is_dir():
+    parser.error(f"OUT {args.out} exists and is not a folder; give a folder for the outputs")
 out = Path(args.out or tempfile.mkdtemp(prefix="restitution-sweep-"))
 
 # The grid: one row per scene. The paper's units (m1 = 1, V0 = 1, omega = 1); beta = 0 is a

@@ -112,9 +112,14 @@ def solve_general_law(
     from restitution.solvers import numerical
 
     if max_work is None and energy_tol is None and account is None:
+        from restitution.solvers.methods import METHODS
+
+        # only the setting the method reads (solve refuses one that would do nothing)
+        reads = METHODS[method].settings if method in METHODS else ()
+        settings = {k: v for k, v in (("rtol", rtol), ("step", step)) if k in reads}
         return restitution.solve(
             masses=m, springs=k, dashpots=c, contact=contact_law, links=link_laws, v0=v0,
-            method=method, rtol=rtol, step=step, max_events=max_events, history=history,
+            method=method, max_events=max_events, history=history, **settings,
         )  # fmt: skip
     ch = restitution.Chain(m, k, c, v0=v0, contact=contact_law, links=link_laws)
     out, hist = numerical.solve_chain(

@@ -159,6 +159,19 @@ def test_paper_preset_is_the_paper_scene(alpha, beta, xi, n):
         (dict(masses=[1.0, 2.0], springs=[1.0], v0=0.0), r"v0 must be in \[1e-6, 1e6\]"),
         (dict(masses=[1.0, 2.0], springs=[1.0], contact={"law": "soft"}), "contact law must be"),
         (dict(masses=[1.0, 2.0], springs=[1.0], contact={"law": "hertz"}), "needs k"),
+        # unknown keys of the linear laws (they were dropped: c=3 solved without a dashpot)
+        (
+            dict(masses=[1.0, 2.0], springs=[1.0], contact={"law": "linear", "k": 5.0, "c": 3.0}),
+            r"unknown parameter\(s\) c for the 'linear' law; allowed: k",
+        ),  # fmt: skip
+        (
+            dict(masses=[1.0, 2.0], springs=[1.0], contact={"law": "linear", "k": 5.0, "foo": 1}),
+            r"unknown parameter\(s\) foo",
+        ),  # fmt: skip
+        (
+            dict(masses=[1.0, 2.0], springs=[1.0], contact={"law": "rigid", "k": 5.0}),
+            r"unknown parameter\(s\) k for the 'rigid' law; allowed: none",
+        ),  # fmt: skip
         (dict(masses=[1.0, 2.0], springs=[1.0], links=[{"law": "x"}]), r"links\[0\].*law must"),
         (dict(masses=[1.0, 2.0], springs=[1.0], links=[]), "links must be a list of 1"),
         (dict(masses=[1.0, 2.0]), "needs masses=.* and springs="),
@@ -172,6 +185,88 @@ def test_bad_chains_name_the_parameter_and_range(kwargs, match):
 def test_paper_and_general_forms_do_not_mix():
     with pytest.raises(SceneError, match="not both"):
         solve(alpha=1.0, masses=[1.0, 2.0], springs=[1.0])
+
+
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        (dict(alpha=2.0, k_contact=5.0), "k_contact"),
+        (dict(alpha=2.0, k_contact=math.inf), "k_contact"),
+        (dict(alpha=2.0, dashpots=[1.0]), "dashpots"),
+        (dict(masses=[1.0, 0.5], springs=[1.0], beta=0.1), "beta"),
+        (dict(masses=[1.0, 0.5], springs=[1.0], xi=0.1), "xi"),
+        (dict(masses=[1.0, 0.5], springs=[1.0], n_masses=2), "n_masses"),
+        (dict(masses=[1.0, 0.5], springs=[1.0], beta=math.nan), "beta"),
+        (dict(masses=[1.0, 0.5], springs=[1.0], xi="x"), "xi"),
+        (dict(masses=[1.0, 0.5], springs=[1.0], beta=None), "beta"),
+    ],
+)
+def test_a_parameter_of_the_other_form_is_refused_not_ignored(kwargs, name):
+    """(Each of these returned the other form's result, status ok, the parameter unread.)"""
+    with pytest.raises(SceneError, match=rf"not both; got {name}\b"):
+        solve(**kwargs)
+
+
+CHAIN = Chain([1.0, 2.0], [1.0], contact={"law": "hertz", "k": 50.0})
+
+
+@pytest.mark.parametrize(
+    "kwargs",
+    [
+        dict(v0=100.0),
+        dict(k_contact=5.0),
+        dict(dashpots=[0.1]),
+        dict(masses=[1.0, 2.0]),
+        dict(springs=[1.0]),
+        dict(contact={"law": "rigid"}),
+        dict(links=[{"law": "linear"}]),
+        dict(velocities=[1.0, 1.0]),
+        dict(stretches=[0.1]),
+        dict(beta=0.1),
+        dict(xi=0.0),
+        dict(n_masses=2),
+    ],
+)
+def test_scene_parameters_with_a_chain_are_refused_not_ignored(kwargs):
+    """A Chain carries its whole scene: solve(chain, v0=100) solved it at the Chain's v0."""
+    (name,) = kwargs
+    with pytest.raises(SceneError, match=rf"unknown keyword\(s\) {name} with a Chain"):
+        solve(CHAIN, **kwargs)
+
+
+@pytest.mark.parametrize(
+    "kwargs, name, method",
+    [
+        (dict(alpha=2.0, rtol=1e-6), "rtol", "impulsive"),
+        (dict(alpha=2.0, beta=0.5, step=0.1), "step", "piecewise"),
+        (dict(alpha=2.0, beta=0.5, method="verlet", rtol=1e-6), "rtol", "verlet"),
+        (dict(alpha=2.0, beta=0.5, method="adaptive", step=0.1), "step", "adaptive"),
+        (dict(alpha=2.0, beta=0.5, method="precise", rtol=1e-6), "rtol", "precise"),
+        (dict(masses=[1.0, 2.0], springs=[1.0], rtol=1e-6), "rtol", "impulsive"),
+        (dict(alpha=Chain([1.0, 2.0], [1.0], k_contact=5.0), step=0.1), "step", "piecewise"),
+    ],
+)
+def test_a_setting_the_method_does_not_read_is_refused(kwargs, name, method):
+    """(Each was accepted and did nothing, where a table refused it.)"""
+    with pytest.raises(SceneError, match=rf"{name} would do nothing: the method {method!r}"):
+        solve(**kwargs)
+
+
+def test_the_settings_a_method_reads_are_taken():
+    loose = solve(alpha=2.0, beta=0.5, method="adaptive", rtol=1e-4)
+    assert loose.cor != solve(alpha=2.0, beta=0.5, method="adaptive", rtol=1e-11).cor
+    coarse = solve(alpha=2.0, beta=0.5, method="verlet", step=0.1)
+    assert coarse.cor != solve(alpha=2.0, beta=0.5, method="verlet", step=0.01).cor
+
+
+def test_a_chain_takes_the_settings_and_the_defaults_keep_their_meaning():
+    r = solve(CHAIN, method="adaptive", rtol=1e-8, max_events=1000)
+    assert r.status == "ok" and r.method == "adaptive"
+    assert solve(CHAIN).cor == solve(masses=[1.0, 2.0], springs=[1.0], contact=CHAIN.contact).cor
+    # not given: the paper form's beta 0, xi 0, n_masses 2; the general form's rigid wall
+    assert solve(2.0).cor == solve(2.0, 0.0, 0.0, 2).cor
+    rigid = solve(masses=[1.0, 2.0], springs=[1.0])
+    assert rigid.method == "impulsive" and rigid.cor == solve(Chain([1.0, 2.0], [1.0])).cor
 
 
 def test_solver_table_dispatch_and_forced_methods():

@@ -76,6 +76,38 @@ def test_table_sweep(tmp_path):
     assert (out / "cor_vs_alpha.pdf").stat().st_size > 1000
 
 
+def run_example_failing(name: str, *args, cwd) -> str:
+    """Run examples/<name> expecting bad input: exit code 2, its error as the last line of
+    stderr, no traceback, nothing written into ``cwd``. Returns that line."""
+    before = sorted(p.name for p in cwd.iterdir())
+    result = subprocess.run([sys.executable, str(REPO / "examples" / name), *map(str, args)],
+                            cwd=cwd, env=snakemake_env(), capture_output=True, text=True,
+                            timeout=900)  # fmt: skip
+    assert result.returncode == 2, result.stdout[-3000:] + result.stderr[-5000:]
+    assert "Traceback" not in result.stderr, result.stderr
+    assert sorted(p.name for p in cwd.iterdir()) == before
+    return result.stderr.strip().splitlines()[-1]
+
+
+def test_own_chain_bad_input_is_one_line(tmp_path):
+    """(An existing file as OUT raised FileExistsError, a bad value a SceneError traceback.)"""
+    (tmp_path / "f.txt").write_text("mine")
+    line = run_example_failing("own_chain.py", "f.txt", cwd=tmp_path)
+    assert line == "own_chain.py: error: OUT f.txt exists and is not a folder; give a folder " \
+                   "for the outputs"  # fmt: skip
+    assert (tmp_path / "f.txt").read_text() == "mine"
+    line = run_example_failing("own_chain.py", "outd", "--dashpots", "-1", cwd=tmp_path)
+    assert line == "own_chain.py: error: dashpots[0] must be in [0, 1e100]; got -1.0"
+
+
+@pytest.mark.parametrize("n", [0, 1, -3])
+def test_table_sweep_refuses_fewer_than_two_alphas(tmp_path, n):
+    """(--n-alpha 0 wrote an empty table and figure, exit code 0.)"""
+    line = run_example_failing("table_sweep.py", "sweep", "--n-alpha", n, cwd=tmp_path)
+    assert line == f"table_sweep.py: error: --n-alpha must be at least 2 (the points of each " \
+                   f"curve); got {n}"  # fmt: skip
+
+
 @pytest.mark.pipeline
 def test_study_example(tmp_path):
     out = tmp_path / "study"

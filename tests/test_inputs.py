@@ -162,8 +162,34 @@ WRONG = st.sampled_from(
         -(10**400),
         pd.NA,
         object(),
+        np.array("0.5"),
+        np.array("0.5", dtype=object),
+        np.array(True),
     ]
 )
+
+
+# Text, booleans and complex numbers inside 0-d numpy arrays: float() parsed np.array("0.5")
+# as 0.5 and read np.array(True) as 1.
+ZERO_D = [np.array("0.5"), np.array(b"0.5"), np.array("0.5", dtype=object), np.array(True),
+          np.array(0.5 + 0j)]  # fmt: skip
+
+
+@pytest.mark.parametrize("value", ZERO_D, ids=repr)
+def test_text_in_a_0d_array_is_not_a_number(value):
+    with pytest.raises(SceneError, match=r"beta must be in \[0, 1e6\]"):
+        restitution.solve(alpha=2.0, beta=value)
+    with pytest.raises(SceneError, match=r"masses must be a list of numbers.*masses\[1\]"):
+        restitution.solve(masses=[1.0, value], springs=[1.0])
+    frame = pd.DataFrame({"alpha": [2.0, 2.0], "beta": [0.5, value]})
+    with pytest.raises(SceneError, match=r"beta must be .*row 1"):
+        restitution.solve_many(frame)
+
+
+def test_numbers_in_0d_arrays_are_read():
+    for value in (np.array(0.5), np.array(0.5, dtype=object), np.array(np.float32(0.5))):
+        assert restitution.solve(alpha=2.0, beta=value).cor == restitution.solve(2.0, 0.5).cor
+    assert restitution.solve(alpha=2.0, n_masses=np.array(3)).n_collisions >= 1
 
 
 @settings(max_examples=120, **PROFILE)
@@ -438,6 +464,17 @@ CLI_BAD = [
     (["--masses", "1,2", "--springs", "1", "--links", '[{"law": 3}]'], r"links\[0\]"),
     (["--masses", "1,2", "--springs", "1", "--v0", "1e-7"], "v0"),
     (["--alpha", "0.5", "--n-masses", "513"], "n_masses"),
+    # an option of the other form is refused, not ignored (each exited 0 without reading it)
+    (["--alpha", "2", "--k-contact", "5"], "--k-contact"),
+    (["--alpha", "2", "--dashpots", "5"], "--dashpots"),
+    (["--alpha", "2", "--contact-law", '{"law": "hertz", "k": 50}'], "--contact-law"),
+    (["--alpha", "2", "--links", '[{"law": "linear"}]'], "--links"),
+    (["--masses", "1,2", "--springs", "1", "--beta", "0.5"], "--beta"),
+    (["--masses", "1,2", "--springs", "1", "--xi", "0.1"], "--xi"),
+    (["--masses", "1,2", "--springs", "1", "--n-masses", "2"], "--n-masses"),
+    (["--alpha", "2", "--rtol", "1e-5"], "rtol would do nothing"),
+    (["--alpha", "2", "--beta", "0.5", "--method", "verlet", "--rtol", "1e-5"], "rtol"),
+    (["--masses", "1,2", "--springs", "1", "--contact-law", '{"law": "rigid", "k": 5}'], "'rigid'"),
 ]
 
 

@@ -111,6 +111,22 @@ def test_defaults_and_grid():
             "axis xi = 2000.0: xi must be in [0, 1e3]",
         ),
         ({"scene": {"alpha": 1.0, "beta": 0.0}}, "axes: param = 'alpha' is also fixed in scene"),
+        # values compared as numbers (their reprs differ), generated values checked distinct
+        (
+            {"axes": [{"param": "alpha", "values": [1.0, 2.0]},
+                      {"param": "xi", "values": [0, 0.0, -0.0]}]},
+            "axes[1].values = [0, 0.0, -0.0]: must be",
+        ),
+        (
+            {"axes": [{"param": "alpha",
+                       "linspace": {"start": 1, "stop": 1.0000000000000002, "num": 100}}]},
+            "axes[0].linspace: its 100 values are not distinct (2 different ones",
+        ),
+        (
+            {"axes": [{"param": "alpha",
+                       "logspace": {"start": 1, "stop": 1.0000000000000002, "num": 3}}]},
+            "axes[0].logspace: its 3 values are not distinct",
+        ),
         (
             {"axes": [{"param": "alpha", "logspace": {"start": 0.1, "stop": 1, "num": 100000}}],
              "chunk_size": 2},
@@ -213,6 +229,22 @@ def test_plots_take_the_axis_texts_of_the_study():
     ax = fig.axes[0]
     assert ax.get_xlabel() == "rear mass $m_3$ [kg]"
     assert [line.get_label() for line in ax.lines] == ["k_contact = 10 N/m", "rigid wall"]
+
+
+def test_a_key_given_twice_is_refused_naming_it_and_its_lines(tmp_path):
+    """(YAML kept the last value silently: the first name, or beta 0.0, was dropped.)"""
+    path = tmp_path / "twice.yaml"
+    path.write_text("name: first\nscene: {beta: 0.0}\naxes:\n"
+                    "  - {param: alpha, values: [1.0, 2.0]}\nname: second\n")  # fmt: skip
+    with pytest.raises(StudyError, match=r"key 'name' is given twice .*\(lines 1 and 5\)"):
+        load_study(path)
+    path.write_text("name: s\nscene: {beta: 0.0, beta: 0.1}\naxes:\n"
+                    "  - {param: alpha, values: [1.0, 2.0]}\n")  # fmt: skip
+    with pytest.raises(StudyError, match=r"key 'beta' is given twice .*\(lines 2 and 2\)"):
+        load_study(path)
+    path.write_text("name: s\nscene: {beta: 0.0}\naxes:\n"
+                    "  - {param: alpha, values: [1.0, 2.0]}\n")  # fmt: skip
+    assert load_study(path).scene == {"beta": 0.0}
 
 
 def test_bad_yaml_file(tmp_path):

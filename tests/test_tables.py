@@ -105,6 +105,24 @@ def test_paper_and_general_columns_do_not_mix():
         solve_many(pd.DataFrame({"masses": [[1.0, 2.0]], "springs": [[1.0]], "xi": [0.1]}))
 
 
+@pytest.mark.parametrize("column, cell", [("velocities", "5;-3"), ("stretches", [0.5])])
+def test_an_initial_state_column_does_not_go_with_alpha(column, cell):
+    """(A paper-form table solved the uniform approach, ok, the column unread.)"""
+    with pytest.raises(SceneError, match=rf"columns \['{column}'\] belong to the general form"):
+        solve_many(pd.DataFrame({"alpha": [2.0], column: [cell]}))
+
+
+@pytest.mark.parametrize(
+    "cell, unknown",
+    [('{"law": "linear", "k": 5, "c": 3.0}', "c"), ({"law": "rigid", "k": 5.0}, "k")],
+)
+def test_unknown_keys_of_a_linear_contact_cell_are_refused(cell, unknown):
+    """(They were dropped: the linear contact's c=3 gave the undamped contact's COR, ok.)"""
+    frame = pd.DataFrame({"masses": ["1;2", "1;2"], "springs": ["1", "1"], "contact": [None, cell]})
+    with pytest.raises(SceneError, match=rf"unknown parameter\(s\) {unknown} .*\(row 1\)"):
+        solve_many(frame)
+
+
 # ----------------------------------------------------------------------------------------------
 # Per-row settings
 # ----------------------------------------------------------------------------------------------
@@ -128,10 +146,21 @@ def test_per_row_rtol_is_honoured_on_numerical_rows():
 
 def test_per_row_settings_on_exact_rows_are_refused():
     frame = pd.DataFrame({"alpha": [2.0, 3.0], "rtol": [np.nan, 1e-6]})
-    with pytest.raises(SceneError, match=r"rtol is a setting of the numerical methods; row 1"):
+    with pytest.raises(SceneError, match=r"rtol would do nothing: the method 'impulsive'.*row 1"):
         solve_many(frame)
     with pytest.raises(SceneError, match=r"rtol must be in \[1e-14, 1e-2\]"):
         solve_many(frame.assign(rtol=[np.nan, 5.0], method="adaptive"))
+
+
+def test_a_setting_the_rows_method_does_not_read_is_refused():
+    """step on an adaptive row, rtol on a verlet row: accepted and unread before."""
+    frame = pd.DataFrame({"alpha": [2.0, 2.0], "beta": 0.5, "method": ["verlet", "adaptive"]})
+    with pytest.raises(SceneError, match=r"step would do nothing: the method 'adaptive' .*row 1"):
+        solve_many(frame.assign(step=[0.01, 0.1]))
+    with pytest.raises(SceneError, match=r"rtol would do nothing: the method 'verlet' .*row 0"):
+        solve_many(frame.assign(rtol=[1e-6, 1e-6]))
+    out = solve_many(frame.assign(step=[0.01, np.nan], rtol=[np.nan, 1e-8]))
+    assert list(out["status"]) == ["ok", "ok"]
 
 
 # ----------------------------------------------------------------------------------------------
@@ -162,6 +191,22 @@ def test_list_columns_round_trip_through_the_cli(tmp_path):
     assert read_table(again)["cor"].tolist() == parquet_in["cor"].tolist()
 
 
+def test_a_bad_csv_cell_is_named_not_the_columns_first(tmp_path, capsys):
+    """One text cell made pandas read the whole column as text, and the error named its first
+    cell, a good number ('2.0' (row 0))."""
+    from restitution import cli
+
+    path = _csv(tmp_path / "in.csv", "alpha,beta\n2.0,0.1\n0.5,0.2\nfoo,0.3\n")
+    assert cli.main(["batch", str(path), "-o", str(tmp_path / "o.csv")]) == cli.EXIT_INPUT
+    err = capsys.readouterr().err
+    assert "alpha must be in [1e-8, 1e8]; got 'foo' (row 2)" in err
+    path = _csv(tmp_path / "in.csv", "alpha,beta\n2.0,0.1\n0.5,x\n")
+    with pytest.raises(SceneError, match=r"beta must be .*; got 'x' \(row 1\)"):
+        solve_many(read_table(path))
+    # the numbers of such a column are read as the numbers they are
+    assert read_table(path)["beta"].tolist() == [0.1, "x"]
+
+
 def test_output_may_not_be_the_input(tmp_path):
     src = write_table(pd.DataFrame({"alpha": [1.0]}), tmp_path / "in.csv")
     before = src.read_bytes()
@@ -180,8 +225,13 @@ def test_output_may_not_be_the_input(tmp_path):
 
 def test_missing_input_and_bad_output_directory_are_one_line(tmp_path):
     p = _run("batch", tmp_path / "nope.csv", "-o", tmp_path / "out.csv")
-    assert p.returncode == 2 and "no such results file" in p.stderr
+    assert p.returncode == 2 and "nope.csv: no such scene table" in p.stderr  # (not "results")
     assert p.stderr.count("\n") == 1
+    (tmp_path / "dir.csv").mkdir()
+    p = _run("batch", tmp_path / "dir.csv", "-o", tmp_path / "out.csv")
+    assert p.returncode == 2 and "dir.csv: is a directory, not a scene table" in p.stderr
+    with pytest.raises(TableError, match="nope.parquet: no such results file"):
+        read_table(tmp_path / "nope.parquet")
     src = write_table(pd.DataFrame({"alpha": [1.0]}), tmp_path / "in.csv")
     blocker = tmp_path / "file"
     blocker.write_text("not a directory")

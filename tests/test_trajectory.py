@@ -139,3 +139,21 @@ def test_rigid_paper_chain_trajectory_reuses_its_checked_rows_history(monkeypatc
     inside = expected[expected["omega_t_start"] <= 30.0]
     assert len(impacts) == len(inside) > 3
     assert np.array_equal(impacts["t"].to_numpy(), inside["t_start"].to_numpy())
+
+
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        (dict(method="adaptive"), "method"),
+        (dict(history=True), "history"),
+        (dict(k_contact=5.0), "k_contact"),
+        (dict(foo=1.0), "foo"),
+    ],
+)
+def test_an_unknown_paper_keyword_is_not_listed_as_allowed(kwargs, name):
+    """(The list of allowed keywords was solve's: it named method, history, k_contact.)"""
+    with pytest.raises(SceneError, match=rf"unknown scene parameter\(s\) {name}; allowed: ") as e:
+        trajectory(alpha=2.0, times=[1.0], **kwargs)
+    paper_form = str(e.value).split("allowed: ")[1].split(" (or ")[0]
+    assert name not in paper_form.split(", ")
+    assert "times" in paper_form.split(", ") and "rtol" in paper_form.split(", ")

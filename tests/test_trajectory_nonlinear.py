@@ -347,7 +347,7 @@ def test_settings_are_checked():
     hertz = dict(masses=[1, 2], springs=[1], contact={"law": "hertz", "k": 5})
     with pytest.raises(SceneError, match="rtol"):
         trajectory(**hertz, times=[1.0], rtol=0.5)
-    with pytest.raises(SceneError, match="rtol: not used"):
+    with pytest.raises(SceneError, match="rtol would do nothing: the method 'piecewise'"):
         trajectory(alpha=2.0, beta=0.1, times=[1.0], rtol=1e-9)
     with pytest.raises(SceneError, match="step"):
         trajectory(alpha=2.0, beta=0.1, contact="plastic", times=[1.0], step=0.01)

@@ -58,17 +58,30 @@ def _block(rows: int, progress: bool) -> int:
     return max(64, min(_BLOCK, rows // 100)) if progress else max(rows, 1)
 
 
+class _Unset:
+    """The default of solve's keywords whose "not given" must be told from any value (None
+    included, which their checks refuse): beta, xi, n_masses (paper form: 0, 0, 2) and
+    k_contact (general form: inf)."""
+
+    def __repr__(self) -> str:
+        return "<not given>"
+
+
+_UNSET = _Unset()
+_UNSET_DEFAULTS = ("beta", "xi", "n_masses", "k_contact")
+
+
 def solve(
     alpha: float | Chain | None = None,
-    beta: float = 0.0,
-    xi: float = 0.0,
-    n_masses: int = 2,
+    beta: float = _UNSET,
+    xi: float = _UNSET,
+    n_masses: int = _UNSET,
     method: str = "auto",
     *,
     masses=None,
     springs=None,
     dashpots=None,
-    k_contact: float = math.inf,
+    k_contact: float = _UNSET,
     v0: float | None = None,
     contact=None,
     links=None,
@@ -80,18 +93,23 @@ def solve(
 ) -> Result:
     """COR of one scene.
 
+    A parameter of the other form, or any scene parameter given with a Chain (which carries its
+    whole scene), is refused (SceneError), never ignored; so is a setting (rtol, step) that the
+    method solving the scene does not read.
+
     Parameters
     ----------
     alpha : float or Chain
         Paper form: mass ratio m2/m1, in [1e-8, 1e8]. Or a ``restitution.Chain``.
     beta, xi, n_masses : float, float, int
         Paper form: stiffness ratio k2/k1 in [0, 1e6] (0: rigid wall), damping ratio of the
-        dashpot between m1 and m2 in [0, 1e3], number of masses in [2, 512].
+        dashpot between m1 and m2 in [0, 1e3], number of masses in [2, 512]; not given: 0, 0
+        and 2.
     masses, springs, dashpots : sequence of float
         General form (instead of alpha...): m_1..m_N (> 0), N - 1 link stiffnesses (> 0) and
         optional N - 1 dashpot coefficients (>= 0), in any consistent units.
     k_contact : float
-        Contact stiffness (> 0); ``math.inf`` (default) is the rigid wall.
+        General form: contact stiffness (> 0); ``math.inf`` (the default) is the rigid wall.
     v0 : float, optional
         Approach speed in [1e-6, 1e6] (default 1; only nonlinear laws depend on it).
     contact, links : mapping, sequence of mapping, optional
@@ -118,25 +136,29 @@ def solve(
     >>> r = solve(masses=[1.0, 0.5, 2.0], springs=[0.3, 1.2], dashpots=[0.0, 0.05])
     """
     general = masses is not None or springs is not None
-    initial = velocities is not None or stretches is not None
-    if initial and not general:
-        raise SceneError(
-            "velocities=[...] and stretches=[...] need the general form (masses=..., "
-            "springs=...; Chain(...) for a Chain)"
-        )
-    if velocities is not None and v0 is not None:
-        raise SceneError(
-            "give either v0 (every mass approaching at v0) or velocities (one per mass), not both"
-        )
     if isinstance(alpha, Chain):
         ch, settings = alpha, {k: law.pop(k) for k in ("rtol", "step") if k in law}
-        if law:
-            raise SceneError(f"unknown keyword(s) {', '.join(sorted(law))} with a Chain")
+        scene = _given(
+            beta=beta, xi=xi, n_masses=n_masses, masses=masses, springs=springs,
+            dashpots=dashpots, k_contact=k_contact, v0=v0, contact=contact, links=links,
+            velocities=velocities, stretches=stretches,
+        )  # fmt: skip
+        if law or scene:
+            raise SceneError(
+                f"unknown keyword(s) {', '.join(sorted(law) + scene)} with a Chain (it carries "
+                "its whole scene; with it solve takes method, history, max_events, rtol, step)"
+            )
     elif general:
-        if alpha is not None:
+        mixed = _given(alpha=alpha, beta=beta, xi=xi, n_masses=n_masses)
+        if mixed:
             raise SceneError(
                 "give either the paper's form (alpha, beta, xi, n_masses) or a general chain "
-                "(masses, springs, ...), not both"
+                f"(masses, springs, ...), not both; got {', '.join(mixed)} with masses/springs"
+            )
+        if velocities is not None and v0 is not None:
+            raise SceneError(
+                "give either v0 (every mass approaching at v0) or velocities (one per mass), "
+                "not both"
             )
         settings = {k: law.pop(k) for k in ("rtol", "step") if k in law}
         if law:
@@ -144,13 +166,29 @@ def solve(
                 f"unknown scene parameter(s) {', '.join(sorted(law))} for a general chain; "
                 "use contact={...} and links=[...] for nonlinear laws"
             )
-        ch = make_chain(masses, springs, dashpots, k_contact, 1.0 if v0 is None else v0,
+        kc = math.inf if k_contact is _UNSET else k_contact
+        ch = make_chain(masses, springs, dashpots, kc, 1.0 if v0 is None else v0,
                         contact, links, velocities, stretches)  # fmt: skip
     else:
         if alpha is None:
             raise SceneError(
                 "solve needs alpha (the paper's form) or masses and springs (a general chain)"
             )
+        if velocities is not None or stretches is not None:
+            raise SceneError(
+                "velocities=[...] and stretches=[...] need the general form (masses=..., "
+                "springs=...; Chain(...) for a Chain)"
+            )
+        if dashpots is not None or k_contact is not _UNSET:
+            mixed = _given(dashpots=dashpots, k_contact=k_contact)
+            raise SceneError(
+                "give either the paper's form (alpha, beta, xi, n_masses) or a general chain "
+                f"(masses, springs, ...), not both; got {', '.join(mixed)} with alpha"
+            )
+        # the paper form's defaults (set here, so that the other forms can tell what was given)
+        beta = 0.0 if beta is _UNSET else beta
+        xi = 0.0 if xi is _UNSET else xi
+        n_masses = 2 if n_masses is _UNSET else n_masses
         if not law and v0 is None and contact is None and links is None:
             fast = _solve_paper(alpha, beta, xi, n_masses, method, history, max_events)
             if fast is not None:
@@ -164,7 +202,18 @@ def solve(
         ch, settings = paper_with_laws(alpha, beta, xi, n_masses, law)
     opts = M.options(history, max_events, **settings)
     chosen = M.choose(ch, method)
+    M.check_settings(chosen, settings)
     return _run(ch, chosen, opts)
+
+
+def _given(**values) -> list:
+    """The names of the keywords given, in order: not None, or for those with the default
+    _UNSET (where None is a value, refused by its check) not _UNSET."""
+    return [
+        name
+        for name, value in values.items()
+        if value is not (_UNSET if name in _UNSET_DEFAULTS else None)
+    ]
 
 
 _R = RANGES  # the one range table, read once here for the fast path below

@@ -101,14 +101,15 @@ def _parser() -> argparse.ArgumentParser:
     )
     paper = cor.add_argument_group("the paper's form (m1 = V0 = omega = 1)")
     paper.add_argument("--alpha", type=float, help="mass ratio m2/m1, in [1e-8, 1e8]")
-    paper.add_argument("--beta", type=float, default=0.0, help="k2/k1 in [0, 1e6]; 0: rigid wall")
-    paper.add_argument("--xi", type=float, default=0.0, help="damping ratio in [0, 1e3]")
-    paper.add_argument("--n-masses", type=int, default=2, help="masses in the chain, [2, 512]")
+    # (defaults None: an option of the other form is refused, not ignored; solve's defaults)
+    paper.add_argument("--beta", type=float, help="k2/k1 in [0, 1e6]; 0 (default): rigid wall")
+    paper.add_argument("--xi", type=float, help="damping ratio in [0, 1e3] (default 0)")
+    paper.add_argument("--n-masses", type=int, help="masses in the chain, [2, 512] (default 2)")
     general = cor.add_argument_group("a general chain (any consistent units)")
     general.add_argument("--masses", type=_floats, help="m1,...,mN (> 0); m1 touches the wall")
     general.add_argument("--springs", type=_floats, help="k12,...,k(N-1)N (> 0)")
     general.add_argument("--dashpots", type=_floats, help="c12,...,c(N-1)N (>= 0; default 0)")
-    general.add_argument("--k-contact", type=float, default=math.inf,
+    general.add_argument("--k-contact", type=float,
                          help="contact stiffness (> 0); inf (default): rigid wall")  # fmt: skip
     general.add_argument(
         "--contact-law",
@@ -230,44 +231,46 @@ def _clean(value):
 
 def _cor(args) -> int:
     from restitution.api import solve
+    from restitution.model.chain import SceneError
 
     law_keys = ("contact", "eta", "dr", "structure", "L", "ks_ratio", "theta0", "corner", "v0")
+    paper = {
+        k: getattr(args, k) for k in ("beta", "xi", "n_masses") if getattr(args, k) is not None
+    }
     law = {k: getattr(args, k) for k in (*law_keys, "rtol", "step") if getattr(args, k) is not None}
     common = dict(method=args.method, history=args.history, max_events=args.max_events)
+    # the general form's options (attribute: flag)
+    general_opts = {
+        "dashpots": "dashpots",
+        "k_contact": "k-contact",
+        "contact_spec": "contact-law",
+        "links": "links",
+        "velocities": "velocities",
+        "stretches": "stretches",
+    }
     if args.masses is not None or args.springs is not None:
         if args.alpha is not None:
-            from restitution.model.chain import SceneError
-
             raise SceneError("give either --alpha (the paper's form) or --masses/--springs")
         extra = {k: law.pop(k) for k in ("v0", "rtol", "step") if k in law}
-        if law:
-            from restitution.model.chain import SceneError
-
+        stray = sorted([*paper, *law])
+        if stray:
             raise SceneError(
-                f"--{', --'.join(sorted(law))}: options of the paper's form; a general chain "
-                "takes --contact-law and --links"
+                f"--{', --'.join(k.replace('_', '-') for k in stray)}: options of the paper's "
+                "form; a general chain takes --dashpots, --k-contact, --contact-law and --links"
             )
-        r = solve(
-            masses=args.masses,
-            springs=args.springs,
-            dashpots=args.dashpots,
-            k_contact=args.k_contact,
-            contact=args.contact_spec,
-            links=args.links,
-            velocities=args.velocities,
-            stretches=args.stretches,
-            **extra,
-            **common,
-        )
+        general = {k: getattr(args, k) for k in general_opts if getattr(args, k) is not None}
+        general["contact"] = general.pop("contact_spec", None)
+        r = solve(masses=args.masses, springs=args.springs, **general, **extra, **common)
     else:
-        from restitution.model.chain import SceneError
-
         if args.alpha is None:
             raise SceneError("give --alpha (the paper's form) or --masses and --springs")
-        if args.velocities is not None or args.stretches is not None:
-            raise SceneError("--velocities and --stretches need a general chain (--masses ...)")
-        r = solve(alpha=args.alpha, beta=args.beta, xi=args.xi, n_masses=args.n_masses,
-                  **common, **law)  # fmt: skip
+        stray = [opt for k, opt in general_opts.items() if getattr(args, k) is not None]
+        if stray:
+            raise SceneError(
+                f"--{', --'.join(stray)}: need a general chain (--masses ...); the paper's "
+                "form takes --beta, --xi, --n-masses and the law options"
+            )
+        r = solve(alpha=args.alpha, **paper, **common, **law)
     if args.json:
         print(json.dumps(_clean(r.to_dict(history=args.history))))
     else:
@@ -322,7 +325,7 @@ def _batch(args) -> int:
             "the scenes with their results; choose another output"
         )
     start = time.perf_counter()
-    frame = read_table(args.input)
+    frame = read_table(args.input, what="scene table")
     keep = [c.strip() for c in args.keep.split(",") if c.strip()]
     progress = sys.stderr.isatty() if args.progress is None else args.progress
     progress = progress and not args.quiet

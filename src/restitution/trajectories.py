@@ -44,7 +44,7 @@ from restitution.model.units import (
     user_time,
 )
 from restitution.solvers import blas, exact
-from restitution.solvers.methods import METHODS, Options, check_events, choose
+from restitution.solvers.methods import METHODS, Options, check_events, check_settings, choose
 
 
 def _scene(scene, keywords: dict) -> tuple[Chain, dict]:
@@ -58,13 +58,19 @@ def _scene(scene, keywords: dict) -> tuple[Chain, dict]:
         keywords = {**scene, **keywords}
     elif scene is not None:
         raise SceneError(f"scene must be a restitution.Chain or a mapping; got {scene!r}")
-    from restitution.model.chain import make_chain, paper_with_laws
+    from restitution.model.chain import LAW_KEYS, make_chain, paper_with_laws
 
     if "alpha" in keywords:
         p = {k: keywords.pop(k) for k in ("alpha", "beta", "xi", "n_masses") if k in keywords}
-        ch, settings = paper_with_laws(
-            p["alpha"], p.get("beta", 0.0), p.get("xi", 0.0), p.get("n_masses", 2), keywords
+        # (trajectory's own keywords: solve's method and history are not among them)
+        allowed = (
+            f"alpha, beta, xi, n_masses, {', '.join(LAW_KEYS)}, times, max_events, rtol (or "
+            f"{', '.join(_CHAIN_KEYS)} for a general chain)"
         )
+        ch, settings = paper_with_laws(
+            p["alpha"], p.get("beta", 0.0), p.get("xi", 0.0), p.get("n_masses", 2), keywords,
+            allowed,
+        )  # fmt: skip
         if "step" in settings:
             raise SceneError("step: not used by trajectory (it samples the adaptive method)")
         return ch, settings
@@ -432,10 +438,7 @@ def trajectory(
         out.attrs.update(method=chosen.name, rtol=rtol, scaled=_scaled(ch))
         return out
     if rtol is not None:
-        raise SceneError(
-            f"rtol: not used by trajectory of this scene (a linear chain, solved exactly by "
-            f"{chosen.name!r})"
-        )
+        check_settings(chosen, ("rtol",))  # raises: the exact samplers read no rtol
     wt = np.ascontiguousarray(wt, dtype=np.float64)
     method, parts = chosen.name, None
     # the scene's checked row (as solve's): its status, and the flag of a near-defective basis;

@@ -125,6 +125,13 @@ def allowed_text(schema: Mapping) -> str:
     return text
 
 
+def _same_key(value):
+    """What decides whether two list items are the same: a number's value, else its repr."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return ("number", float(value))  # (hash(-0.0) == hash(0.0) and they are equal)
+    return ("other", repr(value))
+
+
 def _number(value, integer: bool):
     """``value`` as the number a user meant, or None. Text is parsed (``--config`` gives text)."""
     if isinstance(value, bool):
@@ -221,7 +228,8 @@ def check_value(value, schema: Mapping, path: tuple, problems: list[str]):
             )
             return value
         if schema.get("uniqueItems"):
-            seen = [repr(v) for v in items]
+            # numbers compared as numbers: 0, 0.0 and -0.0 are one value (their reprs differ)
+            seen = [_same_key(v) for v in items]
             if len(set(seen)) < len(seen):
                 return bad()
         return items

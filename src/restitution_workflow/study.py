@@ -314,6 +314,27 @@ def _bounded_yaml(text: str, source: str):
     class Loader(yaml.SafeLoader):
         aliases = 0
 
+        def construct_mapping(self, node, deep=False):
+            # a key given twice would silently keep its last value (merge keys '<<' excepted:
+            # their keys are meant to be overridden)
+            seen: dict = {}
+            for key_node, _ in node.value:
+                if key_node.tag == "tag:yaml.org,2002:merge":
+                    continue
+                key = self.construct_object(key_node, deep=True)
+                line = key_node.start_mark.line + 1
+                try:
+                    twice = key in seen
+                except TypeError:  # an unhashable key: SafeLoader's own error follows
+                    continue
+                if twice:
+                    raise StudyError(
+                        [f"key {key!r} is given twice in one mapping (lines {seen[key]} and "
+                         f"{line}); give it once"], source,
+                    )  # fmt: skip
+                seen[key] = line
+            return super().construct_mapping(node, deep)
+
         def compose_node(self, parent, index):
             if self.check_event(yaml.AliasEvent):
                 Loader.aliases += 1
@@ -401,8 +422,19 @@ def _axis_values(axis: Mapping, where: str, problems: list[str]) -> tuple[np.nda
         if not start > 0:
             problems.append(f"{where}.logspace.start = {start!r}: must be > 0 (a log axis)")
             return np.array([]), False
-        return np.geomspace(start, stop, num), True
-    return np.linspace(start, stop, num), False
+        values, log = np.geomspace(start, stop, num), True
+    else:
+        values, log = np.linspace(start, stop, num), False
+    # float64 may not hold num distinct values between start and stop (stop one ulp above
+    # start): the grid would solve one scene num times
+    distinct = len(np.unique(values))
+    if distinct < num:
+        problems.append(
+            f"{where}.{kind}: its {num} values are not distinct ({distinct} different ones "
+            f"between start = {start!r} and stop = {stop!r}); widen the range or lower num"
+        )
+        return np.array([]), False
+    return values, log
 
 
 def _check_scene_values(study_scene, bad_keys, axes, general, whole) -> list[str]:

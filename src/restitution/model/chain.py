@@ -284,6 +284,10 @@ def _contact_spec(contact, kc: float, given_kc: float) -> tuple[dict | None, flo
         return None, kc
     contact = _law("contact", contact, "contact")
     law = contact["law"]
+    if law in ("rigid", "linear"):  # (the other laws' keys are checked when they are packed)
+        from restitution.model import laws
+
+        laws._spec("contact", contact, laws.CONTACT_LAWS, {}, "contact")  # no unknown keys
     k_law = contact.get("k")
     if law == "rigid":
         k_law = math.inf
@@ -655,17 +659,23 @@ PAPER_CONTACTS = ("linear", "plastic")  # the paper form's contact laws (Section
 PAPER_STRUCTURES = ("linear", "scissor")  # and structural links (Section 3.2)
 
 
-def paper_with_laws(alpha, beta, xi, n_masses, law: dict) -> tuple[Chain, dict]:
+# What ``restitution.solve`` takes, for the message of an unknown keyword.
+SOLVE_KEYWORDS = (
+    "alpha, beta, xi, n_masses, method, history, max_events, masses, springs, dashpots, "
+    f"k_contact, links, {', '.join(NUMERICAL_KEYS)}"
+)
+
+
+def paper_with_laws(
+    alpha, beta, xi, n_masses, law: dict, allowed: str = SOLVE_KEYWORDS
+) -> tuple[Chain, dict]:
     """A paper-form scene with the law keywords of ``restitution.solve`` (contact, eta, dr,
     structure, L, ks_ratio, theta0, corner, v0) as a Chain with law specifications, and the
-    numerical settings (rtol, step) among them."""
+    numerical settings (rtol, step) among them. ``allowed``: the caller's keywords, listed
+    when one in ``law`` is unknown."""
     unknown = sorted(set(law) - set(NUMERICAL_KEYS))
     if unknown:
-        raise SceneError(
-            f"unknown scene parameter(s) {', '.join(unknown)}; allowed: alpha, beta, xi, "
-            f"n_masses, method, history, max_events, masses, springs, dashpots, k_contact, "
-            f"links, {', '.join(NUMERICAL_KEYS)}"
-        )
+        raise SceneError(f"unknown scene parameter(s) {', '.join(unknown)}; allowed: {allowed}")
     for k, v in law.items():  # (a table passes only its given cells: a missing one is an error)
         if missing_cell(v):
             allowed = RANGES[k].text if k in RANGES else "a law name"

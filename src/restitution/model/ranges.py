@@ -125,8 +125,15 @@ def _real(value) -> float | None:
     text, complex numbers (their imaginary part would be dropped), arrays and containers."""
     if isinstance(value, (bool, np.bool_, str, bytes, complex, np.complexfloating)):
         return None
-    if isinstance(value, np.ndarray) or not isinstance(value, (numbers.Real, np.number)):
-        try:  # other real types (e.g. a 0-d array): through float, but never a container
+    if isinstance(value, np.ndarray):
+        if value.ndim != 0:
+            return None
+        if value.dtype.kind == "O":  # the object it holds, read as that object would be
+            return _real(value.item())
+        # float() would parse a text array (np.array("0.5")) and read a boolean one as 0 or 1
+        return _real(value[()]) if value.dtype.kind in "fiu" else None
+    if not isinstance(value, (numbers.Real, np.number)):
+        try:  # other real types (e.g. Decimal): through float, but never a container
             if np.ndim(value) != 0 or isinstance(value, (Mapping, list, tuple, set)):
                 return None
             return float(value)

@@ -94,7 +94,9 @@ class Method:
     to the user when the method was forced); it reads only the scene's kind (linear or not, rigid
     wall or not, two masses or more, the contact law), so a choice holds for every scene of a kind.
     ``cost`` orders methods for ``auto`` (lower first); only ``exact`` methods or, when none
-    applies, numerical ones are picked by ``auto``. ``run(chain, options)`` solves one scene and
+    applies, numerical ones are picked by ``auto``. ``settings`` names the numerical settings
+    (``Options`` fields ``rtol``, ``step``) its runners read: any other one given is refused
+    (``check_settings``), since it would do nothing. ``run(chain, options)`` solves one scene and
     ``run_many(table, rows, max_events, bar, block)`` the rows of a checked scene table
     (``restitution.tables.scene_table``); both return kernel rows (``run_many``: and {position in
     rows: error message} of rows whose kernel raised).
@@ -107,6 +109,7 @@ class Method:
     run: Callable[[Chain, Options], tuple]
     run_many: Callable
     doc: str
+    settings: tuple[str, ...] = ()
 
 
 # ----------------------------------------------------------------------------------------------
@@ -367,6 +370,7 @@ METHODS: dict[str, Method] = {
         _run_numerical("adaptive"),
         _numerical_many("adaptive"),
         "DOP853, any chain",
+        settings=("rtol",),
     ),  # fmt: skip
     "verlet": Method(
         "verlet",
@@ -376,6 +380,7 @@ METHODS: dict[str, Method] = {
         _run_numerical("verlet"),
         _numerical_many("verlet"),
         "velocity Verlet",
+        settings=("step",),
     ),  # fmt: skip
     "reference": Method(
         "reference",
@@ -385,6 +390,7 @@ METHODS: dict[str, Method] = {
         _run_numerical("reference"),
         row_by_row("reference"),
         "scipy DOP853",
+        settings=("rtol",),
     ),  # fmt: skip
     # exact=False and the highest cost: 'auto' never picks it (seconds per scene).
     "precise": Method(
@@ -405,6 +411,18 @@ def check_method(value) -> str:
     if not isinstance(value, str) or (value != "auto" and value not in METHODS):
         raise SceneError(f"method must be one of {', '.join(NAMES)}; got {value!r}")
     return value
+
+
+def check_settings(method: Method, given) -> None:
+    """SceneError naming the first of the settings ``given`` (names) that ``method`` does not
+    read: it would do nothing. The one check of solve, trajectory and the scene tables."""
+    for name in given:
+        if name not in method.settings:
+            reads = " and ".join(method.settings) or "no numerical setting"
+            raise SceneError(
+                f"{name} would do nothing: the method {method.name!r} that solves this scene "
+                f"reads {reads} (leave {name} out, or choose a method that reads it)"
+            )
 
 
 def choose(ch: Chain, method: str = "auto") -> Method:
@@ -447,6 +465,7 @@ __all__ = [
     "Method",
     "Options",
     "check_method",
+    "check_settings",
     "choose",
     "choose_paper",
     "label",

@@ -235,14 +235,18 @@ def write_table(frame: pd.DataFrame, path, *, config=None, extra: dict | None = 
     return path
 
 
-def read_table(path, *, require_provenance: bool = False, columns=()) -> pd.DataFrame:
+def read_table(
+    path, *, require_provenance: bool = False, columns=(), what: str = "results file"
+) -> pd.DataFrame:
     """Read a .parquet or .csv table; raise TableError naming the file when it is unusable.
 
     ``columns``: names the table must have (a readable file of another kind is refused by name).
+    ``what``: the kind of table, as a missing file's message names it (e.g. "scene table").
     """
     path = Path(path)
     if not path.is_file():
-        raise TableError(f"{path}: no such results file")
+        raise TableError(f"{path}: is a directory, not a {what}" if path.is_dir()
+                         else f"{path}: no such {what}")  # fmt: skip
     try:
         if path.suffix == ".csv":
             return _require(path, _read_csv(path), columns)
@@ -280,7 +284,24 @@ def _read_csv(path: Path) -> pd.DataFrame:
                     f"{path}: line {line} (row {line - 2}) has {len(row)} fields, the header "
                     f"has {len(header)}; a ragged row would shift or pad the columns"
                 )
-    return pd.read_csv(path)
+    return _numbers_read(pd.read_csv(path))
+
+
+def _numbers_read(frame: pd.DataFrame) -> pd.DataFrame:
+    """``frame`` with the cells of its scene parameter columns (``RANGES``) that are numbers in
+    the CSV text as numbers also where another cell of the column is not: pandas then leaves
+    the whole column as text, and the scene checks named the column's first cell (a good
+    number, "2.0") instead of the bad one. The cells that do not parse stay text, refused by
+    the checks with their row."""
+    from restitution.model.ranges import RANGES
+
+    for name in frame.columns:
+        if name in RANGES and frame[name].dtype.kind not in "fiub":  # (text: str or object)
+            text = frame[name]
+            numbers = pd.to_numeric(text, errors="coerce")
+            keep = numbers.isna() & text.notna()  # not a number: the text stays
+            frame[name] = numbers.astype(object).where(~keep, text)
+    return frame
 
 
 def _require(path: Path, frame: pd.DataFrame, columns) -> pd.DataFrame:

@@ -11,8 +11,9 @@ Rules (the same for ``solve_many`` and ``restitution batch``):
 * list cells (``masses``, ``springs``, ``dashpots``) are lists or ``;``-separated text (spaces
   inside a cell are fine); law cells (``contact``, ``links``) are mappings / lists of mappings
   (parquet structs) or their JSON text;
-* per-row settings ``rtol`` and ``step`` are honoured for rows solved by a numerical method and
-  refused on rows solved exactly (where they would silently do nothing).
+* per-row settings ``rtol`` and ``step`` are honoured for rows solved by a method that reads
+  them (``rtol``: adaptive, reference; ``step``: verlet) and refused on any other row (where
+  they would silently do nothing).
 """
 
 from __future__ import annotations
@@ -39,6 +40,9 @@ LEGACY_LAWS = ("contact", "eta", "dr", "structure", "L", "ks_ratio", "theta0", "
 SETTINGS = ("method", "rtol", "step")
 COLUMNS = tuple(dict.fromkeys((*PAPER, *GENERAL, *LEGACY_LAWS, *SETTINGS)))
 DEFAULTS = {"beta": 0.0, "xi": 0.0, "n_masses": 2}
+# The columns of one form only (v0 and contact belong to both): with the other form's an error.
+GENERAL_ONLY = tuple(c for c in GENERAL if c not in LEGACY_LAWS)
+PAPER_ONLY = (*PAPER, *(c for c in LEGACY_LAWS if c not in GENERAL))
 
 
 def _row(frame, i) -> str:
@@ -175,9 +179,7 @@ class SceneTable:
     def _paper_plan(self, method: np.ndarray) -> pd.DataFrame:
         frame = self.frame
         n = len(frame)
-        illegal = [
-            c for c in ("masses", "springs", "dashpots", "k_contact", "links") if c in self.columns
-        ]
+        illegal = [c for c in GENERAL_ONLY if c in self.columns]
         if illegal:
             raise SceneError(f"columns {illegal} belong to the general form, not with 'alpha'")
         plan = {}
@@ -253,8 +255,7 @@ class SceneTable:
     def _general_columns(self) -> tuple[np.ndarray, np.ndarray]:
         """The checked k_contact and v0 columns of a general table (defaults inf and 1)."""
         frame = self.frame
-        illegal = [c for c in (*PAPER, "eta", "dr", "structure", "L", "ks_ratio", "theta0",
-                               "corner") if c in self.columns]  # fmt: skip
+        illegal = [c for c in PAPER_ONLY if c in self.columns]
         if illegal:
             raise SceneError(
                 f"columns {illegal} belong to the paper's form; a general chain gives its laws "
@@ -334,18 +335,19 @@ class SceneTable:
         self.method_codes[rows] = self.method_names.index(name)
 
     def _check_settings(self) -> None:
+        """A setting cell on a row whose method does not read it is refused
+        (``methods.check_settings``: it would do nothing)."""
         if not self.settings_cols:
             return
-        exact = np.isin(self.plan["method"], [n for n, m in M.METHODS.items() if m.exact])
         for name, (_, given) in self.settings_cols.items():
-            wrong = given & exact
+            deaf = [c for c, m in enumerate(self.method_names) if name not in M.METHODS[m].settings]
+            wrong = given & np.isin(self.method_codes, deaf)
             if wrong.any():
                 i = int(np.flatnonzero(wrong)[0])
-                raise SceneError(
-                    f"{name} is a setting of the numerical methods; {_row(self.frame, i)} is "
-                    f"solved by the exact method {self.plan['method'][i]!r}, where it would do "
-                    "nothing (leave the cell empty)"
-                )
+                try:
+                    M.check_settings(M.METHODS[self.plan["method"][i]], (name,))
+                except SceneError as e:
+                    raise SceneError(f"{e} ({_row(self.frame, i)}, column {name!r})") from None
 
     # ------------------------------------------------------------------------------------------
     def scaled(self, rows: np.ndarray) -> tuple:
