@@ -151,7 +151,10 @@ def test_many_matches_single_scenes_and_names_a_bad_row(method, setting):
         r = restitution.solve(**scene, method=method, **{setting: value})
         assert got["cor"].iloc[i] == r.cor and got["n_collisions"].iloc[i] == r.n_collisions
         assert got["error_estimate"].iloc[i] == r.error_estimate
-        assert got["status"].iloc[i] == r.status == "ok" and got["method"].iloc[i] == method
+        assert got["status"].iloc[i] == r.status and got["method"].iloc[i] == method
+        # every row finished; verlet's run at h = 0.02 on the scissor scene 3 opens its energy
+        # account, so that row's h/2 result is unchecked (it was ok with an infinite estimate)
+        assert r.status == ("unchecked" if (method, i) == ("verlet", 3) else "ok")
     bad = frame.copy()
     bad.loc[3, "L"] = -1.0
     with pytest.raises(SceneError, match=r"L .*row 3"):
